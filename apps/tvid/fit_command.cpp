@@ -1,0 +1,57 @@
+// `tvid fit EXP.yaml`: identify the free parameters and write the report directory.
+
+#include <cstdio>
+#include <iostream>
+
+#include "commands.hpp"
+#include "terminal.hpp"
+#include "tvid/estimation/identification_problem.hpp"
+#include "tvid/experiment/experiment.hpp"
+#include "tvid/fit/fit_run.hpp"
+#include "tvid/report/report_writer.hpp"
+
+namespace tvid::cli {
+
+std::vector<Override> parse_overrides(const std::vector<std::string>& texts) {
+    std::vector<Override> out;
+    for (const std::string& t : texts) out.push_back(parse_override(t));
+    return out;
+}
+
+std::filesystem::path report_directory(const Experiment& ex, const std::string& output_dir) {
+    if (!output_dir.empty()) return output_dir;
+    if (!ex.report_dir.empty()) return ex.report_dir;
+    return std::filesystem::path("results") / ex.name;
+}
+
+int run_fit_command(const FitCommand& cmd) {
+    const Experiment ex = load_experiment(cmd.common.experiment, parse_overrides(cmd.common.overrides));
+    const IdentificationProblem problem(ex);
+    const std::filesystem::path dir = report_directory(ex, cmd.output_dir);
+
+    FitOptions options;
+    options.threads = cmd.common.threads;
+    options.seed = cmd.seed;
+    ProgressLine progress(!cmd.common.quiet && is_terminal(2), ex.estimation_settings.pso.iterations);
+    options.progress = [&progress](const HistoryRow& row) {
+        progress.update(row);
+        return true;
+    };
+    const FitResult fit = run_fit(problem, options);
+    progress.finish();
+
+    const RunContext context{TVID_VERSION, cmd.common.command_line};
+    write_fit_report(dir, problem, fit, context);
+    if (cmd.common.json) {
+        std::cout << fit_summary_json(problem, fit, context).dump(2) << std::endl;
+    } else if (!cmd.common.quiet) {
+        std::cout << fit_summary_text(problem, fit, dir.string()) << std::flush;
+    }
+    if (!fit.success) {
+        std::cerr << "tvid: every candidate's simulation failed; the report in " << dir.string() << " says so\n";
+        return 1;
+    }
+    return 0;
+}
+
+}  // namespace tvid::cli

@@ -1,0 +1,82 @@
+// tvid: identify the physical parameters of powertrain torsional-vibration models.
+// Exit status: 0 done, 1 ran but did not succeed, 2 bad input.
+
+#include <CLI/CLI.hpp>
+#include <iostream>
+
+#include "commands.hpp"
+#include "tvid/util/input_error.hpp"
+
+namespace {
+
+std::string joined_command_line(int argc, char** argv) {
+    std::string s;
+    for (int i = 0; i < argc; ++i) {
+        if (i) s += ' ';
+        s += argv[i];
+    }
+    return s;
+}
+
+void add_common(CLI::App* sub, tvid::cli::CommonOptions& o) {
+    sub->add_option("experiment", o.experiment, "experiment file (YAML)")->required();
+    sub->add_option("--set", o.overrides, "override a setting, e.g. --set estimation.pso.iterations=50")
+        ->type_name("KEY=VALUE");
+    sub->add_option("--threads", o.threads, "threads (default: all cores)")->check(CLI::NonNegativeNumber);
+    sub->add_flag("-q,--quiet", o.quiet, "print nothing but errors");
+    sub->add_flag("--json", o.json, "print the summary as JSON on stdout");
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    using namespace tvid::cli;
+    CLI::App app{"tvid: identify torsional-vibration model parameters of powertrains from measurements"};
+    app.set_version_flag("--version", std::string("tvid ") + TVID_VERSION);
+    app.require_subcommand(1);
+
+    FitCommand fit;
+    auto* fit_cmd = app.add_subcommand("fit", "identify the free parameters and write a report directory");
+    add_common(fit_cmd, fit.common);
+    fit_cmd->add_option("-o,--output", fit.output_dir, "report directory (default: report.dir or results/NAME)");
+    fit_cmd->add_option("--seed", fit.seed, "random seed of the optimizer");
+
+    EvaluateCommand simulate;
+    auto* sim_cmd = app.add_subcommand("simulate", "simulate every window and print measured vs simulated as CSV");
+    add_common(sim_cmd, simulate.common);
+    sim_cmd->add_option("--params", simulate.params_file, "parameter file (params.json of a fit, or {name: value})");
+    sim_cmd->add_option("-o,--output", simulate.output, "write the CSV to this file");
+
+    EvaluateCommand validate;
+    auto* val_cmd = app.add_subcommand("validate", "score a parameter set on the estimation and validation windows");
+    add_common(val_cmd, validate.common);
+    val_cmd->add_option("--params", validate.params_file, "parameter file")->required();
+    val_cmd->add_option("-o,--output", validate.output, "write the JSON to this file");
+
+    bool models_json = false;
+    auto* models_cmd = app.add_subcommand("models", "list the preset models with their parameters, inputs, outputs");
+    models_cmd->add_flag("--json", models_json, "as JSON");
+
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        const int code = app.exit(e);
+        return code == 0 ? 0 : 2;
+    }
+    const std::string command_line = joined_command_line(argc, argv);
+    fit.common.command_line = simulate.common.command_line = validate.common.command_line = command_line;
+
+    try {
+        if (*fit_cmd) return run_fit_command(fit);
+        if (*sim_cmd) return run_simulate_command(simulate);
+        if (*val_cmd) return run_validate_command(validate);
+        if (*models_cmd) return run_models_command(models_json);
+    } catch (const tvid::InputError& e) {
+        std::cerr << e.what() << '\n';
+        return 2;
+    } catch (const std::exception& e) {
+        std::cerr << "tvid: " << e.what() << '\n';
+        return 2;
+    }
+    return 2;
+}

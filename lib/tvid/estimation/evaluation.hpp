@@ -1,0 +1,35 @@
+#pragma once
+// A parameter vector judged on the experiment: every estimation and validation window
+// simulated, with fit metrics per window and output and pooled per split.
+
+#include <string>
+#include <vector>
+
+#include "tvid/estimation/fit_metrics.hpp"
+#include "tvid/estimation/identification_problem.hpp"
+
+namespace tvid {
+
+struct WindowEvaluation {
+    WindowTrace trace;
+    std::vector<FitMetrics> metrics;  ///< per output
+};
+
+struct SplitEvaluation {
+    std::string split;                    ///< "estimation" or "validation"
+    std::vector<WindowEvaluation> windows;
+    std::vector<FitMetrics> pooled;       ///< per output, over all windows of the split
+    bool ok = true;                       ///< every window simulated
+};
+
+struct Evaluation {
+    std::vector<double> params;           ///< full model parameter vector
+    double cost = 0.0;                    ///< the estimation cost (as the optimizer saw it)
+    SplitEvaluation estimation;
+    SplitEvaluation validation;
+    std::vector<double> output_offsets;   ///< per compared output
+};
+
+Evaluation evaluate_parameters(const IdentificationProblem& problem, const std::vector<double>& params);
+
+}  // namespace tvid

@@ -1,0 +1,43 @@
+#include "tvid/estimation/fit_metrics.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace tvid {
+
+double residual_ratio(double measured, double simulated) {
+    if (measured == 0.0) return std::numeric_limits<double>::quiet_NaN();
+    return (measured - simulated) / measured;
+}
+
+FitMetrics compute_fit_metrics(const std::vector<double>& measured, const std::vector<double>& simulated,
+                               double offset) {
+    FitMetrics m;
+    const std::size_t n = std::min(measured.size(), simulated.size());
+    m.samples = n;
+    if (n == 0) return m;
+    double abs_sum = 0.0, e0_sum = 0.0, mean = 0.0;
+    for (std::size_t i = 0; i < n; ++i) mean += measured[i];
+    mean /= static_cast<double>(n);
+    double spread_sq = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+        const double e = simulated[i] - measured[i];
+        abs_sum += std::abs(e);
+        m.sum_sq_error += e * e;
+        e0_sum += std::abs(measured[i] - offset);
+        spread_sq += (measured[i] - mean) * (measured[i] - mean);
+        const double r = residual_ratio(measured[i], simulated[i]);
+        if (std::isfinite(r)) m.max_abs_residual_ratio = std::max(m.max_abs_residual_ratio, std::abs(r));
+    }
+    const double dn = static_cast<double>(n);
+    m.mean_abs_error = abs_sum / dn;
+    m.rmse = std::sqrt(m.sum_sq_error / dn);
+    m.e0 = e0_sum / dn;
+    m.q_index = m.e0 > 0 ? (1.0 - m.mean_abs_error / m.e0) * 100.0 : std::numeric_limits<double>::quiet_NaN();
+    m.fit_percent = spread_sq > 0 ? 100.0 * (1.0 - std::sqrt(m.sum_sq_error) / std::sqrt(spread_sq))
+                                  : std::numeric_limits<double>::quiet_NaN();
+    return m;
+}
+
+}  // namespace tvid

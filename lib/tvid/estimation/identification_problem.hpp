@@ -1,0 +1,86 @@
+#pragma once
+// The identification problem of an experiment: maps the free parameters to the model
+// parameter vector, simulates every window from its initial state and scores the
+// simulated outputs against the measured ones. Independent of any optimizer.
+
+#include <cstddef>
+#include <limits>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "tvid/experiment/experiment.hpp"
+#include "tvid/model/network_model.hpp"
+#include "tvid/sim/input_channels.hpp"
+#include "tvid/sim/simulate.hpp"
+
+namespace tvid {
+
+/// Per-thread scratch space: a model instance and integrator buffers, built once.
+struct ProblemWorkspace {
+    explicit ProblemWorkspace(const NetworkSpec& spec) : model(spec) {}
+    NetworkModel<double> model;
+    SimulationBuffers buffers;
+    std::vector<double> params;  ///< full model parameter vector
+    std::vector<double> x;       ///< state
+    std::vector<double> u0;      ///< inputs at the window start
+};
+
+/// Measured and simulated outputs of one window at its scored samples.
+struct WindowTrace {
+    const Window* window = nullptr;
+    SimulationStatus status = SimulationStatus::ok;
+    std::string problem;                        ///< why the simulation failed, if it did
+    std::vector<std::size_t> samples;           ///< scored sample indices
+    std::vector<double> time;
+    std::vector<std::vector<double>> measured;  ///< [output][k]
+    std::vector<std::vector<double>> simulated; ///< [output][k]
+};
+
+class IdentificationProblem {
+public:
+    explicit IdentificationProblem(const Experiment& experiment);
+
+    const Experiment& experiment() const { return *experiment_; }
+    std::size_t dimension() const { return free_.size(); }          ///< number of free parameters
+    const std::vector<std::size_t>& free_indices() const { return free_; }
+    const std::vector<std::string>& free_names() const { return free_names_; }
+    const std::vector<double>& lower() const { return lower_; }      ///< bounds of the free parameters
+    const std::vector<double>& upper() const { return upper_; }
+    const std::vector<double>& range_lower() const { return range_lo_; }  ///< initial search box
+    const std::vector<double>& range_upper() const { return range_hi_; }
+    const std::vector<double>& initial() const { return init_; }     ///< init of the free parameters
+    const InputChannels& inputs() const { return inputs_; }
+
+    std::unique_ptr<ProblemWorkspace> make_workspace() const;
+
+    /// The model parameter vector for free parameter values `free` (fixed ones at their value).
+    void full_parameters(const double* free, std::vector<double>& out) const;
+    std::vector<double> full_parameters(const std::vector<double>& free) const;
+
+    /// Cost over the estimation windows (l1: Σ_windows Σ_outputs mean|e| (seed 001 eq. 19);
+    /// l2: Σ e² (seed 000 eq. 7)). +inf when a simulation fails. Never throws.
+    double cost(const double* free, ProblemWorkspace& ws) const;
+
+    /// Residuals y* − y of every scored sample of every estimation window and output
+    /// (window by window, sample-major). False when a simulation fails.
+    bool residuals(const double* free, ProblemWorkspace& ws, std::vector<double>& out) const;
+
+    /// Simulates one window with the full parameter vector `params` and records every
+    /// scored sample.
+    WindowTrace trace(const std::vector<double>& params, const Window& window, ProblemWorkspace& ws) const;
+
+private:
+    // Sets ws.x to the initial state at sample `start`; false (with a reason) if impossible.
+    bool initial_state(std::size_t start, ProblemWorkspace& ws, std::string* problem) const;
+
+    const Experiment* experiment_;
+    InputChannels inputs_;
+    std::vector<std::vector<double>> measured_;  ///< [output][sample], unit-scaled
+    std::vector<std::size_t> free_;
+    std::vector<std::string> free_names_;
+    std::vector<double> lower_, upper_, range_lo_, range_hi_, init_;
+    std::vector<double> fixed_values_;  ///< full vector with every fixed parameter set
+};
+
+}  // namespace tvid

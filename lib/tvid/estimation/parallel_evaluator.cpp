@@ -1,0 +1,29 @@
+#include "tvid/estimation/parallel_evaluator.hpp"
+
+#include <omp.h>
+
+#include <thread>
+
+namespace tvid {
+
+int resolve_thread_count(int threads) {
+    if (threads > 0) return threads;
+    const unsigned hw = std::thread::hardware_concurrency();
+    return hw > 0 ? static_cast<int>(hw) : 1;
+}
+
+ParallelEvaluator::ParallelEvaluator(const IdentificationProblem& problem, int threads)
+    : problem_(&problem), threads_(resolve_thread_count(threads)) {
+    for (int t = 0; t < threads_; ++t) workspaces_.push_back(problem.make_workspace());
+}
+
+void ParallelEvaluator::evaluate(const double* candidates, std::size_t count, std::size_t dimension, double* costs) {
+    const auto n = static_cast<long long>(count);
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads_)
+    for (long long i = 0; i < n; ++i) {
+        ProblemWorkspace& ws = *workspaces_[static_cast<std::size_t>(omp_get_thread_num())];
+        costs[i] = problem_->cost(candidates + static_cast<std::size_t>(i) * dimension, ws);
+    }
+}
+
+}  // namespace tvid

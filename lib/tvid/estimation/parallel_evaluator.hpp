@@ -1,0 +1,33 @@
+#pragma once
+// Scores batches of candidates of an IdentificationProblem on all cores. Each thread
+// owns a workspace built once; every candidate's cost is computed by one thread from
+// its own inputs only, so costs are identical for any thread count.
+
+#include <atomic>
+#include <memory>
+#include <vector>
+
+#include "tvid/estimation/identification_problem.hpp"
+#include "tvid/optim/candidate_evaluator.hpp"
+
+namespace tvid {
+
+class ParallelEvaluator : public CandidateEvaluator {
+public:
+    /// threads <= 0: all hardware threads.
+    ParallelEvaluator(const IdentificationProblem& problem, int threads);
+
+    void evaluate(const double* candidates, std::size_t count, std::size_t dimension, double* costs) override;
+
+    int threads() const { return threads_; }
+
+private:
+    const IdentificationProblem* problem_;
+    int threads_;
+    std::vector<std::unique_ptr<ProblemWorkspace>> workspaces_;
+};
+
+/// The number of threads `threads` means (<= 0: all hardware threads).
+int resolve_thread_count(int threads);
+
+}  // namespace tvid

@@ -1,0 +1,107 @@
+#include "tvid/estimation/uncertainty.hpp"
+
+#include <Eigen/Dense>
+#include <boost/math/distributions/students_t.hpp>
+#include <cmath>
+#include <limits>
+
+namespace tvid {
+
+namespace {
+// Singular values of the scaled Jacobian below this fraction of the largest count as zero
+// (a condition number of JᵀJ above 1e12).
+constexpr double kRankTolerance = 1e-6;
+// A parameter whose component in a null direction exceeds this is undetermined.
+constexpr double kNullComponent = 0.05;
+}  // namespace
+
+ParameterUncertainty estimate_uncertainty(const IdentificationProblem& problem, const std::vector<double>& free_best) {
+    ParameterUncertainty u;
+    const std::size_t m = problem.dimension();
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    u.std_error.assign(m, nan);
+    u.ci_low.assign(m, nan);
+    u.ci_high.assign(m, nan);
+    u.determined.assign(m, false);
+    u.correlation.assign(m, std::vector<double>(m, nan));
+    if (m == 0) { u.problem = "no free parameters"; return u; }
+
+    auto ws = problem.make_workspace();
+    std::vector<double> r0, rp, rm;
+    if (!problem.residuals(free_best.data(), *ws, r0)) { u.problem = "the simulation at the optimum failed"; return u; }
+    const auto n = static_cast<Eigen::Index>(r0.size());
+    u.residuals = r0.size();
+    if (r0.size() <= m) { u.problem = "fewer residuals than free parameters"; return u; }
+
+    // Central-difference Jacobian in scaled parameters: column j = s_j ∂r/∂p_j.
+    Eigen::MatrixXd js(n, static_cast<Eigen::Index>(m));
+    std::vector<double> scale(m), p = free_best;
+    for (std::size_t j = 0; j < m; ++j) {
+        scale[j] = free_best[j] != 0.0 ? std::abs(free_best[j]) : 1.0;
+        const double h = 1e-6 * scale[j];
+        p[j] = free_best[j] + h;
+        const bool ok_p = problem.residuals(p.data(), *ws, rp);
+        p[j] = free_best[j] - h;
+        const bool ok_m = problem.residuals(p.data(), *ws, rm);
+        p[j] = free_best[j];
+        if (!ok_p || !ok_m || rp.size() != r0.size() || rm.size() != r0.size()) {
+            u.problem = "the simulation failed near the optimum (parameter " + problem.free_names()[j] + ")";
+            return u;
+        }
+        for (Eigen::Index i = 0; i < n; ++i)
+            js(i, static_cast<Eigen::Index>(j)) = scale[j] * (rp[static_cast<std::size_t>(i)] - rm[static_cast<std::size_t>(i)]) / (2 * h);
+    }
+    double ssr = 0.0;
+    for (double e : r0) ssr += e * e;
+    const double dof = static_cast<double>(r0.size() - m);
+    const double s2 = ssr / dof;
+
+    const Eigen::JacobiSVD<Eigen::MatrixXd> svd(js, Eigen::ComputeThinV);
+    const Eigen::VectorXd& sv = svd.singularValues();
+    const Eigen::MatrixXd& v = svd.matrixV();
+    const double smax = sv.size() > 0 ? sv[0] : 0.0;
+    if (!(smax > 0.0)) { u.problem = "the output does not depend on any free parameter"; return u; }
+    u.available = true;
+    u.rank = 0;
+    for (Eigen::Index k = 0; k < sv.size(); ++k)
+        if (sv[k] > kRankTolerance * smax) ++u.rank;
+    const double smin = sv[sv.size() - 1];
+    u.condition_number = u.rank == static_cast<int>(m) ? (smax / smin) * (smax / smin) : std::numeric_limits<double>::infinity();
+
+    std::vector<bool> in_null(m, false);
+    for (Eigen::Index k = u.rank; k < sv.size(); ++k) {
+        std::vector<double> dir(m);
+        Eigen::Index big = 0;
+        for (Eigen::Index j = 0; j < v.rows(); ++j)
+            if (std::abs(v(j, k)) > std::abs(v(big, k))) big = j;
+        const double sign = v(big, k) < 0 ? -1.0 : 1.0;
+        for (std::size_t j = 0; j < m; ++j) {
+            dir[j] = sign * v(static_cast<Eigen::Index>(j), k);
+            if (std::abs(dir[j]) > kNullComponent) in_null[j] = true;
+        }
+        u.null_directions.push_back(dir);
+    }
+
+    // Covariance of the scaled parameters on the determined subspace: s² V Σ⁻² Vᵀ.
+    Eigen::MatrixXd cov = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(m), static_cast<Eigen::Index>(m));
+    for (Eigen::Index k = 0; k < u.rank; ++k) cov += (s2 / (sv[k] * sv[k])) * v.col(k) * v.col(k).transpose();
+    const boost::math::students_t t_dist(dof);
+    const double t975 = boost::math::quantile(t_dist, 0.975);
+    for (std::size_t j = 0; j < m; ++j) {
+        u.determined[j] = !in_null[j];
+        if (!u.determined[j]) continue;
+        const auto jj = static_cast<Eigen::Index>(j);
+        u.std_error[j] = scale[j] * std::sqrt(cov(jj, jj));
+        u.ci_low[j] = free_best[j] - t975 * u.std_error[j];
+        u.ci_high[j] = free_best[j] + t975 * u.std_error[j];
+    }
+    for (std::size_t a = 0; a < m; ++a)
+        for (std::size_t b = 0; b < m; ++b) {
+            if (!u.determined[a] || !u.determined[b]) continue;
+            const auto ia = static_cast<Eigen::Index>(a), ib = static_cast<Eigen::Index>(b);
+            u.correlation[a][b] = cov(ia, ib) / std::sqrt(cov(ia, ia) * cov(ib, ib));
+        }
+    return u;
+}
+
+}  // namespace tvid

@@ -1,0 +1,31 @@
+#pragma once
+// Uncertainty of the estimate from the Jacobian J of the residuals at the optimum
+// (finite differences): covariance s²(JᵀJ)⁻¹ with s² = Σe²/(N − M), standard errors,
+// 95 % intervals and correlations, computed in scaled parameters (p_j·∂r/∂p_j) so that
+// inertias of 1e-3 and dampings of 1e1 are conditioned alike. Directions that the data
+// do not determine (near-zero singular values of the scaled J) are reported, and the
+// parameters in them get no standard error.
+
+#include <string>
+#include <vector>
+
+#include "tvid/estimation/identification_problem.hpp"
+
+namespace tvid {
+
+struct ParameterUncertainty {
+    bool available = false;           ///< false when the Jacobian could not be formed
+    std::string problem;
+    std::size_t residuals = 0;        ///< N
+    int rank = 0;                     ///< numerical rank of the scaled JᵀJ
+    double condition_number = 0.0;    ///< of the scaled JᵀJ (inf when rank deficient)
+    std::vector<double> std_error;    ///< per free parameter; NaN when undetermined
+    std::vector<double> ci_low, ci_high;
+    std::vector<bool> determined;
+    std::vector<std::vector<double>> correlation;  ///< NaN rows/cols for undetermined parameters
+    std::vector<std::vector<double>> null_directions;  ///< unit vectors in relative parameter changes
+};
+
+ParameterUncertainty estimate_uncertainty(const IdentificationProblem& problem, const std::vector<double>& free_best);
+
+}  // namespace tvid

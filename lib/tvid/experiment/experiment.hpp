@@ -1,0 +1,111 @@
+#pragma once
+// An identification experiment (DESIGN.md, "The experiment file (format 1)"), loaded
+// and validated: the model network, which parameters are free and their bounds, the
+// measured channels, the windows, and the simulation, estimation and report settings.
+
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "tvid/io/csv_table.hpp"
+#include "tvid/model/network_spec.hpp"
+#include "tvid/optim/pso_options.hpp"
+
+namespace tvid {
+
+/// Where a setting came from, for error messages that name file, line and key.
+struct SourceLocation {
+    std::string file;  ///< the experiment file as given, or "--set" for a command-line override
+    int line = 0;      ///< 1-based
+    std::string key;   ///< dotted key path, e.g. "parameters.rho1.min"
+};
+
+struct ParameterSetting {
+    std::string name;
+    double init = 0.0;                 ///< start value (the value for fixed parameters)
+    bool fixed = false;
+    double min = -1e300, max = 1e300;  ///< bounds; ±1e300 when not given
+    bool has_min = false, has_max = false;
+    std::optional<std::pair<double, double>> range;  ///< initial search domain (PSO grid, multistart)
+    SourceLocation where;
+};
+
+/// A channel of the CSV file bound to a model input or output.
+struct ChannelBinding {
+    std::string model_name;  ///< e.g. "Ttm"
+    std::string column;      ///< CSV column
+    double scale = 1.0;      ///< unit conversion applied when reading (e.g. bar -> Pa)
+    SourceLocation where;
+};
+
+/// A window of the recording, resolved to 0-based sample indices. The simulation starts
+/// at sample `start` (= `first`, or earlier by the warm-up) from the initial state; the
+/// scored samples are those i with first <= i <= last and i > start (the start sample is
+/// the initial condition, not a prediction: seed 001 eq. 19 sums i = 1..m).
+struct Window {
+    std::string label;       ///< e.g. "time [1.5, 3]"
+    std::size_t start = 0;
+    std::size_t first = 0;
+    std::size_t last = 0;
+    SourceLocation where;
+};
+
+enum class InitialStateKind { equilibrium, rest, measured };
+enum class IntegrationMethod { rk4, dopri5 };
+enum class CostKind { l1, l2 };
+enum class OptimizerKind { pso };
+
+struct SimulationSettings {
+    IntegrationMethod method = IntegrationMethod::rk4;
+    double max_step = 0.0;       ///< rk4: largest step [s]; 0 (`step: sample`) = one step per sample interval
+    double rtol = 1e-6;          ///< dopri5
+    double atol = 1e-8;          ///< dopri5
+    std::size_t max_steps = 10'000'000;  ///< step budget per simulation (dopri5)
+};
+
+
+struct EstimationSettings {
+    CostKind cost = CostKind::l1;
+    OptimizerKind optimizer = OptimizerKind::pso;
+    PsoSettings pso;
+};
+
+struct Experiment {
+    std::filesystem::path file;          ///< the experiment file
+    std::string name;
+    std::filesystem::path data_file;     ///< resolved against the experiment's folder
+    CsvTable data;                       ///< the whole recording
+    std::string time_column;
+    NetworkSpec network;
+    std::map<std::string, double> model_constants;
+    std::vector<ChannelBinding> inputs;   ///< one per network input, in network order
+    std::vector<ChannelBinding> outputs;  ///< the outputs compared with measurements
+    std::vector<int> output_indices;      ///< index into network.outputs per entry of `outputs`
+    std::vector<ParameterSetting> parameters;  ///< one per network parameter, in network order
+    std::vector<Window> estimation;
+    std::vector<Window> validation;
+    double warmup = 0.0;                  ///< seconds simulated before each window, not scored
+    InitialStateKind initial_state = InitialStateKind::equilibrium;
+    SimulationSettings simulation;
+    EstimationSettings estimation_settings;
+    std::filesystem::path report_dir;     ///< resolved; empty when not given
+};
+
+/// A command-line override `key.path=value`, applied to the YAML before validation.
+struct Override {
+    std::string key;
+    std::string value;
+};
+
+/// Loads, validates and resolves an experiment file. Throws InputError
+/// (FILE:LINE: key: what is wrong) on any problem.
+Experiment load_experiment(const std::filesystem::path& file, const std::vector<Override>& overrides = {});
+
+/// Parses "a.b.c=value"; throws InputError("", 0, "--set", ...) when malformed.
+Override parse_override(const std::string& text);
+
+}  // namespace tvid

@@ -1,0 +1,46 @@
+#pragma once
+// A table of numeric measurement channels read from a CSV file: one header row of
+// column names, then one row of numbers per sample. Lines starting with '#' and blank
+// lines are skipped. A UTF-8 byte-order mark is accepted.
+
+#include <cstddef>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace tvid {
+
+class CsvTable {
+public:
+    /// Reads and validates the whole file. Throws InputError naming the file, the line
+    /// and the column for: a missing file, an empty file, no header, an empty or
+    /// duplicate column name, a non-numeric cell, NaN or inf, a short or long row,
+    /// a file with no data rows, and a ';' or tab separated file (the message says the
+    /// separator must be ',').
+    static CsvTable read(const std::filesystem::path& file);
+
+    const std::filesystem::path& file() const { return file_; }
+    const std::vector<std::string>& column_names() const { return names_; }
+    std::size_t rows() const { return rows_; }
+    bool has_column(const std::string& name) const;
+    /// Values of one column, one per data row. Throws std::out_of_range if absent.
+    const std::vector<double>& column(const std::string& name) const;
+    /// The 1-based line number in the file of data row `row` (0-based), for messages.
+    int line_of_row(std::size_t row) const { return row_lines_.at(row); }
+    /// The 1-based line number of the header row.
+    int header_line() const { return header_line_; }
+
+    /// Checks that `name` holds strictly increasing values; otherwise throws InputError
+    /// naming the first offending line and the column.
+    void require_strictly_increasing(const std::string& name) const;
+
+private:
+    std::filesystem::path file_;
+    std::vector<std::string> names_;
+    std::vector<std::vector<double>> columns_;
+    std::vector<int> row_lines_;
+    std::size_t rows_ = 0;
+    int header_line_ = 0;
+};
+
+}  // namespace tvid

@@ -1,0 +1,23 @@
+#pragma once
+// Static equilibrium of a network: node angles θ̄ with zero net torque on every node at
+// rest (ω = 0) under the inputs u. Seed 001 eq. 18: the simulation starts from the
+// equilibrium for the input at the window's first sample.
+
+#include <vector>
+
+#include "tvid/model/network_model.hpp"
+
+namespace tvid {
+
+struct EquilibriumResult {
+    bool found = false;
+    std::vector<double> theta;
+    std::string problem;  ///< why no equilibrium was found
+};
+
+/// One node: bracketing plus TOMS 748 on the (monotone) static torque; several nodes:
+/// damped Newton with a finite-difference Jacobian. Never throws for bad parameters;
+/// `found` is false instead.
+EquilibriumResult solve_equilibrium(NetworkModel<double>& model, const double* u);
+
+}  // namespace tvid

@@ -1,0 +1,181 @@
+#pragma once
+// A NetworkSpec bound to one parameter vector: the right-hand side of the equations of
+// motion of the lumped torsional network, J_i θ_i'' = Σ torques on node i, written once
+// for any scalar type T. Buffers are sized at construction; `set_parameters`,
+// `derivative` and `output` allocate nothing.
+//
+// State layout: x = [θ_0 … θ_{n−1}, ω_0 … ω_{n−1}].
+
+#include <cstddef>
+#include <vector>
+
+#include "tvid/model/network_spec.hpp"
+#include "tvid/model/smooth_clearance.hpp"
+
+namespace tvid {
+
+template <class T>
+class NetworkModel {
+public:
+    explicit NetworkModel(const NetworkSpec& spec)
+        : spec_(&spec),
+          node_count_(spec.nodes.size()),
+          inverse_inertia_(spec.nodes.size()),
+          node_torque_(spec.nodes.size()),
+          springs_(spec.spring_dampers.size()),
+          clearances_(spec.clearances.size()),
+          frictions_(spec.frictions.size()),
+          gears_(spec.gear_meshes.size()),
+          torques_(spec.torques.size()),
+          output_offsets_(spec.outputs.size()) {}
+
+    std::size_t node_count() const { return node_count_; }
+    std::size_t state_size() const { return 2 * node_count_; }
+    std::size_t input_count() const { return spec_->input_names.size(); }
+    const NetworkSpec& spec() const { return *spec_; }
+
+    /// Resolves every field from the model parameter vector p (NetworkSpec::parameter_names order).
+    void set_parameters(const T* p) {
+        const NetworkSpec& s = *spec_;
+        auto v = [p](const Field& f) { return f.is_parameter() ? p[f.parameter] : T(f.constant); };
+        for (std::size_t i = 0; i < node_count_; ++i) {
+            const T j = v(s.nodes[i].inertia);
+            inverse_inertia_[i] = s.nodes[i].inverse ? j : T(1) / j;
+        }
+        for (std::size_t i = 0; i < springs_.size(); ++i) {
+            const auto& e = s.spring_dampers[i];
+            springs_[i] = Spring{e.a, e.b, v(e.k), v(e.c)};
+        }
+        for (std::size_t i = 0; i < clearances_.size(); ++i) {
+            const auto& e = s.clearances[i];
+            clearances_[i] = Clearance{e.a, e.b,
+                                       ClearanceLaw<T>{v(e.k_minus), v(e.k_plus), v(e.c_minus),
+                                                       v(e.c_plus), v(e.mu), v(e.sigma), e.smooth}};
+        }
+        for (std::size_t i = 0; i < frictions_.size(); ++i)
+            frictions_[i] = Friction{s.frictions[i].node, v(s.frictions[i].c)};
+        for (std::size_t i = 0; i < gears_.size(); ++i) {
+            const auto& e = s.gear_meshes[i];
+            Gear g{e.a, e.b, v(e.ratio), v(e.k), v(e.c), e.has_clearance, {}};
+            if (e.has_clearance)
+                g.law = ClearanceLaw<T>{v(e.k_minus), v(e.k_plus), v(e.c_minus),
+                                        v(e.c_plus),  v(e.mu),     v(e.sigma), e.smooth};
+            gears_[i] = g;
+        }
+        for (std::size_t i = 0; i < torques_.size(); ++i) {
+            const auto& e = s.torques[i];
+            torques_[i] = Torque{e.node, e.input, v(e.offset), v(e.scale)};
+        }
+        for (std::size_t i = 0; i < output_offsets_.size(); ++i)
+            output_offsets_[i] = v(s.outputs[i].offset);
+    }
+
+    /// dx/dt = f(x, u) with u the input values at the current time.
+    void derivative(const T* x, const double* u, T* dxdt) {
+        const T* theta = x;
+        const T* omega = x + node_count_;
+        accumulate_torques(theta, omega, u, node_torque_.data(), true);
+        for (std::size_t i = 0; i < node_count_; ++i) {
+            dxdt[i] = omega[i];
+            dxdt[node_count_ + i] = node_torque_[i] * inverse_inertia_[i];  // θ'' = T / J
+        }
+    }
+
+    /// Net torque on each node with all speeds zero (for the static equilibrium).
+    void static_torques(const T* theta, const double* u, T* torque) {
+        accumulate_torques(theta, nullptr, u, torque, false);
+    }
+
+    /// The offset (amplitude shift) of output k.
+    const T& output_offset(std::size_t k) const { return output_offsets_[k]; }
+
+    /// Model output k (NetworkSpec::outputs order) including its offset.
+    T output(std::size_t k, const T* x, const double* u) const {
+        const OutputSpec& o = spec_->outputs[k];
+        const T* theta = x;
+        const T* omega = x + node_count_;
+        T y{};
+        switch (o.kind) {
+            case OutputKind::speed: y = omega[o.node]; break;
+            case OutputKind::angle: y = theta[o.node]; break;
+            case OutputKind::torque: y = element_torque(o.element, theta, omega, u); break;
+        }
+        return y + output_offsets_[k];
+    }
+
+    /// The torque an element transmits (spring_damper, clearance, gear_mesh: the torque
+    /// from a to b; friction: the friction torque c·ω; torque: the applied torque).
+    T element_torque(const ElementRef& ref, const T* theta, const T* omega, const double* u) const {
+        const auto i = static_cast<std::size_t>(ref.index);
+        switch (ref.kind) {
+            case ElementKind::spring_damper: {
+                const Spring& e = springs_[i];
+                return e.k * twist(theta, e.a, e.b) + e.c * twist(omega, e.a, e.b);
+            }
+            case ElementKind::clearance: {
+                const Clearance& e = clearances_[i];
+                return e.law.torque(twist(theta, e.a, e.b), twist(omega, e.a, e.b));
+            }
+            case ElementKind::friction: return frictions_[i].c * omega[frictions_[i].node];
+            case ElementKind::gear_mesh: {
+                const Gear& e = gears_[i];
+                return gear_torque(e, theta[e.a] - e.ratio * theta[e.b], omega[e.a] - e.ratio * omega[e.b]);
+            }
+            case ElementKind::torque: return torques_[i].scale * (u[torques_[i].input] - torques_[i].offset);
+        }
+        return T(0);
+    }
+
+private:
+    struct Spring { int a, b; T k, c; };
+    struct Clearance { int a, b; ClearanceLaw<T> law; };
+    struct Friction { int node; T c; };
+    struct Gear { int a, b; T ratio, k, c; bool has_clearance; ClearanceLaw<T> law; };
+    struct Torque { int node, input; T offset, scale; };
+
+    static T twist(const T* q, int a, int b) { return b == kGround ? q[a] : q[a] - q[b]; }
+
+    static T gear_torque(const Gear& e, const T& tw, const T& rate) {
+        return e.has_clearance ? e.law.torque(tw, rate) : e.k * tw + e.c * rate;
+    }
+
+    // Sums every element's torque on every node. With `with_speed` false the speeds are
+    // taken as zero (omega may be null).
+    void accumulate_torques(const T* theta, const T* omega, const double* u, T* torque, bool with_speed) const {
+        for (std::size_t i = 0; i < node_count_; ++i) torque[i] = T(0);
+        auto rate = [&](int a, int b) { return with_speed ? twist(omega, a, b) : T(0); };
+        for (const Spring& e : springs_) {
+            const T t = e.k * twist(theta, e.a, e.b) + e.c * rate(e.a, e.b);
+            torque[e.a] -= t;
+            if (e.b != kGround) torque[e.b] += t;
+        }
+        for (const Clearance& e : clearances_) {
+            const T t = e.law.torque(twist(theta, e.a, e.b), rate(e.a, e.b));
+            torque[e.a] -= t;
+            if (e.b != kGround) torque[e.b] += t;
+        }
+        if (with_speed)
+            for (const Friction& e : frictions_) torque[e.node] -= e.c * omega[e.node];
+        for (const Gear& e : gears_) {
+            const T tw = theta[e.a] - e.ratio * theta[e.b];
+            const T tw_rate = with_speed ? omega[e.a] - e.ratio * omega[e.b] : T(0);
+            const T t = gear_torque(e, tw, tw_rate);
+            torque[e.a] -= t;           // mesh torque T on a
+            torque[e.b] += e.ratio * t; // and n·T on b
+        }
+        for (const Torque& e : torques_) torque[e.node] += e.scale * (u[e.input] - e.offset);
+    }
+
+    const NetworkSpec* spec_;
+    std::size_t node_count_;
+    std::vector<T> inverse_inertia_;
+    std::vector<T> node_torque_;
+    std::vector<Spring> springs_;
+    std::vector<Clearance> clearances_;
+    std::vector<Friction> frictions_;
+    std::vector<Gear> gears_;
+    std::vector<Torque> torques_;
+    std::vector<T> output_offsets_;
+};
+
+}  // namespace tvid

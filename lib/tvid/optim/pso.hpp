@@ -1,0 +1,54 @@
+#pragma once
+// Particle swarm optimization exactly as seed 001 eq. 24:
+//   p_i(k+1) = p_i(k) + v_i(k)
+//   v_i(k+1) = η0 v_i(k) + η1 (P_i(k) − p_i(k)) + η2 (G(k) − p_i(k))
+// with η0 ~ U[0,w], η1 ~ U[0,c1], η2 ~ U[0,c2], zero initial velocities and initial
+// particles on the n^M grid of the initial search box (eq. 26), a Latin hypercube or
+// uniform random sample. All random numbers are drawn serially from one seeded
+// generator, and candidates are scored by a CandidateEvaluator, so the result is the
+// same for the same seed whatever the number of threads.
+
+#include <cstddef>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "tvid/optim/candidate_evaluator.hpp"
+#include "tvid/optim/pso_options.hpp"
+
+namespace tvid {
+
+/// Where the swarm may go (bounds; ±huge when unbounded) and where it starts (range box).
+struct SearchBox {
+    std::vector<double> lower, upper;
+    std::vector<double> range_lower, range_upper;
+};
+
+struct HistoryRow {
+    int iteration = 0;
+    long long evaluations = 0;
+    double best_cost = 0.0;
+};
+
+struct PsoSummary {
+    std::vector<double> best;        ///< global best position G
+    double best_cost = 0.0;
+    int iterations = 0;              ///< swarm updates done
+    int particles = 0;
+    long long evaluations = 0;       ///< simulations run
+    long long failed_evaluations = 0;///< candidates whose simulation failed (cost +inf)
+    std::vector<HistoryRow> history; ///< one row per iteration, k = 0 … iterations
+    std::string termination;         ///< "iteration limit", "stopped", "all candidates failed"
+};
+
+/// Called after every iteration; return false to stop the swarm (e.g. on Ctrl-C).
+using PsoProgress = std::function<bool(const HistoryRow&)>;
+
+/// The initial particle positions (particle-major, M values each).
+std::vector<double> pso_initial_positions(const PsoSettings& options, const SearchBox& box, std::size_t& count,
+                                          std::uint64_t seed);
+
+PsoSummary run_pso(const PsoSettings& options, const SearchBox& box, CandidateEvaluator& evaluator,
+                   const PsoProgress& progress = {});
+
+}  // namespace tvid

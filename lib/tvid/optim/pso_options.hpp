@@ -1,0 +1,22 @@
+#pragma once
+// Options of the particle swarm (seed 001 eq. 24–27), with the paper's defaults.
+
+#include <cstdint>
+
+namespace tvid {
+
+enum class PsoStart { grid, latin_hypercube, uniform };
+enum class PsoRandomDraw { per_iteration, per_particle, per_dimension };
+
+struct PsoSettings {
+    PsoStart start = PsoStart::grid;
+    int grid = 2;                ///< n: particles on the n^M grid of the range box (eq. 26)
+    int particles = 64;          ///< for latin_hypercube / uniform starts
+    int iterations = 250;        ///< swarm updates after the initial evaluation (k = 1 … kmax)
+    double w = 1.0, c1 = 0.4, c2 = 0.4;  ///< η0 ~ U[0,w], η1 ~ U[0,c1], η2 ~ U[0,c2]
+    PsoRandomDraw draw = PsoRandomDraw::per_particle;  ///< how often the η are drawn
+    bool velocity_first = false; ///< false: p(k+1) = p(k) + v(k) as eq. 24 prints; true: + v(k+1)
+    std::uint64_t seed = 1;
+};
+
+}  // namespace tvid

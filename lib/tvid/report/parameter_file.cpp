@@ -1,0 +1,47 @@
+#include "tvid/report/parameter_file.hpp"
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "tvid/util/input_error.hpp"
+
+namespace tvid {
+
+std::vector<double> initial_parameters(const Experiment& experiment) {
+    std::vector<double> p;
+    for (const ParameterSetting& s : experiment.parameters) p.push_back(s.init);
+    return p;
+}
+
+std::vector<double> read_parameter_file(const std::filesystem::path& file, const Experiment& experiment) {
+    const std::string name = file.string();
+    std::ifstream in(file);
+    if (!in) throw InputError(name, 0, "", "cannot open parameter file");
+    nlohmann::json j;
+    try {
+        j = nlohmann::json::parse(in);
+    } catch (const nlohmann::json::parse_error& e) {
+        throw InputError(name, 0, "", std::string("not valid JSON: ") + e.what());
+    }
+    std::vector<double> p = initial_parameters(experiment);
+    auto set = [&](const std::string& key, const nlohmann::json& value) {
+        const int i = experiment.network.parameter_index(key);
+        if (i < 0) throw InputError(name, 0, key, "is not a parameter of the model");
+        if (!value.is_number()) throw InputError(name, 0, key, "expected a number");
+        p[static_cast<std::size_t>(i)] = value.get<double>();
+    };
+    if (j.is_object() && j.contains("parameters") && j["parameters"].is_array()) {
+        for (const auto& entry : j["parameters"]) {
+            if (!entry.is_object() || !entry.contains("name") || !entry.contains("value") || !entry["name"].is_string())
+                throw InputError(name, 0, "parameters", "each entry needs a name and a value");
+            set(entry["name"].get<std::string>(), entry["value"]);
+        }
+    } else if (j.is_object()) {
+        for (const auto& [key, value] : j.items()) set(key, value);
+    } else {
+        throw InputError(name, 0, "", "expected a JSON object of parameter values");
+    }
+    return p;
+}
+
+}  // namespace tvid

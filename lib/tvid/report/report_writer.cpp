@@ -1,0 +1,220 @@
+#include "tvid/report/report_writer.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+#include "tvid/estimation/fit_metrics.hpp"
+#include "tvid/io/atomic_file.hpp"
+#include "tvid/io/sha256.hpp"
+
+namespace tvid {
+
+namespace {
+
+using nlohmann::json;
+
+// JSON has no NaN or infinity: such values are written as null.
+json number(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
+
+json bound(const ParameterSetting& p, bool lower) {
+    if (lower) return p.has_min ? json(p.min) : json(nullptr);
+    return p.has_max ? json(p.max) : json(nullptr);
+}
+
+std::string fmt(double v, const char* format = "%.10g") {
+    if (!std::isfinite(v)) return std::isnan(v) ? "" : (v > 0 ? "inf" : "-inf");
+    char buf[40];
+    std::snprintf(buf, sizeof buf, format, v);
+    return buf;
+}
+
+json metrics_json(const FitMetrics& m) {
+    return json{{"samples", m.samples},
+                {"cost_l1", number(m.mean_abs_error)},
+                {"cost_l2", number(m.sum_sq_error)},
+                {"q_index_percent", number(m.q_index)},
+                {"e0", number(m.e0)},
+                {"fit_percent", number(m.fit_percent)},
+                {"rmse", number(m.rmse)},
+                {"max_abs_residual_ratio", number(m.max_abs_residual_ratio)}};
+}
+
+// Index of free parameter for model parameter i, or -1.
+int free_position(const IdentificationProblem& problem, std::size_t i) {
+    const auto& f = problem.free_indices();
+    for (std::size_t j = 0; j < f.size(); ++j)
+        if (f[j] == i) return static_cast<int>(j);
+    return -1;
+}
+
+std::string file_digest(const std::filesystem::path& p) {
+    try {
+        return sha256_of_file(p);
+    } catch (const std::exception&) {
+        return "";
+    }
+}
+
+}  // namespace
+
+json split_json(const Experiment& experiment, const SplitEvaluation& split) {
+    json pooled = json::object();
+    for (std::size_t k = 0; k < experiment.outputs.size(); ++k)
+        pooled[experiment.outputs[k].model_name] = metrics_json(split.pooled[k]);
+    json windows = json::array();
+    for (const WindowEvaluation& w : split.windows) {
+        json outs = json::object();
+        for (std::size_t k = 0; k < experiment.outputs.size(); ++k)
+            outs[experiment.outputs[k].model_name] = metrics_json(w.metrics[k]);
+        windows.push_back(json{{"window", w.trace.window->label},
+                               {"status", to_string(w.trace.status)},
+                               {"problem", w.trace.problem},
+                               {"outputs", outs}});
+    }
+    return json{{"pooled", pooled}, {"windows", windows}, {"ok", split.ok}};
+}
+
+json parameters_json(const IdentificationProblem& problem, const FitResult& fit) {
+    const Experiment& ex = problem.experiment();
+    json params = json::array();
+    for (std::size_t i = 0; i < ex.parameters.size(); ++i) {
+        const ParameterSetting& p = ex.parameters[i];
+        const int j = free_position(problem, i);
+        json entry{{"name", p.name},        {"value", number(fit.best_params[i])}, {"init", p.init},
+                   {"min", bound(p, true)}, {"max", bound(p, false)},              {"fixed", p.fixed}};
+        if (j >= 0 && fit.uncertainty.available) {
+            const auto jj = static_cast<std::size_t>(j);
+            entry["std_error"] = number(fit.uncertainty.std_error[jj]);
+            entry["ci95"] = json::array({number(fit.uncertainty.ci_low[jj]), number(fit.uncertainty.ci_high[jj])});
+            entry["determined"] = static_cast<bool>(fit.uncertainty.determined[jj]);
+        } else {
+            entry["std_error"] = nullptr;
+            entry["ci95"] = nullptr;
+            entry["determined"] = j < 0 ? json(nullptr) : json(false);
+        }
+        params.push_back(entry);
+    }
+    json correlation{{"parameters", problem.free_names()}, {"matrix", json::array()}};
+    for (const auto& row : fit.uncertainty.correlation) {
+        json r = json::array();
+        for (double c : row) r.push_back(number(c));
+        correlation["matrix"].push_back(r);
+    }
+    return json{{"experiment", ex.name}, {"model", ex.network.preset}, {"parameters", params},
+                {"correlation", correlation}};
+}
+
+json fit_summary_json(const IdentificationProblem& problem, const FitResult& fit, const RunContext& context) {
+    const Experiment& ex = problem.experiment();
+    const PsoSettings& ps = fit.pso_settings;
+    json identifiability{{"available", fit.uncertainty.available},
+                         {"problem", fit.uncertainty.problem},
+                         {"rank", fit.uncertainty.rank},
+                         {"free_parameters", problem.dimension()},
+                         {"condition_number", number(fit.uncertainty.condition_number)},
+                         {"undetermined", json::array()},
+                         {"null_directions", json::array()}};
+    for (std::size_t j = 0; j < fit.uncertainty.determined.size(); ++j)
+        if (!fit.uncertainty.determined[j]) identifiability["undetermined"].push_back(problem.free_names()[j]);
+    for (const auto& dir : fit.uncertainty.null_directions) {
+        json d = json::object();
+        for (std::size_t j = 0; j < dir.size(); ++j) d[problem.free_names()[j]] = dir[j];
+        identifiability["null_directions"].push_back(d);
+    }
+    const double evals_per_s =
+        fit.optimizer_seconds > 0 ? static_cast<double>(fit.pso.evaluations) / fit.optimizer_seconds : 0.0;
+    json s{{"tool", "tvid"},
+           {"version", context.version},
+           {"command", context.command_line},
+           {"experiment", ex.name},
+           {"status", fit.success ? "ok" : "failed"},
+           {"interrupted", false},
+           {"config", ex.file.string()},
+           {"config_sha256", file_digest(ex.file)},
+           {"data", ex.data_file.string()},
+           {"data_sha256", file_digest(ex.data_file)},
+           {"model", ex.network.preset},
+           {"cost", {{"kind", ex.estimation_settings.cost == CostKind::l1 ? "l1" : "l2"},
+                     {"value", number(fit.evaluation.cost)}}},
+           {"optimizer",
+            {{"name", fit.optimizer},
+             {"particles", fit.pso.particles},
+             {"iterations", fit.pso.iterations},
+             {"evaluations", fit.pso.evaluations},
+             {"failed_evaluations", fit.pso.failed_evaluations},
+             {"termination", fit.pso.termination},
+             {"seed", ps.seed},
+             {"w", ps.w},
+             {"c1", ps.c1},
+             {"c2", ps.c2}}},
+           {"threads", fit.threads},
+           {"wall_time_s", fit.wall_seconds},
+           {"optimizer_time_s", fit.optimizer_seconds},
+           {"evaluations_per_second", evals_per_s},
+           {"estimation", split_json(ex, fit.evaluation.estimation)},
+           {"validation", split_json(ex, fit.evaluation.validation)},
+           {"identifiability", identifiability}};
+    return s;
+}
+
+std::string trace_csv(const Experiment& experiment, const SplitEvaluation& split) {
+    std::ostringstream out;
+    out << "t,window";
+    for (const ChannelBinding& o : experiment.outputs) {
+        const std::string& n = o.model_name;
+        out << ',' << n << "_measured," << n << "_simulated," << n << "_residual," << n << "_residual_ratio";
+    }
+    out << '\n';
+    for (const WindowEvaluation& w : split.windows) {
+        const WindowTrace& tr = w.trace;
+        for (std::size_t i = 0; i < tr.time.size(); ++i) {
+            out << fmt(tr.time[i], "%.9g") << ",\"" << tr.window->label << '"';
+            for (std::size_t k = 0; k < tr.measured.size(); ++k) {
+                const double y = tr.measured[k][i], ys = tr.simulated[k][i];
+                out << ',' << fmt(y) << ',' << fmt(ys) << ',' << fmt(y - ys) << ',' << fmt(residual_ratio(y, ys));
+            }
+            out << '\n';
+        }
+    }
+    return out.str();
+}
+
+void write_fit_report(const std::filesystem::path& dir, const IdentificationProblem& problem, const FitResult& fit,
+                      const RunContext& context) {
+    std::error_code ec;
+    std::filesystem::create_directories(dir, ec);
+    if (ec) throw std::runtime_error("cannot create report directory " + dir.string() + ": " + ec.message());
+    const Experiment& ex = problem.experiment();
+
+    write_file_atomically(dir / "params.json", parameters_json(problem, fit).dump(2) + "\n");
+
+    std::ostringstream csv;
+    csv << "name,value,init,min,max,fixed,std_error,ci95_low,ci95_high\n";
+    for (std::size_t i = 0; i < ex.parameters.size(); ++i) {
+        const ParameterSetting& p = ex.parameters[i];
+        const int j = free_position(problem, i);
+        const bool unc = j >= 0 && fit.uncertainty.available;
+        const auto jj = static_cast<std::size_t>(std::max(j, 0));
+        csv << p.name << ',' << fmt(fit.best_params[i], "%.17g") << ',' << fmt(p.init, "%.17g") << ','
+            << (p.has_min ? fmt(p.min, "%.17g") : "") << ',' << (p.has_max ? fmt(p.max, "%.17g") : "") << ','
+            << (p.fixed ? "true" : "false") << ',' << (unc ? fmt(fit.uncertainty.std_error[jj]) : "") << ','
+            << (unc ? fmt(fit.uncertainty.ci_low[jj]) : "") << ',' << (unc ? fmt(fit.uncertainty.ci_high[jj]) : "")
+            << '\n';
+    }
+    write_file_atomically(dir / "params.csv", csv.str());
+
+    write_file_atomically(dir / "estimation.csv", trace_csv(ex, fit.evaluation.estimation));
+    write_file_atomically(dir / "validation.csv", trace_csv(ex, fit.evaluation.validation));
+
+    std::ostringstream hist;
+    hist << "iteration,evaluations,best_cost\n";
+    for (const HistoryRow& h : fit.pso.history)
+        hist << h.iteration << ',' << h.evaluations << ',' << fmt(h.best_cost, "%.17g") << '\n';
+    write_file_atomically(dir / "history.csv", hist.str());
+
+    // summary.json last: its presence marks a complete report.
+    write_file_atomically(dir / "summary.json", fit_summary_json(problem, fit, context).dump(2) + "\n");
+}
+
+}  // namespace tvid

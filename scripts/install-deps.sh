@@ -1,0 +1,31 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages tvid needs to build and test. Idempotent, non-interactive.
+set -euo pipefail
+
+packages=(
+  build-essential cmake ninja-build pkg-config
+  libeigen3-dev          # Eigen 3.4: dense linear algebra
+  libboost-dev           # Boost 1.74 headers: Odeint, Math (root finding)
+  libnlopt-cxx-dev       # NLopt 2.7 with its C++ API
+  libyaml-cpp-dev        # yaml-cpp 0.7: experiment files
+  libcli11-dev           # CLI11 2.1: command line
+  catch2                 # Catch2 2.13: tests
+  nlohmann-json3-dev     # nlohmann-json 3.11: report files
+  libssl-dev             # OpenSSL: SHA-256 of config and data in the report
+  python3                # data generation and test helpers (standard library only)
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install-deps: all ${#packages[@]} packages present"
+  exit 0
+fi
+SUDO=""
+[ "$(id -u)" -ne 0 ] && SUDO="sudo"
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
+echo "install-deps: installed ${missing[*]}"

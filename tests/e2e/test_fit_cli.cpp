@@ -1,0 +1,218 @@
+// `tvid fit` end to end: the binary on the shipped experiment, every report file and
+// its fields, the summary it prints, and exit statuses.
+#include <catch2/catch.hpp>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <regex>
+#include <sstream>
+
+#include "support/run_tvid.hpp"
+#include "support/test_files.hpp"
+
+using namespace tvid::test;
+using nlohmann::json;
+
+namespace {
+
+const std::vector<std::string> kSmallSwarm = {"--set", "estimation.pso.start=latin_hypercube",
+                                              "--set", "estimation.pso.particles=16",
+                                              "--set", "estimation.pso.iterations=4"};
+
+std::vector<std::string> fit_args(const std::string& config, const std::string& out) {
+    std::vector<std::string> a{"fit", (source_dir() / "configs" / config).string(), "-o", out, "--threads", "2"};
+    a.insert(a.end(), kSmallSwarm.begin(), kSmallSwarm.end());
+    return a;
+}
+
+std::vector<std::string> lines_of(const std::string& text) {
+    std::vector<std::string> lines;
+    std::istringstream in(text);
+    for (std::string l; std::getline(in, l);) lines.push_back(l);
+    return lines;
+}
+
+json read_json(const std::filesystem::path& p) { return json::parse(read_text(p)); }
+
+}  // namespace
+
+TEST_CASE("tvid fit writes a complete report directory", "[e2e][fit]") {
+    TempDir tmp;
+    const auto out = tmp.path() / "report";
+    const RunResult r = run_tvid(fit_args("cvt_tipin.yaml", out.string()));
+    INFO(r.err);
+    REQUIRE(r.exit_code == 0);
+
+    // The terminal summary: Q-index, cost, parameters, wall time, report folder.
+    CHECK(r.out.find("tvid fit cvt-tipin") != std::string::npos);
+    CHECK(r.out.find("cost (l1)") != std::string::npos);
+    CHECK(r.out.find("Q ") != std::string::npos);
+    CHECK(r.out.find("rho1") != std::string::npos);
+    CHECK(r.out.find(out.string()) != std::string::npos);
+    CHECK(std::regex_search(r.out, std::regex(R"(\d+\.\d\d s on 2 threads)")));
+    CHECK(r.err.empty());  // no progress line in a pipe
+
+    for (const char* f : {"params.json", "params.csv", "summary.json", "estimation.csv", "validation.csv", "history.csv"})
+        CHECK(std::filesystem::is_regular_file(out / f));
+    for (const auto& entry : std::filesystem::directory_iterator(out))
+        CHECK(entry.path().filename().string().find(".tmp") == std::string::npos);
+
+    const json params = read_json(out / "params.json");
+    REQUIRE(params["parameters"].size() == 9);
+    const std::vector<std::string> names{"rho1", "k_minus", "k_plus", "c_minus", "c_plus", "mu", "sigma", "d_ds", "d_tm"};
+    for (std::size_t i = 0; i < 9; ++i) {
+        const json& p = params["parameters"][i];
+        CHECK(p["name"] == names[i]);
+        CHECK(p["value"].is_number());
+        CHECK(p["init"].is_number());
+        CHECK(p["min"].is_number());
+        CHECK(p["max"].is_number());
+        CHECK(p["fixed"] == false);
+        CHECK(p.contains("std_error"));
+        CHECK(p.contains("ci95"));
+        CHECK(p["value"].get<double>() >= p["min"].get<double>());
+        CHECK(p["value"].get<double>() <= p["max"].get<double>());
+    }
+    CHECK(params["correlation"]["parameters"].size() == 9);
+
+    const json s = read_json(out / "summary.json");
+    CHECK(s["status"] == "ok");
+    CHECK(s["interrupted"] == false);
+    CHECK(s["experiment"] == "cvt-tipin");
+    CHECK(s["model"] == "cvt_clearance");
+    CHECK(s["threads"] == 2);
+    CHECK(s["optimizer"]["name"] == "pso");
+    CHECK(s["optimizer"]["particles"] == 16);
+    CHECK(s["optimizer"]["iterations"] == 4);
+    CHECK(s["optimizer"]["seed"] == 1);
+    CHECK(s["optimizer"]["termination"] == "iteration limit");
+    CHECK(s["optimizer"]["evaluations"].get<long long>() >= 16);
+    CHECK(s["wall_time_s"].get<double>() > 0);
+    CHECK(s["cost"]["kind"] == "l1");
+    const double cost = s["cost"]["value"].get<double>();
+    CHECK(cost > 0);
+    CHECK(std::regex_match(s["config_sha256"].get<std::string>(), std::regex("[0-9a-f]{64}")));
+    CHECK(std::regex_match(s["data_sha256"].get<std::string>(), std::regex("[0-9a-f]{64}")));
+    CHECK(s["version"].is_string());
+    const json& est = s["estimation"]["pooled"]["Tds"];
+    CHECK(est["samples"] == 1500);  // (1.5, 3.0] at 1 kHz
+    CHECK(est["cost_l1"].get<double>() == Approx(cost).epsilon(1e-12));
+    for (const char* k : {"q_index_percent", "fit_percent", "rmse", "max_abs_residual_ratio", "e0"})
+        CHECK(est[k].is_number());
+    CHECK(s["validation"]["windows"].size() == 2);
+    CHECK(s["validation"]["pooled"]["Tds"]["samples"] == 1000);
+    CHECK(s["identifiability"]["free_parameters"] == 9);
+
+    // estimation.csv: header plus one row per scored sample; residual = measured − simulated.
+    const auto est_lines = lines_of(read_text(out / "estimation.csv"));
+    REQUIRE(est_lines.size() == 1501);
+    CHECK(est_lines[0] == "t,window,Tds_measured,Tds_simulated,Tds_residual,Tds_residual_ratio");
+    double abs_sum = 0;
+    for (std::size_t i = 1; i < est_lines.size(); ++i) {
+        std::vector<std::string> cells;
+        std::string cell;
+        std::istringstream row(est_lines[i]);
+        while (std::getline(row, cell, ',')) cells.push_back(cell);
+        REQUIRE(cells.size() == 6);
+        const double y = std::stod(cells[2]), ys = std::stod(cells[3]), e = std::stod(cells[4]);
+        CHECK(e == Approx(y - ys).margin(1e-7));
+        abs_sum += std::abs(e);
+    }
+    CHECK(abs_sum / 1500 == Approx(cost).epsilon(1e-6));
+    CHECK(lines_of(read_text(out / "validation.csv")).size() == 1001);
+
+    // history.csv: one row per iteration k = 0..4, best cost non-increasing, ending at the cost.
+    const auto hist = lines_of(read_text(out / "history.csv"));
+    REQUIRE(hist.size() == 6);
+    CHECK(hist[0] == "iteration,evaluations,best_cost");
+    CHECK(std::stod(hist[5].substr(hist[5].rfind(',') + 1)) == Approx(cost).epsilon(1e-12));
+
+    // params.csv: header plus 9 rows.
+    const auto pcsv = lines_of(read_text(out / "params.csv"));
+    REQUIRE(pcsv.size() == 10);
+    CHECK(pcsv[0] == "name,value,init,min,max,fixed,std_error,ci95_low,ci95_high");
+    CHECK(pcsv[1].rfind("rho1,", 0) == 0);
+
+    // validate with the fitted parameters reproduces the cost.
+    const RunResult v = run_tvid({"validate", (source_dir() / "configs/cvt_tipin.yaml").string(), "--params",
+                                  (out / "params.json").string()});
+    REQUIRE(v.exit_code == 0);
+    CHECK(json::parse(v.out)["cost"].get<double>() == Approx(cost).epsilon(1e-12));
+
+    // simulate prints measured vs simulated for every window.
+    const RunResult sim = run_tvid({"simulate", (source_dir() / "configs/cvt_tipin.yaml").string(), "--params",
+                                    (out / "params.json").string()});
+    REQUIRE(sim.exit_code == 0);
+    CHECK(lines_of(sim.out).size() == 1 + 1500 + 1000);
+}
+
+TEST_CASE("tvid fit --json prints the summary on stdout", "[e2e][fit]") {
+    TempDir tmp;
+    auto args = fit_args("cvt_tipin.yaml", (tmp.path() / "r").string());
+    args.push_back("--json");
+    const RunResult r = run_tvid(args);
+    REQUIRE(r.exit_code == 0);
+    const json s = json::parse(r.out);
+    CHECK(s["status"] == "ok");
+    CHECK(s == read_json(tmp.path() / "r" / "summary.json"));
+}
+
+TEST_CASE("the report directory comes from report.dir relative to the experiment file", "[e2e][fit]") {
+    TempDir tmp;
+    std::string yaml = read_text(source_dir() / "configs/cvt_tipin.yaml");
+    yaml = std::regex_replace(yaml, std::regex(R"(\.\./data/cvt/)"), (source_dir() / "data/cvt/").string());
+    yaml = std::regex_replace(yaml, std::regex(R"(report: \{ dir: [^}]*\})"), "report: { dir: out/here }");
+    const auto exp = tmp.write("exp/cvt.yaml", yaml);
+    std::vector<std::string> args{"fit", exp.string(), "--quiet"};
+    args.insert(args.end(), kSmallSwarm.begin(), kSmallSwarm.end());
+    const RunResult r = run_tvid(args);
+    INFO(r.err);
+    REQUIRE(r.exit_code == 0);
+    CHECK(r.out.empty());  // --quiet
+    CHECK(std::filesystem::is_regular_file(tmp.path() / "exp/out/here/summary.json"));
+}
+
+TEST_CASE("a fit whose every candidate fails exits 1 with a report that says so", "[e2e][fit]") {
+    TempDir tmp;
+    auto args = fit_args("cvt_tipin.yaml", (tmp.path() / "r").string());
+    for (const char* s : {"simulation.method=dopri5", "simulation.max_steps=1"}) {
+        args.push_back("--set");
+        args.push_back(s);
+    }
+    const RunResult r = run_tvid(args);
+    CHECK(r.exit_code == 1);
+    CHECK(r.err.find("every candidate") != std::string::npos);
+    const json s = read_json(tmp.path() / "r" / "summary.json");
+    CHECK(s["status"] == "failed");
+    CHECK(s["optimizer"]["termination"] == "all candidates failed");
+    CHECK(s["optimizer"]["failed_evaluations"] == s["optimizer"]["evaluations"]);
+}
+
+TEST_CASE("tvid models lists the preset with its parameters, inputs and outputs", "[e2e][models]") {
+    const RunResult r = run_tvid({"models"});
+    REQUIRE(r.exit_code == 0);
+    CHECK(r.out.find("cvt_clearance") != std::string::npos);
+    for (const char* p : {"rho1", "k_minus", "k_plus", "c_minus", "c_plus", "mu", "sigma", "d_ds", "d_tm", "Ttm", "Tds"})
+        CHECK(r.out.find(p) != std::string::npos);
+    const RunResult j = run_tvid({"models", "--json"});
+    REQUIRE(j.exit_code == 0);
+    const json m = json::parse(j.out);
+    CHECK(m[0]["preset"] == "cvt_clearance");
+    CHECK(m[0]["parameters"].size() == 9);
+    CHECK(m[0]["inputs"] == json::array({"Ttm"}));
+    CHECK(m[0]["outputs"] == json::array({"Tds"}));
+}
+
+TEST_CASE("command-line misuse exits 2", "[e2e]") {
+    CHECK(run_tvid({}).exit_code == 2);
+    CHECK(run_tvid({"fit"}).exit_code == 2);
+    CHECK(run_tvid({"frobnicate"}).exit_code == 2);
+    const RunResult missing = run_tvid({"fit", "/nonexistent/exp.yaml"});
+    CHECK(missing.exit_code == 2);
+    CHECK(missing.err.find("/nonexistent/exp.yaml") != std::string::npos);
+    const RunResult bad_set = run_tvid({"fit", (source_dir() / "configs/cvt_tipin.yaml").string(), "--set", "novalue"});
+    CHECK(bad_set.exit_code == 2);
+    CHECK(bad_set.err.find("--set") != std::string::npos);
+    const RunResult ver = run_tvid({"--version"});
+    CHECK(ver.exit_code == 0);
+    CHECK(ver.out.find("tvid") != std::string::npos);
+}

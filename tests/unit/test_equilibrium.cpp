@@ -1,0 +1,69 @@
+// Static equilibrium (seed 001 eq. 18) of one- and several-node networks.
+#include <catch2/catch.hpp>
+
+#include "tvid/model/equilibrium.hpp"
+#include "tvid/model/presets.hpp"
+
+using namespace tvid;
+
+namespace {
+const std::vector<double> kTableI = {1.42855, 2947.91, 8700.64, 4.10333, 19.2283, 3.55701e-3, 1132.81, -7.40521, 12.9998};
+}
+
+TEST_CASE("CVT equilibrium balances the shifted input torque", "[equilibrium]") {
+    const NetworkSpec spec = build_preset("cvt_clearance", {});
+    NetworkModel<double> model(spec);
+    model.set_parameters(kTableI.data());
+    const ClearanceLaw<double> law{2947.91, 8700.64, 4.10333, 19.2283, 3.55701e-3, 1132.81, true};
+    for (double ttm : {-500.0, -20.0, 11.0, 12.9998, 13.5, 40.0, 90.0, 2000.0}) {
+        const double u = ttm;
+        const EquilibriumResult eq = solve_equilibrium(model, &u);
+        REQUIRE(eq.found);
+        REQUIRE(eq.theta.size() == 1);
+        // F(θ̄, 0) = Ttm − Δtm (eq. 15a at rest).
+        CHECK(law.torque(eq.theta[0], 0.0) == Approx(ttm - 12.9998).margin(1e-9));
+        if (ttm > 12.9998 + 1) CHECK(eq.theta[0] > 3.55701e-3);   // forward contact
+        if (ttm < 12.9998 - 1) CHECK(eq.theta[0] < -3.55701e-3);  // backward contact
+    }
+    // Steep smoothing: a nearly flat deadband still gives the unique root.
+    std::vector<double> steep = kTableI;
+    steep[6] = 1e5;
+    model.set_parameters(steep.data());
+    const double u = 12.9998;
+    const EquilibriumResult eq = solve_equilibrium(model, &u);
+    REQUIRE(eq.found);
+    CHECK(std::abs(eq.theta[0]) < 3.55701e-3);
+}
+
+TEST_CASE("a chain of springs to ground settles where the static torques vanish", "[equilibrium]") {
+    // ground -k1- n0 -k2- n1 -k3- n2, torque T on n2: every spring carries T.
+    NetworkSpec spec;
+    spec.input_names = {"T"};
+    for (int i = 0; i < 3; ++i) spec.nodes.push_back(NodeSpec{"n" + std::to_string(i), Field::value(1.0), false});
+    spec.spring_dampers.push_back(SpringDamperSpec{"k1", 0, kGround, Field::value(100.0), Field::value(1.0)});
+    spec.spring_dampers.push_back(SpringDamperSpec{"k2", 1, 0, Field::value(50.0), Field::value(1.0)});
+    spec.spring_dampers.push_back(SpringDamperSpec{"k3", 2, 1, Field::value(25.0), Field::value(1.0)});
+    spec.torques.push_back(TorqueSpec{"drive", 2, 0, Field::value(0.0), Field::value(1.0)});
+    NetworkModel<double> model(spec);
+    model.set_parameters(nullptr);
+    const double t = 10.0;
+    const EquilibriumResult eq = solve_equilibrium(model, &t);
+    REQUIRE(eq.found);
+    CHECK(eq.theta[0] == Approx(10.0 / 100.0));
+    CHECK(eq.theta[1] == Approx(10.0 / 100.0 + 10.0 / 50.0));
+    CHECK(eq.theta[2] == Approx(10.0 / 100.0 + 10.0 / 50.0 + 10.0 / 25.0));
+}
+
+TEST_CASE("a network without elastic ground connection has no equilibrium", "[equilibrium]") {
+    NetworkSpec spec;
+    spec.input_names = {"T"};
+    spec.nodes.push_back(NodeSpec{"a", Field::value(1.0), false});
+    spec.nodes.push_back(NodeSpec{"b", Field::value(1.0), false});
+    spec.spring_dampers.push_back(SpringDamperSpec{"s", 0, 1, Field::value(10.0), Field::value(0.0)});
+    NetworkModel<double> model(spec);
+    model.set_parameters(nullptr);
+    const double t = 1.0;
+    const EquilibriumResult eq = solve_equilibrium(model, &t);
+    CHECK_FALSE(eq.found);
+    CHECK(eq.problem.find("singular") != std::string::npos);
+}

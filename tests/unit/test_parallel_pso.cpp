@@ -1,0 +1,36 @@
+// The swarm evaluated on several threads gives bit-identical results to one thread.
+#include <catch2/catch.hpp>
+
+#include "support/test_files.hpp"
+#include "tvid/experiment/experiment.hpp"
+#include "tvid/fit/fit_run.hpp"
+
+using namespace tvid;
+
+TEST_CASE("PSO on the CVT problem is bit-identical for 1, 2 and 3 threads", "[pso][threads]") {
+    const Experiment ex = load_experiment(test::source_dir() / "configs/cvt_tipin.yaml",
+                                          {{"estimation.pso.start", "latin_hypercube"},
+                                           {"estimation.pso.particles", "24"},
+                                           {"estimation.pso.iterations", "6"}});
+    const IdentificationProblem problem(ex);
+    std::vector<FitResult> runs;
+    for (int threads : {1, 2, 3}) {
+        FitOptions o;
+        o.threads = threads;
+        runs.push_back(run_fit(problem, o));
+        CHECK(runs.back().threads == threads);
+    }
+    for (std::size_t r = 1; r < runs.size(); ++r) {
+        CHECK(runs[r].pso.best == runs[0].pso.best);  // exact, not approximate
+        CHECK(runs[r].pso.best_cost == runs[0].pso.best_cost);
+        REQUIRE(runs[r].pso.history.size() == runs[0].pso.history.size());
+        for (std::size_t k = 0; k < runs[0].pso.history.size(); ++k) {
+            CHECK(runs[r].pso.history[k].best_cost == runs[0].pso.history[k].best_cost);
+            CHECK(runs[r].pso.history[k].evaluations == runs[0].pso.history[k].evaluations);
+        }
+    }
+    // A different seed explores differently.
+    FitOptions other;
+    other.seed = 99;
+    CHECK(run_fit(problem, other).pso.best != runs[0].pso.best);
+}
