@@ -63,7 +63,8 @@ TEST_CASE("every experiment error exits 2 naming the file, the line and the key"
     const Case cases[] = {
         {"unknown key", 22, "  pso: { start: latin_hypercube, particles: 4, itrations: 1 }", "itrations"},
         {"wrong type", 10, "  rho1:    { init: fast, min: 0.1, max: 10, range: [1, 2] }", "parameters.rho1.init"},
-        {"missing key", 4, "  tyme: t", "data"},
+        {"missing key", 4, "", "data.time"},
+        {"misspelt key", 4, "  tyme: t", "did you mean 'time'"},
         {"min > max", 13, "  c_minus: { init: 4, min: 50, max: 10 }", "parameters.c_minus"},
         {"init outside bounds", 14, "  c_plus:  { init: 190, min: 0, max: 100 }", "parameters.c_plus"},
         {"window outside the data", 20, "  estimation: [ { time: [0.002, 5.0] } ]", "windows.estimation"},

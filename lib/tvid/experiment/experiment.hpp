@@ -47,7 +47,7 @@ struct ChannelBinding {
 /// scored samples are those i with first <= i <= last and i > start (the start sample is
 /// the initial condition, not a prediction: seed 001 eq. 19 sums i = 1..m).
 struct Window {
-    std::string label;       ///< e.g. "time [1.5, 3]"
+    std::string label;       ///< e.g. "time 1.5 to 3" (no comma: it is a CSV cell)
     std::size_t start = 0;
     std::size_t first = 0;
     std::size_t last = 0;

@@ -169,7 +169,7 @@ std::string trace_csv(const Experiment& experiment, const SplitEvaluation& split
     for (const WindowEvaluation& w : split.windows) {
         const WindowTrace& tr = w.trace;
         for (std::size_t i = 0; i < tr.time.size(); ++i) {
-            out << fmt(tr.time[i], "%.9g") << ",\"" << tr.window->label << '"';
+            out << fmt(tr.time[i], "%.9g") << ',' << tr.window->label;  // labels hold no comma
             for (std::size_t k = 0; k < tr.measured.size(); ++k) {
                 const double y = tr.measured[k][i], ys = tr.simulated[k][i];
                 out << ',' << fmt(y) << ',' << fmt(ys) << ',' << fmt(y - ys) << ',' << fmt(residual_ratio(y, ys));

@@ -1,0 +1,158 @@
+#include "tvid/experiment/channel_reader.hpp"
+
+#include <cmath>
+#include <numbers>
+
+#include "tvid/experiment/model_reader.hpp"
+
+namespace tvid {
+
+namespace {
+
+std::string joined(const std::vector<std::string>& words) {
+    std::string out;
+    for (const std::string& w : words) out.append(out.empty() ? "" : ", ").append(w);
+    return out;
+}
+
+struct UnitFactor {
+    const char* unit;
+    double factor;
+};
+
+constexpr double kPi = std::numbers::pi;
+const UnitFactor kUnits[] = {
+    {"Pa", 1.0},        {"kPa", 1e3},         {"MPa", 1e6},          {"bar", 1e5},
+    {"N m", 1.0},       {"Nm", 1.0},          {"kN m", 1e3},         {"kNm", 1e3},
+    {"rad", 1.0},       {"deg", kPi / 180.0}, {"rad/s", 1.0},        {"rpm", 2.0 * kPi / 60.0},
+    {"deg/s", kPi / 180.0}, {"1", 1.0},
+};
+
+std::string unit_list() {
+    std::string out;
+    for (const UnitFactor& u : kUnits) out.append(out.empty() ? "" : ", ").append(u.unit);
+    return out;
+}
+
+// A column name, or { column: NAME, unit: U | scale: S, ... }. `extra` are further keys
+// the mapping may hold (read by the caller).
+ChannelBinding read_binding(const YamlMap& section, const std::string& name, const CsvTable& data,
+                            std::initializer_list<std::string_view> extra) {
+    const YamlSource& src = section.source();
+    const YAML::Node value = section.get(name);
+    ChannelBinding b;
+    b.model_name = name;
+    YAML::Node column_node = value;
+    std::string column_path = section.key_path(name);
+    if (value.IsMap()) {
+        const YamlMap m(src, value, column_path);
+        std::vector<std::string> allowed{"column", "unit", "scale"};
+        for (std::string_view e : extra) allowed.emplace_back(e);
+        m.allow_only(allowed);
+        if (!m.has("column")) m.fail_missing("column", "(the CSV column)");
+        column_node = m.get("column");
+        column_path = m.key_path("column");
+        if (m.has("unit") && m.has("scale")) m.fail("scale", "give either unit or scale, not both");
+        if (m.has("unit")) {
+            const std::string unit = m.text("unit");
+            b.scale = unit_to_si(unit);
+            if (b.scale == 0.0) m.fail("unit", "unknown unit '" + unit + "' (units: " + unit_list() + ")");
+        }
+        if (m.has("scale")) {
+            b.scale = m.number("scale");
+            if (b.scale == 0.0) m.fail("scale", "a scale of 0 removes the channel");
+        }
+    } else if (!value.IsScalar()) {
+        src.fail(value, column_path, "expected a CSV column name or { column: NAME, unit: U }");
+    }
+    b.column = read_text(src, column_node, column_path);
+    b.where = src.where(column_node, column_path);
+    if (!data.has_column(b.column))
+        src.fail(column_node, column_path,
+                 "no column '" + b.column + "' in " + data.file().string() + " (columns: " + joined(data.column_names()) +
+                     ")");
+    return b;
+}
+
+// The element of that name as an ElementRef, or false.
+bool find_element(const NetworkSpec& n, const std::string& name, ElementRef& ref) {
+    auto look = [&](const auto& list, ElementKind kind) {
+        for (std::size_t i = 0; i < list.size(); ++i)
+            if (list[i].name == name) {
+                ref = ElementRef{kind, static_cast<int>(i)};
+                return true;
+            }
+        return false;
+    };
+    return look(n.spring_dampers, ElementKind::spring_damper) || look(n.clearances, ElementKind::clearance) ||
+           look(n.frictions, ElementKind::friction) || look(n.gear_meshes, ElementKind::gear_mesh) ||
+           look(n.torques, ElementKind::torque);
+}
+
+OutputSpec read_custom_output(const YamlMap& section, const std::string& name, const NetworkSpec& net) {
+    const YamlSource& src = section.source();
+    const YAML::Node value = section.get(name);
+    if (!value.IsMap())
+        src.fail(value, section.key_path(name), "expected { column: NAME, speed: NODE } (or angle: NODE, torque: ELEMENT)");
+    const YamlMap m(src, value, section.key_path(name));
+    OutputSpec o;
+    o.name = name;
+    const int kinds = int(m.has("speed")) + int(m.has("angle")) + int(m.has("torque"));
+    if (kinds != 1) m.fail_missing("speed", "(give exactly one of speed: NODE, angle: NODE or torque: ELEMENT)");
+    if (m.has("torque")) {
+        o.kind = OutputKind::torque;
+        const std::string element = m.text("torque");
+        if (!find_element(net, element, o.element)) m.fail("torque", "no element named '" + element + "'");
+    } else {
+        const std::string key = m.has("speed") ? "speed" : "angle";
+        o.kind = key == "speed" ? OutputKind::speed : OutputKind::angle;
+        const std::string node = m.text(key);
+        o.node = net.node_index(node);
+        if (o.node < 0) m.fail(key, "no node named '" + node + "'");
+    }
+    if (m.has("offset")) o.offset = read_field(src, m.get("offset"), m.key_path("offset"), net.parameter_names);
+    return o;
+}
+
+}  // namespace
+
+double unit_to_si(const std::string& unit) {
+    for (const UnitFactor& u : kUnits)
+        if (unit == u.unit) return u.factor;
+    return 0.0;
+}
+
+std::vector<ChannelBinding> read_inputs(const YamlMap& inputs, const NetworkSpec& network, const CsvTable& data) {
+    inputs.allow_only(network.input_names);
+    std::vector<ChannelBinding> out;
+    for (const std::string& name : network.input_names) {
+        if (!inputs.has(name)) inputs.fail_missing(name, "(the CSV column of model input " + name + ")");
+        out.push_back(read_binding(inputs, name, data, {}));
+    }
+    return out;
+}
+
+OutputBindings read_outputs(const YamlMap& outputs, NetworkSpec& network, const CsvTable& data) {
+    const bool custom = network.preset == "custom";
+    OutputBindings out;
+    if (!custom) {
+        std::vector<std::string> names;
+        for (const OutputSpec& o : network.outputs) names.push_back(o.name);
+        outputs.allow_only(names);
+    }
+    for (const std::string& name : outputs.keys()) {
+        if (custom) {
+            if (network.output_index(name) >= 0) outputs.fail(name, "output defined twice");
+            network.outputs.push_back(read_custom_output(outputs, name, network));
+            out.channels.push_back(read_binding(outputs, name, data, {"speed", "angle", "torque", "offset"}));
+        } else {
+            out.channels.push_back(read_binding(outputs, name, data, {}));
+        }
+        out.indices.push_back(network.output_index(name));
+    }
+    if (out.channels.empty())
+        outputs.source().fail(outputs.node(), outputs.path(), "no outputs: name at least one model output and its CSV column");
+    return out;
+}
+
+}  // namespace tvid

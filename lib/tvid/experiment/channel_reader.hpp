@@ -1,0 +1,30 @@
+#pragma once
+// The `inputs:` and `outputs:` sections: which CSV column feeds each model input and
+// which column each model output is compared with, with an optional unit conversion
+// (`unit: bar`, `unit: rpm`, or `scale: 1e5`) to SI.
+
+#include <vector>
+
+#include "tvid/experiment/yaml_reader.hpp"
+#include "tvid/io/csv_table.hpp"
+#include "tvid/model/network_spec.hpp"
+
+namespace tvid {
+
+/// One binding per network input, in network order; every input must be bound.
+std::vector<ChannelBinding> read_inputs(const YamlMap& inputs, const NetworkSpec& network, const CsvTable& data);
+
+struct OutputBindings {
+    std::vector<ChannelBinding> channels;
+    std::vector<int> indices;  ///< into NetworkSpec::outputs, per channel
+};
+
+/// For a preset the keys are the preset's outputs; for a custom network each entry
+/// defines an output (`speed: NODE`, `angle: NODE` or `torque: ELEMENT`, optional
+/// `offset`) and is appended to `network.outputs`.
+OutputBindings read_outputs(const YamlMap& outputs, NetworkSpec& network, const CsvTable& data);
+
+/// The factor that converts a value in `unit` to SI; 0 for an unknown unit.
+double unit_to_si(const std::string& unit);
+
+}  // namespace tvid

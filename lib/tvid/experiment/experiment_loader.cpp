@@ -1,0 +1,222 @@
+// load_experiment: reads an experiment file (format 1, DESIGN.md), applies command-line
+// overrides, validates every key and resolves paths, columns and windows.
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "tvid/experiment/channel_reader.hpp"
+#include "tvid/experiment/experiment.hpp"
+#include "tvid/experiment/model_reader.hpp"
+#include "tvid/experiment/overrides.hpp"
+#include "tvid/experiment/parameter_reader.hpp"
+#include "tvid/experiment/window_reader.hpp"
+#include "tvid/experiment/yaml_reader.hpp"
+#include "tvid/util/input_error.hpp"
+
+namespace tvid {
+
+namespace {
+
+// The largest swarm a grid start may ask for (grid^M particles).
+constexpr double kMaxParticles = 1e6;
+
+YAML::Node parse_file(const std::filesystem::path& file) {
+    const std::string name = file.string();
+    std::error_code ec;
+    if (!std::filesystem::exists(file, ec)) throw InputError(name, 0, "", "no such file");
+    if (std::filesystem::is_directory(file, ec)) throw InputError(name, 0, "", "is a directory, not an experiment file");
+    std::ifstream in(file, std::ios::binary);
+    if (!in) throw InputError(name, 0, "", "cannot open file");
+    std::ostringstream text;
+    text << in.rdbuf();
+    const std::string content = text.str();
+    for (std::size_t i = 0; i < content.size(); ++i) {
+        const auto c = static_cast<unsigned char>(content[i]);
+        if (c == 0 || (c < 0x20 && c != '\n' && c != '\r' && c != '\t')) {
+            const auto line = 1 + std::count(content.begin(), content.begin() + static_cast<std::ptrdiff_t>(i), '\n');
+            throw InputError(name, static_cast<int>(line), "", "not a text file (binary data)");
+        }
+    }
+    YAML::Node root;
+    try {
+        root = YAML::Load(content);
+    } catch (const YAML::Exception& e) {
+        throw InputError(name, e.mark.is_null() ? 0 : e.mark.line + 1, "", "YAML syntax error: " + e.msg);
+    }
+    if (!root.IsDefined() || root.IsNull())
+        throw InputError(name, 1, "", "the file is empty (an experiment starts with 'tvid: 1')");
+    if (!root.IsMap())
+        throw InputError(name, root.Mark().is_null() ? 1 : root.Mark().line + 1, "",
+                         "expected an experiment (keys tvid, data, model, ...), not a single value or list");
+    return root;
+}
+
+// "windows.estimation.0.time" -> "windows.estimation[0].time", as the reader names keys.
+std::string reader_path(const std::string& key) {
+    std::string out;
+    std::size_t start = 0;
+    for (;;) {
+        const std::size_t dot = key.find('.', start);
+        const std::string seg = key.substr(start, dot == std::string::npos ? std::string::npos : dot - start);
+        const bool index = !seg.empty() && seg.find_first_not_of("0123456789") == std::string::npos;
+        out += index && !out.empty() ? "[" + seg + "]" : (out.empty() ? "" : ".") + seg;
+        if (dot == std::string::npos) break;
+        start = dot + 1;
+    }
+    return out;
+}
+
+SimulationSettings read_simulation(const YamlMap& m) {
+    m.allow_only({"method", "step", "rtol", "atol", "max_steps"});
+    SimulationSettings s;
+    if (m.has("method"))
+        s.method = m.choice("method", {"rk4", "dopri5"}) == "rk4" ? IntegrationMethod::rk4 : IntegrationMethod::dopri5;
+    if (m.has("step")) {
+        const YAML::Node step = m.get("step");
+        if (!(step.IsScalar() && step.Scalar() == "sample")) {
+            s.max_step = m.number("step");
+            if (!(s.max_step > 0)) m.fail("step", "the step must be 'sample' or a positive number of seconds");
+        }
+    }
+    for (const char* key : {"rtol", "atol"}) {
+        if (!m.has(key)) continue;
+        const double v = m.number(key);
+        if (!(v > 0)) m.fail(key, "a tolerance must be positive");
+        (std::string(key) == "rtol" ? s.rtol : s.atol) = v;
+    }
+    if (m.has("max_steps")) {
+        const long long n = m.integer("max_steps");
+        if (n < 1) m.fail("max_steps", "the step budget must be at least 1");
+        s.max_steps = static_cast<std::size_t>(n);
+    }
+    return s;
+}
+
+PsoSettings read_pso(const YamlMap& m) {
+    m.allow_only({"start", "grid", "particles", "iterations", "w", "c1", "c2", "seed", "draw", "velocity_first"});
+    PsoSettings s;
+    if (m.has("start")) {
+        const std::string start = m.choice("start", {"grid", "latin_hypercube", "uniform"});
+        s.start = start == "grid" ? PsoStart::grid : start == "uniform" ? PsoStart::uniform : PsoStart::latin_hypercube;
+    }
+    if (m.has("grid")) {
+        const long long g = m.integer("grid");
+        if (g < 1 || g > 1000) m.fail("grid", "grid points per parameter must be between 1 and 1000");
+        s.grid = static_cast<int>(g);
+    }
+    if (m.has("particles")) {
+        const long long n = m.integer("particles");
+        if (n < 1 || n > static_cast<long long>(kMaxParticles)) m.fail("particles", "particles must be between 1 and 1000000");
+        s.particles = static_cast<int>(n);
+    }
+    if (m.has("iterations")) {
+        const long long n = m.integer("iterations");
+        if (n < 0 || n > 100000000) m.fail("iterations", "iterations must be between 0 and 1e8");
+        s.iterations = static_cast<int>(n);
+    }
+    for (const char* key : {"w", "c1", "c2"}) {
+        if (!m.has(key)) continue;
+        const double v = m.number(key);
+        if (v < 0) m.fail(key, "must not be negative (the random factors are drawn from [0, value])");
+        (std::string(key) == "w" ? s.w : std::string(key) == "c1" ? s.c1 : s.c2) = v;
+    }
+    if (m.has("seed")) {
+        const long long seed = m.integer("seed");
+        if (seed < 0) m.fail("seed", "the seed must not be negative");
+        s.seed = static_cast<std::uint64_t>(seed);
+    }
+    if (m.has("draw")) {
+        const std::string d = m.choice("draw", {"per_iteration", "per_particle", "per_dimension"});
+        s.draw = d == "per_iteration" ? PsoRandomDraw::per_iteration
+                 : d == "per_particle" ? PsoRandomDraw::per_particle
+                                       : PsoRandomDraw::per_dimension;
+    }
+    if (m.has("velocity_first")) s.velocity_first = m.flag("velocity_first");
+    return s;
+}
+
+EstimationSettings read_estimation(const YamlMap& m) {
+    m.allow_only({"cost", "optimizer", "pso"});
+    EstimationSettings s;
+    if (m.has("cost")) s.cost = m.choice("cost", {"l1", "l2"}) == "l1" ? CostKind::l1 : CostKind::l2;
+    if (m.has("optimizer")) m.choice("optimizer", {"pso"});
+    if (m.has("pso")) s.pso = read_pso(m.map("pso"));
+    return s;
+}
+
+}  // namespace
+
+Experiment load_experiment(const std::filesystem::path& file, const std::vector<Override>& overrides) {
+    YAML::Node root = parse_file(file);
+    apply_overrides(root, overrides);
+    std::vector<std::string> override_keys;
+    for (const Override& o : overrides) override_keys.push_back(reader_path(o.key));
+    const YamlSource src(file.string(), override_keys);
+    const YamlMap top(src, root, "");
+    top.allow_only({"tvid", "name", "data", "model", "inputs", "outputs", "parameters", "windows", "initial_state",
+                    "simulation", "estimation", "report"});
+
+    Experiment ex;
+    ex.file = file;
+    if (!top.has("tvid")) top.fail_missing("tvid", "format version: the file must start with 'tvid: 1'");
+    if (top.integer("tvid") != 1) top.fail("tvid", "format version " + top.get("tvid").Scalar() + " is not known (this tvid reads format 1)");
+    ex.name = top.has("name") ? top.text("name") : file.stem().string();
+
+    // The recording.
+    const YamlMap data = top.map("data");
+    data.allow_only({"file", "time"});
+    const std::filesystem::path folder = file.parent_path();
+    const std::string data_name = data.text("file");
+    ex.data_file = std::filesystem::path(data_name).is_absolute() ? std::filesystem::path(data_name) : folder / data_name;
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(ex.data_file, ec))
+        data.fail("file", "no such data file: " + ex.data_file.string());
+    ex.time_column = data.text("time");
+    ex.data = CsvTable::read(ex.data_file);
+    if (!ex.data.has_column(ex.time_column))
+        data.fail("time", "no column '" + ex.time_column + "' in " + ex.data_file.string());
+    ex.data.require_strictly_increasing(ex.time_column);
+    if (ex.data.rows() < 2) data.fail("file", "the recording needs at least two samples");
+
+    // The model, its channels and parameters.
+    const YamlMap parameters = top.map("parameters");
+    ex.network = read_model(top.map("model"), parameters.keys(), ex.model_constants);
+    ex.inputs = read_inputs(top.map("inputs"), ex.network, ex.data);
+    OutputBindings outputs = read_outputs(top.map("outputs"), ex.network, ex.data);
+    ex.outputs = std::move(outputs.channels);
+    ex.output_indices = std::move(outputs.indices);
+    if (top.has("estimation")) ex.estimation_settings = read_estimation(top.map("estimation"));
+    ex.parameters = read_parameters(parameters, ex.network, ex.estimation_settings.optimizer == OptimizerKind::pso);
+
+    // A grid start places grid^M particles: refuse swarms that could never be evaluated.
+    const PsoSettings& pso = ex.estimation_settings.pso;
+    std::size_t free_count = 0;
+    for (const ParameterSetting& p : ex.parameters) free_count += p.fixed ? 0 : 1;
+    if (pso.start == PsoStart::grid && std::pow(static_cast<double>(pso.grid), static_cast<double>(free_count)) > kMaxParticles) {
+        const YamlMap est = top.map("estimation");
+        est.fail("pso", "a grid of " + std::to_string(pso.grid) + " points on " + std::to_string(free_count) +
+                            " free parameters is more than 1e6 particles; use start: latin_hypercube with particles: N");
+    }
+
+    // Windows and the remaining settings.
+    const WindowSet windows = read_windows(top.map("windows"), ex.data.column(ex.time_column));
+    ex.estimation = windows.estimation;
+    ex.validation = windows.validation;
+    ex.warmup = windows.warmup;
+    if (top.has("initial_state"))
+        ex.initial_state =
+            top.choice("initial_state", {"equilibrium", "rest"}) == "rest" ? InitialStateKind::rest : InitialStateKind::equilibrium;
+    if (top.has("simulation")) ex.simulation = read_simulation(top.map("simulation"));
+    if (top.has("report")) {
+        const YamlMap report = top.map("report");
+        report.allow_only({"dir"});
+        if (report.has("dir")) {
+            const std::filesystem::path dir = report.text("dir");
+            ex.report_dir = dir.is_absolute() ? dir : folder / dir;
+        }
+    }
+    return ex;
+}
+
+}  // namespace tvid

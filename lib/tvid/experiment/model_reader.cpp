@@ -1,0 +1,249 @@
+#include "tvid/experiment/model_reader.hpp"
+
+#include <algorithm>
+#include <set>
+
+#include "tvid/model/presets.hpp"
+
+namespace tvid {
+
+namespace {
+
+std::string joined(const std::vector<std::string>& words) {
+    std::string out;
+    for (const std::string& w : words) out.append(out.empty() ? "" : ", ").append(w);
+    return out;
+}
+
+NetworkSpec read_preset(const YamlMap& model, std::map<std::string, double>& constants) {
+    const std::string name = model.text("preset");
+    const PresetInfo* info = find_preset(name);
+    if (info == nullptr) {
+        std::vector<std::string> names;
+        for (const PresetInfo& p : preset_catalogue()) names.push_back(p.name);
+        model.fail("preset", "unknown preset '" + name + "' (presets: " + joined(names) + ")");
+    }
+    std::vector<std::string> allowed{"preset"};
+    allowed.insert(allowed.end(), info->constants.begin(), info->constants.end());
+    model.allow_only(allowed);
+    for (const std::string& c : info->constants)
+        if (model.has(c)) constants[c] = model.number(c);
+    return build_preset(name, constants);
+}
+
+// Reads a custom network. Node and element names are unique; "ground" is the fixed base.
+class NetworkReader {
+public:
+    NetworkReader(const YamlMap& model, const std::vector<std::string>& parameters)
+        : model_(model), src_(model.source()) {
+        net_.preset = "custom";
+        net_.parameter_names = parameters;
+    }
+
+    NetworkSpec read() {
+        model_.allow_only({"nodes", "elements"});
+        read_nodes();
+        read_elements();
+        return net_;
+    }
+
+private:
+    Field field(const YamlMap& m, const std::string& key) const {
+        if (!m.has(key)) m.fail_missing(key);
+        return read_field(src_, m.get(key), m.key_path(key), net_.parameter_names);
+    }
+    Field field_or(const YamlMap& m, const std::string& key, const Field& fallback) const {
+        return m.has(key) ? field(m, key) : fallback;
+    }
+
+    int node(const YamlMap& m, const std::string& key, const YAML::Node& value, bool ground_ok) const {
+        const std::string path = m.key_path(key);
+        const std::string name = read_text(src_, value, path);
+        if (name == "ground") {
+            if (!ground_ok) src_.fail(value, path, "'ground' is not allowed here (it has no inertia)");
+            return kGround;
+        }
+        const int i = net_.node_index(name);
+        if (i < 0) src_.fail(value, path, "no node named '" + name + "' (nodes: " + node_names() + ")");
+        return i;
+    }
+
+    std::string node_names() const {
+        std::vector<std::string> n;
+        for (const NodeSpec& s : net_.nodes) n.push_back(s.name);
+        return joined(n);
+    }
+
+    // `between: [a, b]`, `[a]` or `[a, ground]`; two-node elements need `ground_ok` false.
+    std::pair<int, int> between(const YamlMap& m, bool ground_ok) const {
+        if (!m.has("between")) m.fail_missing("between", "(between: [node_a, node_b])");
+        const YAML::Node b = m.get("between");
+        const std::string path = m.key_path("between");
+        if (!b.IsSequence() || b.size() < 1 || b.size() > 2)
+            src_.fail(b, path, "expected [node_a, node_b]" + std::string(ground_ok ? " or [node] (to ground)" : ""));
+        if (b.size() == 1 && !ground_ok) src_.fail(b, path, "expected two nodes [node_a, node_b]");
+        const int a = node(m, "between", b[0], false);
+        const int c = b.size() == 2 ? node(m, "between", b[1], ground_ok) : kGround;
+        if (a == c) src_.fail(b, path, "an element cannot join a node to itself");
+        return {a, c};
+    }
+
+    void read_nodes() {
+        if (!model_.has("nodes")) model_.fail_missing("nodes", "(a list of { name, J } or { name, inverse_J })");
+        const YAML::Node list = model_.get("nodes");
+        const std::string path = model_.key_path("nodes");
+        if (!list.IsSequence() || list.size() == 0) src_.fail(list, path, "expected a non-empty list of nodes");
+        for (std::size_t i = 0; i < list.size(); ++i) {
+            const YamlMap m(src_, list[i], path + "[" + std::to_string(i) + "]");
+            m.allow_only({"name", "J", "inverse_J"});
+            NodeSpec n;
+            n.name = m.text("name");
+            if (n.name == "ground") m.fail("name", "'ground' is the fixed base; give the node another name");
+            if (net_.node_index(n.name) >= 0) m.fail("name", "a node named '" + n.name + "' already exists");
+            if (m.has("J") == m.has("inverse_J")) m.fail_missing("J", "(give exactly one of J or inverse_J)");
+            n.inverse = m.has("inverse_J");
+            n.inertia = field(m, n.inverse ? "inverse_J" : "J");
+            if (!n.inertia.is_parameter() && !(n.inertia.constant > 0))
+                m.fail(n.inverse ? "inverse_J" : "J", "an inertia must be positive");
+            net_.nodes.push_back(n);
+        }
+    }
+
+    void read_clearance_fields(const YamlMap& m, Field& k_minus, Field& k_plus, Field& c_minus, Field& c_plus,
+                               Field& mu, Field& sigma, bool& smooth, const Field* k, const Field* c) const {
+        auto stiffness = [&](const char* key) {
+            if (!m.has(key) && k == nullptr) m.fail_missing(key);
+            return m.has(key) ? field(m, key) : *k;
+        };
+        auto damping = [&](const char* key) {
+            if (!m.has(key) && c == nullptr) m.fail_missing(key);
+            return m.has(key) ? field(m, key) : *c;
+        };
+        k_minus = stiffness("k_minus");
+        k_plus = stiffness("k_plus");
+        c_minus = damping("c_minus");
+        c_plus = damping("c_plus");
+        mu = field(m, "mu");
+        smooth = m.has("sigma");
+        if (smooth) sigma = field(m, "sigma");
+    }
+
+    void read_elements() {
+        if (!model_.has("elements")) model_.fail_missing("elements", "(a list of elements with a type)");
+        const YAML::Node list = model_.get("elements");
+        const std::string path = model_.key_path("elements");
+        if (!list.IsSequence()) src_.fail(list, path, "expected a list of elements");
+        std::set<std::string> names;
+        for (std::size_t i = 0; i < list.size(); ++i) {
+            const YamlMap m(src_, list[i], path + "[" + std::to_string(i) + "]");
+            const std::string type =
+                m.choice("type", {"spring_damper", "clearance", "friction", "gear_mesh", "torque"});
+            const std::string name = m.has("name") ? m.text("name") : type + std::to_string(i + 1);
+            if (!names.insert(name).second) m.fail("name", "an element named '" + name + "' already exists");
+            if (type == "spring_damper") {
+                m.allow_only({"type", "name", "between", "k", "c"});
+                const auto [a, b] = between(m, true);
+                net_.spring_dampers.push_back(
+                    SpringDamperSpec{name, a, b, field(m, "k"), field_or(m, "c", Field::value(0.0))});
+            } else if (type == "clearance") {
+                m.allow_only({"type", "name", "between", "k", "c", "k_minus", "k_plus", "c_minus", "c_plus", "mu", "sigma"});
+                ClearanceSpec e;
+                e.name = name;
+                std::tie(e.a, e.b) = between(m, true);
+                const Field k = field_or(m, "k", Field{}), c = field_or(m, "c", Field::value(0.0));
+                read_clearance_fields(m, e.k_minus, e.k_plus, e.c_minus, e.c_plus, e.mu, e.sigma, e.smooth,
+                                      m.has("k") ? &k : nullptr, &c);
+                net_.clearances.push_back(e);
+            } else if (type == "friction") {
+                m.allow_only({"type", "name", "node", "c"});
+                if (!m.has("node")) m.fail_missing("node");
+                net_.frictions.push_back(FrictionSpec{name, node(m, "node", m.get("node"), false), field(m, "c")});
+            } else if (type == "gear_mesh") {
+                m.allow_only({"type", "name", "between", "ratio", "k", "c", "k_minus", "k_plus", "c_minus", "c_plus",
+                              "mu", "sigma"});
+                GearMeshSpec e;
+                e.name = name;
+                std::tie(e.a, e.b) = between(m, false);
+                e.ratio = field(m, "ratio");
+                e.has_clearance = m.has("mu");
+                e.c = field_or(m, "c", Field::value(0.0));
+                if (!e.has_clearance) {
+                    for (const char* key : {"k_minus", "k_plus", "c_minus", "c_plus", "sigma"})
+                        if (m.has(key)) m.fail(key, "clearance fields need mu (the half backlash)");
+                    e.k = field(m, "k");
+                } else {
+                    e.k = field_or(m, "k", Field{});
+                    read_clearance_fields(m, e.k_minus, e.k_plus, e.c_minus, e.c_plus, e.mu, e.sigma, e.smooth,
+                                          m.has("k") ? &e.k : nullptr, &e.c);
+                }
+                net_.gear_meshes.push_back(e);
+            } else {  // torque
+                m.allow_only({"type", "name", "node", "input", "offset", "scale"});
+                if (!m.has("node")) m.fail_missing("node");
+                TorqueSpec e;
+                e.name = name;
+                e.node = node(m, "node", m.get("node"), false);
+                const std::string input = m.text("input");
+                int k = net_.input_index(input);
+                if (k < 0) {
+                    net_.input_names.push_back(input);
+                    k = static_cast<int>(net_.input_names.size() - 1);
+                }
+                e.input = k;
+                e.offset = field_or(m, "offset", Field::value(0.0));
+                e.scale = field_or(m, "scale", Field::value(1.0));
+                net_.torques.push_back(e);
+            }
+        }
+        if (net_.input_names.empty())
+            src_.fail(list, path, "no element of type torque: the network has no measured input to drive it");
+    }
+
+    const YamlMap& model_;
+    const YamlSource& src_;
+    NetworkSpec net_;
+};
+
+void mark(const Field& f, std::vector<bool>& used) {
+    if (f.is_parameter()) used[static_cast<std::size_t>(f.parameter)] = true;
+}
+
+}  // namespace
+
+Field read_field(const YamlSource& src, const YAML::Node& node, const std::string& path,
+                 const std::vector<std::string>& parameter_names) {
+    if (!node.IsScalar()) src.fail(node, path, "expected a number or a parameter name");
+    const std::string& s = node.Scalar();
+    const auto it = std::find(parameter_names.begin(), parameter_names.end(), s);
+    if (it != parameter_names.end()) return Field::param(static_cast<int>(it - parameter_names.begin()));
+    const char c = s.empty() ? ' ' : s.front();
+    if ((c >= '0' && c <= '9') || c == '-' || c == '+' || c == '.') return Field::value(read_number(src, node, path));
+    src.fail(node, path, "'" + s + "' is neither a number nor a parameter declared under parameters");
+}
+
+NetworkSpec read_model(const YamlMap& model, const std::vector<std::string>& declared_parameters,
+                       std::map<std::string, double>& constants) {
+    if (model.has("preset")) return read_preset(model, constants);
+    if (!model.has("nodes") && !model.has("elements"))
+        model.fail_missing("preset", "(give preset: NAME, or nodes: and elements: for a custom network)");
+    return NetworkReader(model, declared_parameters).read();
+}
+
+std::vector<bool> parameters_in_use(const NetworkSpec& n) {
+    std::vector<bool> used(n.parameter_names.size(), false);
+    for (const auto& e : n.nodes) mark(e.inertia, used);
+    for (const auto& e : n.spring_dampers) { mark(e.k, used); mark(e.c, used); }
+    for (const auto& e : n.clearances)
+        for (const Field* f : {&e.k_minus, &e.k_plus, &e.c_minus, &e.c_plus, &e.mu, &e.sigma}) mark(*f, used);
+    for (const auto& e : n.frictions) mark(e.c, used);
+    for (const auto& e : n.gear_meshes) {
+        for (const Field* f : {&e.ratio, &e.k, &e.c}) mark(*f, used);
+        if (e.has_clearance)
+            for (const Field* f : {&e.k_minus, &e.k_plus, &e.c_minus, &e.c_plus, &e.mu, &e.sigma}) mark(*f, used);
+    }
+    for (const auto& e : n.torques) { mark(e.offset, used); mark(e.scale, used); }
+    for (const auto& o : n.outputs) mark(o.offset, used);
+    return used;
+}
+
+}  // namespace tvid

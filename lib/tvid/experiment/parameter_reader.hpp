@@ -1,0 +1,21 @@
+#pragma once
+// The `parameters:` section: for every model parameter its start value and bounds and
+// initial search range when free, or its value when fixed.
+//
+//   rho1:  { init: 1.5, min: 0.1, max: 10, range: [1, 2] }   # free
+//   sigma: { value: 1132.81, fixed: true }                   # fixed (`value:` alone also fixes)
+
+#include <vector>
+
+#include "tvid/experiment/yaml_reader.hpp"
+#include "tvid/model/network_spec.hpp"
+
+namespace tvid {
+
+/// One setting per network parameter, in network order. Every network parameter must be
+/// declared and every declared one must be a network parameter; `needs_search_box`: each
+/// free parameter needs a `range` or both bounds (the particle swarm starts in that box).
+std::vector<ParameterSetting> read_parameters(const YamlMap& parameters, const NetworkSpec& network,
+                                              bool needs_search_box);
+
+}  // namespace tvid
