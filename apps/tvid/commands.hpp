@@ -27,7 +27,7 @@ struct FitCommand {
 struct EvaluateCommand {
     CommonOptions common;
     std::string params_file;            ///< --params P.json (empty: the experiment's init values)
-    std::string output;                 ///< -o FILE.csv (simulate) / DIR (validate)
+    std::string output;                 ///< -o FILE.csv (simulate) / FILE.json (validate)
 };
 
 int run_fit_command(const FitCommand& cmd);

@@ -9,6 +9,7 @@
 #include "tvid/experiment/experiment.hpp"
 #include "tvid/fit/fit_run.hpp"
 #include "tvid/report/report_writer.hpp"
+#include "tvid/util/input_error.hpp"
 
 namespace tvid::cli {
 
@@ -27,6 +28,8 @@ std::filesystem::path report_directory(const Experiment& ex, const std::string& 
 int run_fit_command(const FitCommand& cmd) {
     const Experiment ex = load_experiment(cmd.common.experiment, parse_overrides(cmd.common.overrides));
     const IdentificationProblem problem(ex);
+    if (problem.dimension() == 0)
+        throw InputError(ex.file.string(), 0, "parameters", "every parameter is fixed: there is nothing to identify");
     const std::filesystem::path dir = report_directory(ex, cmd.output_dir);
 
     FitOptions options;

@@ -16,7 +16,11 @@ FitMetrics compute_fit_metrics(const std::vector<double>& measured, const std::v
     FitMetrics m;
     const std::size_t n = std::min(measured.size(), simulated.size());
     m.samples = n;
-    if (n == 0) return m;
+    if (n == 0) {  // nothing scored (e.g. no validation windows): no metric is defined
+        const double nan = std::numeric_limits<double>::quiet_NaN();
+        m.mean_abs_error = m.sum_sq_error = m.rmse = m.e0 = m.q_index = m.fit_percent = m.max_abs_residual_ratio = nan;
+        return m;
+    }
     double abs_sum = 0.0, e0_sum = 0.0, mean = 0.0;
     for (std::size_t i = 0; i < n; ++i) mean += measured[i];
     mean /= static_cast<double>(n);

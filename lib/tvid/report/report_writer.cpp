@@ -186,6 +186,9 @@ void write_fit_report(const std::filesystem::path& dir, const IdentificationProb
     std::filesystem::create_directories(dir, ec);
     if (ec) throw std::runtime_error("cannot create report directory " + dir.string() + ": " + ec.message());
     const Experiment& ex = problem.experiment();
+    // A summary from an earlier run would vouch for files this run is about to replace.
+    std::filesystem::remove(dir / "summary.json", ec);
+    if (ec) throw std::runtime_error("cannot replace " + (dir / "summary.json").string() + ": " + ec.message());
 
     write_file_atomically(dir / "params.json", parameters_json(problem, fit).dump(2) + "\n");
 
