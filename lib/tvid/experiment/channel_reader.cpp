@@ -50,7 +50,7 @@ ChannelBinding read_binding(const YamlMap& section, const std::string& name, con
         for (std::string_view e : extra) allowed.emplace_back(e);
         m.allow_only(allowed);
         if (!m.has("column")) m.fail_missing("column", "(the CSV column)");
-        column_node = m.get("column");
+        column_node.reset(m.get("column"));  // rebind: operator= would overwrite the tree's node
         column_path = m.key_path("column");
         if (m.has("unit") && m.has("scale")) m.fail("scale", "give either unit or scale, not both");
         if (m.has("unit")) {
@@ -98,7 +98,9 @@ OutputSpec read_custom_output(const YamlMap& section, const std::string& name, c
     OutputSpec o;
     o.name = name;
     const int kinds = int(m.has("speed")) + int(m.has("angle")) + int(m.has("torque"));
-    if (kinds != 1) m.fail_missing("speed", "(give exactly one of speed: NODE, angle: NODE or torque: ELEMENT)");
+    if (kinds == 0) m.fail_missing("speed", "(give exactly one of speed: NODE, angle: NODE or torque: ELEMENT)");
+    if (kinds > 1)
+        m.fail(m.has("torque") ? "torque" : "angle", "give exactly one of speed: NODE, angle: NODE or torque: ELEMENT");
     if (m.has("torque")) {
         o.kind = OutputKind::torque;
         const std::string element = m.text("torque");

@@ -194,9 +194,18 @@ Experiment load_experiment(const std::filesystem::path& file, const std::vector<
     std::size_t free_count = 0;
     for (const ParameterSetting& p : ex.parameters) free_count += p.fixed ? 0 : 1;
     if (pso.start == PsoStart::grid && std::pow(static_cast<double>(pso.grid), static_cast<double>(free_count)) > kMaxParticles) {
+        const std::string problem = "a grid of " + std::to_string(pso.grid) + " points on " + std::to_string(free_count) +
+                                    " free parameters is more than 1e6 particles; use start: latin_hypercube with particles: N";
+        // Name the setting that asked for the grid (it may come from --set), or, when the
+        // file has no estimation section, the default.
+        if (!top.has("estimation"))
+            src.fail(parameters.node(), "estimation.pso.grid", problem + " (the default start is a grid of 2 points)");
         const YamlMap est = top.map("estimation");
-        est.fail("pso", "a grid of " + std::to_string(pso.grid) + " points on " + std::to_string(free_count) +
-                            " free parameters is more than 1e6 particles; use start: latin_hypercube with particles: N");
+        if (est.has("pso")) {
+            const YamlMap pso_map = est.map("pso");
+            if (pso_map.has("grid")) pso_map.fail("grid", problem);
+        }
+        est.fail("pso", problem);
     }
 
     // Windows and the remaining settings.

@@ -100,7 +100,8 @@ private:
             n.name = m.text("name");
             if (n.name == "ground") m.fail("name", "'ground' is the fixed base; give the node another name");
             if (net_.node_index(n.name) >= 0) m.fail("name", "a node named '" + n.name + "' already exists");
-            if (m.has("J") == m.has("inverse_J")) m.fail_missing("J", "(give exactly one of J or inverse_J)");
+            if (m.has("J") && m.has("inverse_J")) m.fail("inverse_J", "give either J or inverse_J, not both");
+            if (!m.has("J") && !m.has("inverse_J")) m.fail_missing("J", "(give exactly one of J or inverse_J)");
             n.inverse = m.has("inverse_J");
             n.inertia = field(m, n.inverse ? "inverse_J" : "J");
             if (!n.inertia.is_parameter() && !(n.inertia.constant > 0))

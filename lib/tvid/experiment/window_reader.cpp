@@ -40,7 +40,9 @@ public:
 private:
     Window one(const YamlMap& m) const {
         m.allow_only({"time", "samples"});
-        if (m.has("time") == m.has("samples"))
+        if (m.has("time") && m.has("samples"))
+            m.fail("samples", "give either time: [a, b] or samples: [a, b], not both");
+        if (!m.has("time") && !m.has("samples"))
             m.fail_missing("time", "(give exactly one of time: [a, b] or samples: [a, b])");
         Window w;
         const std::string recording = "the recording spans t = " + number_text(time_.front()) + " … " +

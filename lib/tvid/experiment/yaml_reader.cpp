@@ -65,9 +65,18 @@ bool YamlSource::overridden(const std::string& path) const {
 SourceLocation YamlSource::where(const YAML::Node& node, const std::string& path, const YAML::Node& fallback) const {
     if (overridden(path)) return SourceLocation{"--set", 0, path};
     int line = 0;
-    if (node.IsDefined() && !node.Mark().is_null()) line = node.Mark().line + 1;
+    if (node.IsDefined() && node.IsNull())
+        for (const auto& [value, key_line] : empty_values_)
+            if (value.is(node)) line = key_line;
+    if (line == 0 && node.IsDefined() && !node.Mark().is_null()) line = node.Mark().line + 1;
     if (line == 0 && fallback.IsDefined() && !fallback.Mark().is_null()) line = fallback.Mark().line + 1;
     return SourceLocation{file_, line, path};
+}
+
+void YamlSource::note_empty_value(const YAML::Node& value, int key_line) const {
+    for (const auto& entry : empty_values_)
+        if (entry.first.is(value)) return;
+    empty_values_.emplace_back(value, key_line);
 }
 
 void YamlSource::fail(const YAML::Node& node, const std::string& path, const std::string& problem,
@@ -142,6 +151,7 @@ YamlMap::YamlMap(const YamlSource& src, YAML::Node node, std::string path)
         if (!it->first.IsScalar()) src.fail(it->first, path_, "a key must be a plain name");
         const std::string& k = it->first.Scalar();
         if (!seen.insert(k).second) src.fail(it->first, key_path(k), "duplicate key (given twice)");
+        if (it->second.IsNull() && !it->first.Mark().is_null()) src.note_empty_value(it->second, it->first.Mark().line + 1);
     }
 }
 

@@ -30,11 +30,16 @@ public:
     [[noreturn]] void fail(const YAML::Node& node, const std::string& path, const std::string& problem,
                            const YAML::Node& fallback = {}) const;
 
+    /// Records the line of the key of an empty value (`key:` with nothing after it):
+    /// yaml-cpp places such a null at the next token, often on a later line.
+    void note_empty_value(const YAML::Node& value, int key_line) const;
+
 private:
     bool overridden(const std::string& path) const;
 
     std::string file_;
     std::vector<std::string> override_keys_;
+    mutable std::vector<std::pair<YAML::Node, int>> empty_values_;  ///< null value, line of its key
 };
 
 /// A scalar read as a number, an integer, a flag or a text; fails with the key path.
