@@ -551,13 +551,15 @@ TEST_CASE("parameter errors name the line and the key", "[experiment][parameters
     }
     SECTION("an inverse inertia must be positive") {
         expect_error(with(kPreset, 8, "  rho1:    { init: 1, min: -5, max: 10 }"), 8, "parameters.rho1.min",
-                     "cannot be negative");
+                     "must be positive");
+        // A lower bound of exactly 0 would let the swarm place a particle on 1/J = 0.
+        expect_error(with(kPreset, 8, "  rho1:    { init: 1, min: 0, max: 10 }"), 8, "parameters.rho1.min",
+                     "must be positive");
         expect_error(with(kPreset, 8, "  rho1:    { init: 0, min: 0, max: 10 }"), 8, "parameters.rho1.init",
                      "must be positive");
         expect_error(with(kPreset, 8, "  rho1:    0"), 8, "parameters.rho1", "must be positive");
         expect_error(with(kPreset, 8, "  rho1:    { value: -2 }"), 8, "parameters.rho1.value", "must be positive");
-        expect_error(with(kPreset, 8, "  rho1:    { min: 0, max: 10, range: [0, 2] }"), 8, "parameters.rho1.range",
-                     "positive");
+        expect_error(with(kPreset, 8, "  rho1:    { range: [0, 2] }"), 8, "parameters.rho1.range", "positive");
     }
     SECTION("sigma must be positive") {
         expect_error(with(kPreset, 14, "  sigma:   { value: -1132.81 }"), 14, "parameters.sigma.value", "positive");
@@ -1023,7 +1025,7 @@ TEST_CASE("custom network errors name the line and the key", "[experiment][netwo
     }
     SECTION("an inertia parameter that may become negative") {
         expect_error(with(kCustom, 21, "  J_m:  { init: 0.1, min: -1, max: 1 }"), 21, "parameters.J_m.min",
-                     "cannot be negative");
+                     "must be positive");
         expect_error(with(kCustom, 21, "  J_m:  { value: 0 }"), 21, "parameters.J_m.value", "must be positive");
     }
     SECTION("the gear mesh's sigma parameter must be positive") {

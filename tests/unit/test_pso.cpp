@@ -96,7 +96,7 @@ TEST_CASE("PSO is reproducible for a seed and differs across seeds and draw mode
     s.seed = 2;
     const PsoSummary r3 = run_pso(s, box3(), c);
     CHECK(r3.best != r1.best);
-    for (auto draw : {PsoRandomDraw::per_iteration, PsoRandomDraw::per_dimension}) {
+    for (auto draw : {PsoRandomDraw::per_iteration, PsoRandomDraw::per_particle}) {
         s.seed = 1;
         s.draw = draw;
         Bowl d;

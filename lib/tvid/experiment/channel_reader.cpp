@@ -1,5 +1,7 @@
 #include "tvid/experiment/channel_reader.hpp"
 
+#include "tvid/util/text.hpp"
+
 #include <cmath>
 #include <numbers>
 
@@ -8,12 +10,6 @@
 namespace tvid {
 
 namespace {
-
-std::string joined(const std::vector<std::string>& words) {
-    std::string out;
-    for (const std::string& w : words) out.append(out.empty() ? "" : ", ").append(w);
-    return out;
-}
 
 struct UnitFactor {
     const char* unit;
@@ -69,7 +65,7 @@ ChannelBinding read_binding(const YamlMap& section, const std::string& name, con
     b.where = src.where(column_node, column_path);
     if (!data.has_column(b.column))
         src.fail(column_node, column_path,
-                 "no column '" + b.column + "' in " + data.file().string() + " (columns: " + joined(data.column_names()) +
+                 "no column '" + b.column + "' in " + data.file().string() + " (columns: " + join_words(data.column_names()) +
                      ")");
     return b;
 }

@@ -105,7 +105,7 @@ struct Override {
 /// (FILE:LINE: key: what is wrong) on any problem.
 Experiment load_experiment(const std::filesystem::path& file, const std::vector<Override>& overrides = {});
 
-/// Parses "a.b.c=value"; throws InputError("", 0, "--set", ...) when malformed.
+/// Parses "a.b.c=value"; throws InputError("--set", 0, text, ...) when malformed.
 Override parse_override(const std::string& text);
 
 }  // namespace tvid

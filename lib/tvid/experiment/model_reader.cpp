@@ -1,5 +1,7 @@
 #include "tvid/experiment/model_reader.hpp"
 
+#include "tvid/util/text.hpp"
+
 #include <algorithm>
 #include <set>
 
@@ -9,19 +11,13 @@ namespace tvid {
 
 namespace {
 
-std::string joined(const std::vector<std::string>& words) {
-    std::string out;
-    for (const std::string& w : words) out.append(out.empty() ? "" : ", ").append(w);
-    return out;
-}
-
 NetworkSpec read_preset(const YamlMap& model, std::map<std::string, double>& constants) {
     const std::string name = model.text("preset");
     const PresetInfo* info = find_preset(name);
     if (info == nullptr) {
         std::vector<std::string> names;
         for (const PresetInfo& p : preset_catalogue()) names.push_back(p.name);
-        model.fail("preset", "unknown preset '" + name + "' (presets: " + joined(names) + ")");
+        model.fail("preset", "unknown preset '" + name + "' (presets: " + join_words(names) + ")");
     }
     std::vector<std::string> allowed{"preset"};
     allowed.insert(allowed.end(), info->constants.begin(), info->constants.end());
@@ -71,7 +67,7 @@ private:
     std::string node_names() const {
         std::vector<std::string> n;
         for (const NodeSpec& s : net_.nodes) n.push_back(s.name);
-        return joined(n);
+        return join_words(n);
     }
 
     // `between: [a, b]`, `[a]` or `[a, ground]`; two-node elements need `ground_ok` false.

@@ -1,5 +1,7 @@
 #include "tvid/experiment/parameter_reader.hpp"
 
+#include "tvid/util/text.hpp"
+
 #include <cstdio>
 
 #include "tvid/experiment/model_reader.hpp"
@@ -7,12 +9,6 @@
 namespace tvid {
 
 namespace {
-
-std::string number_text(double v) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.10g", v);
-    return buf;
-}
 
 // Parameters whose value must be positive whatever the data say: inertias (and inverse
 // inertias) of nodes, and the smoothing steepness σ of a clearance (φ1 divides by σ).
@@ -69,8 +65,8 @@ ParameterSetting read_one(const YamlMap& m, const std::string& name, const char*
     if (positive_role != nullptr) {
         if (!(p.init > 0))
             m.fail(start_key, "must be positive: " + name + " is " + positive_role + " (got " + number_text(p.init) + ")");
-        if (p.has_min && p.min < 0)
-            m.fail("min", "cannot be negative: " + name + " is " + positive_role);
+        if (p.has_min && !(p.min > 0))
+            m.fail("min", "must be positive: " + name + " is " + positive_role + " (got " + number_text(p.min) + ")");
         if (p.range && !(p.range->first > 0))
             m.fail("range", "must stay positive: " + name + " is " + positive_role);
     }

@@ -1,17 +1,13 @@
 #include "tvid/experiment/window_reader.hpp"
 
+#include "tvid/util/text.hpp"
+
 #include <algorithm>
 #include <cstdio>
 
 namespace tvid {
 
 namespace {
-
-std::string number_text(double v) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.10g", v);
-    return buf;
-}
 
 class WindowResolver {
 public:

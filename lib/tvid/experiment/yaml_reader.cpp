@@ -1,5 +1,7 @@
 #include "tvid/experiment/yaml_reader.hpp"
 
+#include "tvid/util/text.hpp"
+
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
@@ -11,12 +13,6 @@
 namespace tvid {
 
 namespace {
-
-std::string joined(const std::vector<std::string>& words) {
-    std::string out;
-    for (const std::string& w : words) out.append(out.empty() ? "" : ", ").append(w);
-    return out;
-}
 
 std::vector<std::string> to_strings(std::initializer_list<std::string_view> list) {
     std::vector<std::string> out;
@@ -140,7 +136,7 @@ std::string read_choice(const YamlSource& src, const YAML::Node& node, const std
     const std::string s = read_text(src, node, path);
     for (std::string_view c : choices)
         if (s == c) return s;
-    src.fail(node, path, "'" + s + "' is not one of: " + joined(to_strings(choices)));
+    src.fail(node, path, "'" + s + "' is not one of: " + join_words(to_strings(choices)));
 }
 
 YamlMap::YamlMap(const YamlSource& src, YAML::Node node, std::string path)
@@ -182,7 +178,7 @@ void YamlMap::allow_only(const std::vector<std::string>& allowed) const {
             if (d < best) { best = d; hint = a; }
         }
         std::string problem = "unknown key '" + k + "'";
-        problem += hint.empty() ? " (valid keys: " + joined(allowed) + ")" : " (did you mean '" + hint + "'?)";
+        problem += hint.empty() ? " (valid keys: " + join_words(allowed) + ")" : " (did you mean '" + hint + "'?)";
         src_->fail(it->first, key_path(k), problem);
     }
 }
