@@ -17,10 +17,11 @@ std::vector<double> scaled(const std::vector<double>& v, double scale) {
 
 IdentificationProblem::IdentificationProblem(const Experiment& experiment) : experiment_(&experiment) {
     const CsvTable& data = experiment.data;
-    std::vector<std::vector<double>> input_values;
+    std::vector<std::vector<double>> input_values, angle_values;
     for (const ChannelBinding& in : experiment.inputs)
-        input_values.push_back(scaled(data.column(in.column), in.scale));
+        (in.by_angle ? angle_values : input_values).push_back(scaled(data.column(in.column), in.scale));
     inputs_ = InputChannels(data.column(experiment.time_column), std::move(input_values));
+    if (!angle_values.empty()) angle_inputs_ = CrankAngleChannels(experiment.crank_angle, std::move(angle_values));
     for (const ChannelBinding& out : experiment.outputs)
         measured_.push_back(scaled(data.column(out.column), out.scale));
 
@@ -41,6 +42,7 @@ IdentificationProblem::IdentificationProblem(const Experiment& experiment) : exp
 
 std::unique_ptr<ProblemWorkspace> IdentificationProblem::make_workspace() const {
     auto ws = std::make_unique<ProblemWorkspace>(experiment_->network);
+    ws->model.set_crank_angle_inputs(&angle_inputs_);
     ws->params = fixed_values_;
     ws->x.resize(ws->model.state_size());
     ws->u0.resize(inputs_.count());
@@ -66,9 +68,15 @@ bool IdentificationProblem::initial_state(std::size_t start, ProblemWorkspace& w
     std::fill(ws.x.begin(), ws.x.end(), 0.0);
     switch (experiment_->initial_state) {
         case InitialStateKind::rest: return true;
-        case InitialStateKind::measured:
-            if (problem) *problem = "initial_state: measured is not available for this model";
-            return false;
+        case InitialStateKind::measured: {
+            // Every node at the measured crank angle (no twist), turning at the measured speed.
+            const double speed = measured_[static_cast<std::size_t>(experiment_->initial_speed_output)][start];
+            for (std::size_t i = 0; i < n; ++i) {
+                ws.x[i] = experiment_->crank_angle[start];
+                ws.x[n + i] = speed;
+            }
+            return true;
+        }
         case InitialStateKind::equilibrium: {
             // Seed 001 eq. 18: θ(t1) = θ̄ with F(θ̄, 0) balancing the input at t1, θ'(t1) = 0.
             EquilibriumResult eq = solve_equilibrium(ws.model, ws.u0.data());

@@ -40,6 +40,9 @@ struct WindowTrace {
 class IdentificationProblem {
 public:
     explicit IdentificationProblem(const Experiment& experiment);
+    // Workspaces point at the problem's channels: it stays where it was built.
+    IdentificationProblem(const IdentificationProblem&) = delete;
+    IdentificationProblem& operator=(const IdentificationProblem&) = delete;
 
     const Experiment& experiment() const { return *experiment_; }
     std::size_t dimension() const { return free_.size(); }          ///< number of free parameters
@@ -51,6 +54,7 @@ public:
     const std::vector<double>& range_upper() const { return range_hi_; }
     const std::vector<double>& initial() const { return init_; }     ///< init of the free parameters
     const InputChannels& inputs() const { return inputs_; }
+    const CrankAngleChannels& crank_angle_inputs() const { return angle_inputs_; }
 
     std::unique_ptr<ProblemWorkspace> make_workspace() const;
 
@@ -76,6 +80,7 @@ private:
 
     const Experiment* experiment_;
     InputChannels inputs_;
+    CrankAngleChannels angle_inputs_;
     std::vector<std::vector<double>> measured_;  ///< [output][sample], unit-scaled
     std::vector<std::size_t> free_;
     std::vector<std::string> free_names_;

@@ -121,11 +121,15 @@ double unit_to_si(const std::string& unit) {
 }
 
 std::vector<ChannelBinding> read_inputs(const YamlMap& inputs, const NetworkSpec& network, const CsvTable& data) {
-    inputs.allow_only(network.input_names);
+    std::vector<std::string> names = network.input_names;
+    names.insert(names.end(), network.angle_input_names.begin(), network.angle_input_names.end());
+    inputs.allow_only(names);
     std::vector<ChannelBinding> out;
-    for (const std::string& name : network.input_names) {
+    for (std::size_t i = 0; i < names.size(); ++i) {
+        const std::string& name = names[i];
         if (!inputs.has(name)) inputs.fail_missing(name, "(the CSV column of model input " + name + ")");
         out.push_back(read_binding(inputs, name, data, {}));
+        out.back().by_angle = i >= network.input_names.size();
     }
     return out;
 }

@@ -13,6 +13,7 @@
 
 #include "tvid/io/csv_table.hpp"
 #include "tvid/model/network_spec.hpp"
+#include "tvid/model/presets.hpp"
 #include "tvid/optim/pso_options.hpp"
 
 namespace tvid {
@@ -39,6 +40,7 @@ struct ChannelBinding {
     std::string model_name;  ///< e.g. "Ttm"
     std::string column;      ///< CSV column
     double scale = 1.0;      ///< unit conversion applied when reading (e.g. bar -> Pa)
+    bool by_angle = false;   ///< a crank-angle channel (cylinder pressure), read against data.angle
     SourceLocation where;
 };
 
@@ -80,16 +82,21 @@ struct Experiment {
     std::filesystem::path data_file;     ///< resolved against the experiment's folder
     CsvTable data;                       ///< the whole recording
     std::string time_column;
+    std::string angle_column;            ///< data.angle: crank angle [deg], empty when not given
+    std::vector<double> crank_angle;     ///< cumulative crank angle [rad] per sample (unwrapped), or empty
+    double cycle_deg = 720.0;            ///< crank angle of one engine cycle
     NetworkSpec network;
-    std::map<std::string, double> model_constants;
-    std::vector<ChannelBinding> inputs;   ///< one per network input, in network order
+    PresetConstants model_constants;      ///< a preset's constants as given under `model:`
+    std::vector<ChannelBinding> inputs;   ///< network inputs by time, then by crank angle, in network order
     std::vector<ChannelBinding> outputs;  ///< the outputs compared with measurements
     std::vector<int> output_indices;      ///< index into network.outputs per entry of `outputs`
     std::vector<ParameterSetting> parameters;  ///< one per network parameter, in network order
     std::vector<Window> estimation;
     std::vector<Window> validation;
-    double warmup = 0.0;                  ///< seconds simulated before each window, not scored
+    double warmup = 0.0;                  ///< seconds simulated before each window, not scored (or:)
+    int warmup_cycles = 0;                ///< engine cycles simulated before each window, not scored
     InitialStateKind initial_state = InitialStateKind::equilibrium;
+    int initial_speed_output = -1;        ///< measured: index into `outputs` of the speed that starts every node
     SimulationSettings simulation;
     EstimationSettings estimation_settings;
     std::filesystem::path report_dir;     ///< resolved; empty when not given

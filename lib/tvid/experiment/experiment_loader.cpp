@@ -1,6 +1,7 @@
 // load_experiment: reads an experiment file (format 1, DESIGN.md), applies command-line
 // overrides, validates every key and resolves paths, columns and windows.
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -13,6 +14,7 @@
 #include "tvid/experiment/window_reader.hpp"
 #include "tvid/experiment/yaml_reader.hpp"
 #include "tvid/util/input_error.hpp"
+#include "tvid/util/text.hpp"
 
 namespace tvid {
 
@@ -20,6 +22,23 @@ namespace {
 
 // The largest swarm a grid start may ask for (grid^M particles).
 constexpr double kMaxParticles = 1e6;
+
+// The crank angle [deg] made cumulative: a wrapped channel (0 … cycle) jumps back by about
+// one cycle at every cycle start. Fails unless the result advances at every sample.
+std::vector<double> cumulative_crank_angle(const CsvTable& data, const std::string& column, double cycle) {
+    const std::vector<double>& raw = data.column(column);
+    std::vector<double> a = raw;
+    double offset = 0.0;
+    for (std::size_t i = 1; i < a.size(); ++i) {
+        if (raw[i] < raw[i - 1] - 0.5 * cycle) offset += cycle;  // wrapped into the next cycle
+        a[i] = raw[i] + offset;
+        if (!(a[i] > a[i - 1]))
+            throw InputError(data.file().string(), data.line_of_row(i), "column " + column,
+                             "the crank angle does not advance: " + number_text(raw[i]) + " deg after " +
+                                 number_text(raw[i - 1]) + " deg");
+    }
+    return a;
+}
 
 YAML::Node parse_file(const std::filesystem::path& file) {
     const std::string name = file.string();
@@ -165,7 +184,7 @@ Experiment load_experiment(const std::filesystem::path& file, const std::vector<
 
     // The recording.
     const YamlMap data = top.map("data");
-    data.allow_only({"file", "time"});
+    data.allow_only({"file", "time", "angle", "cycle_deg"});
     const std::filesystem::path folder = file.parent_path();
     const std::string data_name = data.text("file");
     ex.data_file = std::filesystem::path(data_name).is_absolute() ? std::filesystem::path(data_name) : folder / data_name;
@@ -178,11 +197,40 @@ Experiment load_experiment(const std::filesystem::path& file, const std::vector<
         data.fail("time", "no column '" + ex.time_column + "' in " + ex.data_file.string());
     ex.data.require_strictly_increasing(ex.time_column);
     if (ex.data.rows() < 2) data.fail("file", "the recording needs at least two samples");
+    RecordingAxes axes{ex.data.column(ex.time_column), {}, 720.0};
+    if (data.has("cycle_deg")) {
+        ex.cycle_deg = data.number("cycle_deg");
+        if (ex.cycle_deg != 360.0 && ex.cycle_deg != 720.0)
+            data.fail("cycle_deg", "an engine cycle is 720 (four-stroke) or 360 (two-stroke) degrees");
+    }
+    if (data.has("angle")) {
+        ex.angle_column = data.text("angle");
+        if (!ex.data.has_column(ex.angle_column))
+            data.fail("angle", "no column '" + ex.angle_column + "' in " + ex.data_file.string());
+        axes.crank_deg = cumulative_crank_angle(ex.data, ex.angle_column, ex.cycle_deg);
+        axes.cycle_deg = ex.cycle_deg;
+        ex.crank_angle.reserve(axes.crank_deg.size());
+        for (double deg : axes.crank_deg) ex.crank_angle.push_back(deg * 3.14159265358979323846 / 180.0);
+    }
 
     // The model, its channels and parameters.
     const YamlMap parameters = top.map("parameters");
     ex.network = read_model(top.map("model"), parameters.keys(), ex.model_constants);
     ex.inputs = read_inputs(top.map("inputs"), ex.network, ex.data);
+    if (!ex.network.angle_input_names.empty() && ex.angle_column.empty())
+        data.fail_missing("angle", "(the model reads cylinder pressures by crank angle: name the crank-angle column)");
+    for (const ChannelBinding& in : ex.inputs) {
+        if (!in.by_angle) continue;
+        // A cylinder pressure in Pa lies between vacuum and a few hundred bar; a channel
+        // recorded in bar but read as Pa would stay below 1000.
+        const std::vector<double>& p = ex.data.column(in.column);
+        const auto [lo, hi] = std::minmax_element(p.begin(), p.end());
+        const double low = *lo * in.scale, high = *hi * in.scale;
+        if (low < 0 || high > 1e8 || high < 1e3)
+            top.map("inputs").fail(in.model_name, "column '" + in.column + "' holds " + number_text(low) + " … " +
+                                                      number_text(high) +
+                                                      " Pa: not an absolute cylinder pressure (set unit: bar, kPa, MPa or Pa)");
+    }
     OutputBindings outputs = read_outputs(top.map("outputs"), ex.network, ex.data);
     ex.outputs = std::move(outputs.channels);
     ex.output_indices = std::move(outputs.indices);
@@ -209,13 +257,26 @@ Experiment load_experiment(const std::filesystem::path& file, const std::vector<
     }
 
     // Windows and the remaining settings.
-    const WindowSet windows = read_windows(top.map("windows"), ex.data.column(ex.time_column));
+    const WindowSet windows = read_windows(top.map("windows"), axes);
     ex.estimation = windows.estimation;
     ex.validation = windows.validation;
     ex.warmup = windows.warmup;
-    if (top.has("initial_state"))
-        ex.initial_state =
-            top.choice("initial_state", {"equilibrium", "rest"}) == "rest" ? InitialStateKind::rest : InitialStateKind::equilibrium;
+    ex.warmup_cycles = windows.warmup_cycles;
+    if (top.has("initial_state")) {
+        const std::string kind = top.choice("initial_state", {"equilibrium", "rest", "measured"});
+        ex.initial_state = kind == "rest"       ? InitialStateKind::rest
+                           : kind == "measured" ? InitialStateKind::measured
+                                                : InitialStateKind::equilibrium;
+    }
+    if (ex.initial_state == InitialStateKind::measured) {
+        // Every node starts at the measured crank angle, turning at the first measured speed.
+        if (ex.angle_column.empty())
+            top.fail("initial_state", "measured needs the crank-angle channel: give data.angle");
+        for (std::size_t k = 0; k < ex.outputs.size() && ex.initial_speed_output < 0; ++k)
+            if (ex.network.outputs[static_cast<std::size_t>(ex.output_indices[k])].kind == OutputKind::speed)
+                ex.initial_speed_output = static_cast<int>(k);
+        if (ex.initial_speed_output < 0) top.fail("initial_state", "measured needs a measured speed among the outputs");
+    }
     if (top.has("simulation")) ex.simulation = read_simulation(top.map("simulation"));
     if (top.has("report")) {
         const YamlMap report = top.map("report");

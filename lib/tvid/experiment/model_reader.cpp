@@ -11,7 +11,7 @@ namespace tvid {
 
 namespace {
 
-NetworkSpec read_preset(const YamlMap& model, std::map<std::string, double>& constants) {
+NetworkSpec read_preset(const YamlMap& model, PresetConstants& constants) {
     const std::string name = model.text("preset");
     const PresetInfo* info = find_preset(name);
     if (info == nullptr) {
@@ -22,9 +22,21 @@ NetworkSpec read_preset(const YamlMap& model, std::map<std::string, double>& con
     std::vector<std::string> allowed{"preset"};
     allowed.insert(allowed.end(), info->constants.begin(), info->constants.end());
     model.allow_only(allowed);
-    for (const std::string& c : info->constants)
-        if (model.has(c)) constants[c] = model.number(c);
-    return build_preset(name, constants);
+    for (const std::string& c : info->constants) {
+        if (!model.has(c)) continue;
+        const YAML::Node value = model.get(c);
+        std::vector<double>& numbers = constants[c];
+        if (value.IsSequence()) {
+            for (std::size_t i = 0; i < value.size(); ++i) numbers.push_back(read_number(model.source(), value[i], model.key_path(c)));
+        } else {
+            numbers.push_back(model.number(c));
+        }
+    }
+    try {
+        return build_preset(name, constants);
+    } catch (const PresetConstantError& e) {
+        model.fail(e.constant(), e.what());
+    }
 }
 
 // Reads a custom network. Node and element names are unique; "ground" is the fixed base.
@@ -134,7 +146,7 @@ private:
         for (std::size_t i = 0; i < list.size(); ++i) {
             const YamlMap m(src_, list[i], path + "[" + std::to_string(i) + "]");
             const std::string type =
-                m.choice("type", {"spring_damper", "clearance", "friction", "gear_mesh", "torque"});
+                m.choice("type", {"spring_damper", "clearance", "friction", "gear_mesh", "torque", "cylinder"});
             const std::string name = m.has("name") ? m.text("name") : type + std::to_string(i + 1);
             if (!names.insert(name).second) m.fail("name", "an element named '" + name + "' already exists");
             if (type == "spring_damper") {
@@ -174,6 +186,29 @@ private:
                                           m.has("k") ? &e.k : nullptr, &e.c);
                 }
                 net_.gear_meshes.push_back(e);
+            } else if (type == "cylinder") {
+                m.allow_only({"type", "name", "node", "pressure", "phase_deg", "bore", "crank_radius", "rod_length",
+                              "mass", "p_atm"});
+                if (!m.has("node")) m.fail_missing("node");
+                CylinderSpec e;
+                e.name = name;
+                e.node = node(m, "node", m.get("node"), false);
+                const std::string pressure = m.text("pressure");
+                if (net_.input_index(pressure) >= 0)
+                    m.fail("pressure", "'" + pressure + "' already drives a torque by time; a pressure is read by crank angle");
+                auto it = std::find(net_.angle_input_names.begin(), net_.angle_input_names.end(), pressure);
+                if (it == net_.angle_input_names.end()) {
+                    net_.angle_input_names.push_back(pressure);
+                    it = net_.angle_input_names.end() - 1;
+                }
+                e.pressure = static_cast<int>(it - net_.angle_input_names.begin());
+                e.phase = m.has("phase_deg") ? m.number("phase_deg") * 3.14159265358979323846 / 180.0 : 0.0;
+                e.bore = field(m, "bore");
+                e.crank_radius = field(m, "crank_radius");
+                e.rod_length = field(m, "rod_length");
+                e.mass = field_or(m, "mass", Field::value(0.0));
+                e.p_atm = field_or(m, "p_atm", Field::value(101325.0));
+                net_.cylinders.push_back(e);
             } else {  // torque
                 m.allow_only({"type", "name", "node", "input", "offset", "scale"});
                 if (!m.has("node")) m.fail_missing("node");
@@ -181,6 +216,9 @@ private:
                 e.name = name;
                 e.node = node(m, "node", m.get("node"), false);
                 const std::string input = m.text("input");
+                if (std::find(net_.angle_input_names.begin(), net_.angle_input_names.end(), input) !=
+                    net_.angle_input_names.end())
+                    m.fail("input", "'" + input + "' is a cylinder pressure read by crank angle, not a torque by time");
                 int k = net_.input_index(input);
                 if (k < 0) {
                     net_.input_names.push_back(input);
@@ -192,8 +230,8 @@ private:
                 net_.torques.push_back(e);
             }
         }
-        if (net_.input_names.empty())
-            src_.fail(list, path, "no element of type torque: the network has no measured input to drive it");
+        if (net_.input_names.empty() && net_.angle_input_names.empty())
+            src_.fail(list, path, "no element of type torque or cylinder: no measured input drives the network");
     }
 
     const YamlMap& model_;
@@ -219,7 +257,7 @@ Field read_field(const YamlSource& src, const YAML::Node& node, const std::strin
 }
 
 NetworkSpec read_model(const YamlMap& model, const std::vector<std::string>& declared_parameters,
-                       std::map<std::string, double>& constants) {
+                       PresetConstants& constants) {
     if (model.has("preset")) return read_preset(model, constants);
     if (!model.has("nodes") && !model.has("elements"))
         model.fail_missing("preset", "(give preset: NAME, or nodes: and elements: for a custom network)");
@@ -239,6 +277,8 @@ std::vector<bool> parameters_in_use(const NetworkSpec& n) {
             for (const Field* f : {&e.k_minus, &e.k_plus, &e.c_minus, &e.c_plus, &e.mu, &e.sigma}) mark(*f, used);
     }
     for (const auto& e : n.torques) { mark(e.offset, used); mark(e.scale, used); }
+    for (const auto& e : n.cylinders)
+        for (const Field* f : {&e.bore, &e.crank_radius, &e.rod_length, &e.mass, &e.p_atm}) mark(*f, used);
     for (const auto& o : n.outputs) mark(o.offset, used);
     return used;
 }

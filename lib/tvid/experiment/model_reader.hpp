@@ -8,6 +8,7 @@
 
 #include "tvid/experiment/yaml_reader.hpp"
 #include "tvid/model/network_spec.hpp"
+#include "tvid/model/presets.hpp"
 
 namespace tvid {
 
@@ -19,7 +20,7 @@ Field read_field(const YamlSource& src, const YAML::Node& node, const std::strin
 /// `parameters:` section, in file order) become its parameters; a field naming
 /// anything else is an error. `constants` receives a preset's numeric constants.
 NetworkSpec read_model(const YamlMap& model, const std::vector<std::string>& declared_parameters,
-                       std::map<std::string, double>& constants);
+                       PresetConstants& constants);
 
 /// Every parameter index some field of the network refers to.
 std::vector<bool> parameters_in_use(const NetworkSpec& network);

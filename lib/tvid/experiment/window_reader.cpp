@@ -3,6 +3,7 @@
 #include "tvid/util/text.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 
 namespace tvid {
@@ -11,11 +12,15 @@ namespace {
 
 class WindowResolver {
 public:
-    WindowResolver(const YamlSource& src, const std::vector<double>& time, double warmup)
-        : src_(src), time_(time), warmup_(warmup) {
-        double smallest = time.size() > 1 ? time[1] - time[0] : 1.0;
-        for (std::size_t i = 1; i < time.size(); ++i) smallest = std::min(smallest, time[i] - time[i - 1]);
-        tolerance_ = 1e-3 * smallest;  // time stamps written with rounding still match
+    WindowResolver(const YamlSource& src, const RecordingAxes& axes, double warmup, int warmup_cycles)
+        : src_(src), axes_(axes), time_(axes.time), warmup_(warmup), warmup_cycles_(warmup_cycles) {
+        tolerance_ = 1e-3 * smallest_step(time_);  // time stamps written with rounding still match
+        if (!axes.crank_deg.empty()) {
+            angle_tolerance_ = 1e-3 * smallest_step(axes.crank_deg);
+            const double c = axes.cycle_deg;
+            first_cycle_start_ = std::ceil(axes.crank_deg.front() / c - 1e-9) * c;
+            cycle_count_ = static_cast<long long>(std::floor((axes.crank_deg.back() - first_cycle_start_) / c + 1e-9));
+        }
     }
 
     std::vector<Window> list(const YamlMap& windows, const std::string& key, bool required) const {
@@ -34,12 +39,49 @@ public:
     }
 
 private:
+    static double smallest_step(const std::vector<double>& v) {
+        double smallest = v.size() > 1 ? v[1] - v[0] : 1.0;
+        for (std::size_t i = 1; i < v.size(); ++i) smallest = std::min(smallest, v[i] - v[i - 1]);
+        return smallest;
+    }
+
+    // The sample at crank angle `deg` (within the angle tolerance), or the first after it.
+    std::size_t sample_at_angle(double deg) const {
+        const auto& a = axes_.crank_deg;
+        return static_cast<std::size_t>(std::lower_bound(a.begin(), a.end(), deg - angle_tolerance_) - a.begin());
+    }
+
+    std::string cycles_text() const {
+        return cycle_count_ > 0 ? "the recording holds complete cycles 0 … " + std::to_string(cycle_count_ - 1)
+                                : "the recording holds no complete cycle";
+    }
+
+    // Cycles a … b (inclusive): from the start of cycle a to the start of cycle b + 1.
+    void resolve_cycles(const YamlMap& m, const std::string& key, long long a, long long b, Window& w) const {
+        const YAML::Node node = m.get(key);
+        const std::string path = m.key_path(key);
+        if (axes_.crank_deg.empty())
+            src_.fail(node, path, "cycle windows need the crank-angle channel: give data.angle");
+        if (a < 0 || b >= cycle_count_)
+            src_.fail(node, path, "cycle " + std::to_string(a < 0 ? a : b) + " is outside the data: " + cycles_text());
+        if (b < a) src_.fail(node, path, "the first cycle must not come after the last");
+        const double c = axes_.cycle_deg;
+        w.first = sample_at_angle(first_cycle_start_ + static_cast<double>(a) * c);
+        w.last = sample_at_angle(first_cycle_start_ + static_cast<double>(b + 1) * c);
+        if (w.last >= time_.size()) w.last = time_.size() - 1;
+        w.label = a == b ? "cycle " + std::to_string(a) : "cycles " + std::to_string(a) + " to " + std::to_string(b);
+        w.where = src_.where(node, path);
+        if (w.last <= w.first) src_.fail(node, path, "the cycle holds fewer than two samples");
+    }
+
     Window one(const YamlMap& m) const {
-        m.allow_only({"time", "samples"});
-        if (m.has("time") && m.has("samples"))
-            m.fail("samples", "give either time: [a, b] or samples: [a, b], not both");
-        if (!m.has("time") && !m.has("samples"))
-            m.fail_missing("time", "(give exactly one of time: [a, b] or samples: [a, b])");
+        m.allow_only({"time", "samples", "cycle", "cycles"});
+        const int given = int(m.has("time")) + int(m.has("samples")) + int(m.has("cycle")) + int(m.has("cycles"));
+        if (given > 1)
+            m.fail(m.has("cycles") ? "cycles" : m.has("cycle") ? "cycle" : "samples",
+                   "give only one of time: [a, b], samples: [a, b], cycle: k or cycles: [a, b], not both");
+        if (given == 0)
+            m.fail_missing("time", "(give one of time: [a, b], samples: [a, b], cycle: k or cycles: [a, b])");
         Window w;
         const std::string recording = "the recording spans t = " + number_text(time_.front()) + " … " +
                                       number_text(time_.back()) + " s (" + std::to_string(time_.size()) + " samples)";
@@ -57,6 +99,14 @@ private:
             w.label = "time " + number_text(a) + " to " + number_text(b);
             w.where = src_.where(node, key);
             if (w.last <= w.first) src_.fail(node, key, "window holds fewer than two samples: " + recording);
+        } else if (m.has("cycle")) {
+            const long long k = m.integer("cycle");
+            resolve_cycles(m, "cycle", k, k, w);
+        } else if (m.has("cycles")) {
+            const YAML::Node node = m.get("cycles");
+            const std::string key = m.key_path("cycles");
+            if (!node.IsSequence() || node.size() != 2) src_.fail(node, key, "expected two cycle numbers [first, last]");
+            resolve_cycles(m, "cycles", read_integer(src_, node[0], key), read_integer(src_, node[1], key), w);
         } else {
             const std::string key = m.key_path("samples");
             const YAML::Node node = m.get("samples");
@@ -72,6 +122,14 @@ private:
             w.where = src_.where(node, key);
         }
         w.start = w.first;
+        if (warmup_cycles_ > 0) {
+            const double start_deg = axes_.crank_deg[w.first] - warmup_cycles_ * axes_.cycle_deg;
+            if (start_deg < axes_.crank_deg.front() - angle_tolerance_)
+                src_.fail(m.node(), m.path(), "the warm-up of " + std::to_string(warmup_cycles_) +
+                                                  " cycle(s) before this window starts before the recording (" +
+                                                  cycles_text() + ")");
+            w.start = sample_at_angle(start_deg);
+        }
         if (warmup_ > 0) {
             const double t0 = time_[w.first] - warmup_;
             if (t0 < time_.front() - tolerance_)
@@ -85,21 +143,33 @@ private:
     }
 
     const YamlSource& src_;
+    const RecordingAxes& axes_;
     const std::vector<double>& time_;
     double warmup_;
+    int warmup_cycles_;
     double tolerance_ = 0.0;
+    double angle_tolerance_ = 0.0;
+    double first_cycle_start_ = 0.0;  ///< [deg] the first multiple of the cycle at or after the first sample
+    long long cycle_count_ = 0;       ///< complete cycles in the recording
 };
 
 }  // namespace
 
-WindowSet read_windows(const YamlMap& windows, const std::vector<double>& time) {
+WindowSet read_windows(const YamlMap& windows, const RecordingAxes& axes) {
     windows.allow_only({"estimation", "validation", "warmup"});
     WindowSet set;
-    if (windows.has("warmup")) {
+    if (windows.has("warmup") && windows.get("warmup").IsMap()) {
+        const YamlMap warmup = windows.map("warmup");
+        warmup.allow_only({"cycles"});
+        const long long n = warmup.integer("cycles");
+        if (n < 0 || n > 1000) warmup.fail("cycles", "the warm-up must be 0 to 1000 cycles");
+        if (n > 0 && axes.crank_deg.empty()) warmup.fail("cycles", "a warm-up in cycles needs the crank-angle channel: give data.angle");
+        set.warmup_cycles = static_cast<int>(n);
+    } else if (windows.has("warmup")) {
         set.warmup = windows.number("warmup");
         if (set.warmup < 0) windows.fail("warmup", "the warm-up cannot be negative");
     }
-    const WindowResolver resolver(windows.source(), time, set.warmup);
+    const WindowResolver resolver(windows.source(), axes, set.warmup, set.warmup_cycles);
     set.estimation = resolver.list(windows, "estimation", true);
     set.validation = resolver.list(windows, "validation", false);
     return set;

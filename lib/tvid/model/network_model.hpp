@@ -10,7 +10,9 @@
 #include <vector>
 
 #include "tvid/model/network_spec.hpp"
+#include "tvid/model/slider_crank.hpp"
 #include "tvid/model/smooth_clearance.hpp"
+#include "tvid/sim/crank_angle_channels.hpp"
 
 namespace tvid {
 
@@ -27,7 +29,14 @@ public:
           frictions_(spec.frictions.size()),
           gears_(spec.gear_meshes.size()),
           torques_(spec.torques.size()),
+          cylinders_(spec.cylinders.size()),
+          cylinder_lever_(spec.cylinders.size()),
+          pressure_cursor_(spec.cylinders.size(), 0),
+          inertia_(spec.nodes.size()),
           output_offsets_(spec.outputs.size()) {}
+
+    /// The crank-angle channels (cylinder pressures) the cylinders read; must outlive the model.
+    void set_crank_angle_inputs(const CrankAngleChannels* channels) { angle_inputs_ = channels; }
 
     std::size_t node_count() const { return node_count_; }
     std::size_t state_size() const { return 2 * node_count_; }
@@ -41,6 +50,7 @@ public:
         for (std::size_t i = 0; i < node_count_; ++i) {
             const T j = v(s.nodes[i].inertia);
             inverse_inertia_[i] = s.nodes[i].inverse ? j : T(1) / j;
+            inertia_[i] = s.nodes[i].inverse ? T(1) / j : j;
         }
         for (std::size_t i = 0; i < springs_.size(); ++i) {
             const auto& e = s.spring_dampers[i];
@@ -66,6 +76,12 @@ public:
             const auto& e = s.torques[i];
             torques_[i] = Torque{e.node, e.input, v(e.offset), v(e.scale)};
         }
+        for (std::size_t i = 0; i < cylinders_.size(); ++i) {
+            const auto& e = s.cylinders[i];
+            const T bore = v(e.bore);
+            cylinders_[i] = Cylinder{e.node, e.pressure, e.phase, T(0.25 * kPi) * bore * bore, v(e.crank_radius),
+                                     v(e.rod_length), v(e.mass), v(e.p_atm)};
+        }
         for (std::size_t i = 0; i < output_offsets_.size(); ++i)
             output_offsets_[i] = v(s.outputs[i].offset);
     }
@@ -78,6 +94,16 @@ public:
         for (std::size_t i = 0; i < node_count_; ++i) {
             dxdt[i] = omega[i];
             dxdt[node_count_ + i] = node_torque_[i] * inverse_inertia_[i];  // θ'' = T / J
+        }
+        // A throw with a reciprocating mass: (J + Σ m s'(φ)²) θ'' = T (seed 000 eq. 2 with
+        // the exact piston acceleration). The node's torque already holds −m s' s'' ω².
+        for (std::size_t c = 0; c < cylinders_.size(); ++c) {
+            const std::size_t node = static_cast<std::size_t>(cylinders_[c].node);
+            T inertia = inertia_[node];
+            for (std::size_t o = 0; o < cylinders_.size(); ++o)
+                if (cylinders_[o].node == cylinders_[c].node)
+                    inertia += cylinders_[o].mass * cylinder_lever_[o] * cylinder_lever_[o];
+            dxdt[node_count_ + node] = node_torque_[node] / inertia;
         }
     }
 
@@ -122,6 +148,11 @@ public:
                 return gear_torque(e, theta[e.a] - e.ratio * theta[e.b], omega[e.a] - e.ratio * omega[e.b]);
             }
             case ElementKind::torque: return torques_[i].scale * (u[torques_[i].input] - torques_[i].offset);
+            case ElementKind::cylinder: {  // the gas torque
+                const Cylinder& e = cylinders_[i];
+                const T& th = theta[e.node];
+                return gas_force(e, i, th) * slider_crank(th + e.phase, e.r, e.l).ds;
+            }
         }
         return T(0);
     }
@@ -132,6 +163,15 @@ private:
     struct Friction { int node; T c; };
     struct Gear { int a, b; T ratio, k, c; bool has_clearance; ClearanceLaw<T> law; };
     struct Torque { int node, input; T offset, scale; };
+    struct Cylinder { int node, pressure; double phase; T area, r, l, mass, p_atm; };
+
+    static constexpr double kPi = 3.14159265358979323846;
+
+    // (p − p_atm)·(πB²/4) with p the measured pressure at the throw's own angle.
+    T gas_force(const Cylinder& e, std::size_t c, const T& throw_angle) const {
+        return (angle_inputs_->at(static_cast<std::size_t>(e.pressure), throw_angle, pressure_cursor_[c]) - e.p_atm) *
+               e.area;
+    }
 
     static T twist(const T* q, int a, int b) { return b == kGround ? q[a] : q[a] - q[b]; }
 
@@ -164,6 +204,14 @@ private:
             torque[e.b] += e.ratio * t; // and n·T on b
         }
         for (const Torque& e : torques_) torque[e.node] += e.scale * (u[e.input] - e.offset);
+        for (std::size_t c = 0; c < cylinders_.size(); ++c) {
+            const Cylinder& e = cylinders_[c];
+            const T& th = theta[e.node];
+            const SliderCrankMotion<T> k = slider_crank(th + e.phase, e.r, e.l);
+            cylinder_lever_[c] = k.ds;
+            torque[e.node] += gas_force(e, c, th) * k.ds;  // seed 000 eq. 4, pressure force
+            if (with_speed) torque[e.node] -= e.mass * k.ds * k.dds * omega[e.node] * omega[e.node];  // −m s' s'' ω²
+        }
     }
 
     const NetworkSpec* spec_;
@@ -175,6 +223,11 @@ private:
     std::vector<Friction> frictions_;
     std::vector<Gear> gears_;
     std::vector<Torque> torques_;
+    std::vector<Cylinder> cylinders_;
+    mutable std::vector<T> cylinder_lever_;              ///< s'(φ) of each cylinder at the last evaluation
+    mutable std::vector<std::size_t> pressure_cursor_;  ///< lookup cursors, one per cylinder
+    std::vector<T> inertia_;
+    const CrankAngleChannels* angle_inputs_ = nullptr;
     std::vector<T> output_offsets_;
 };
 

@@ -74,7 +74,20 @@ struct TorqueSpec {
     Field scale = Field::value(1.0);
 };
 
-enum class ElementKind { spring_damper, clearance, friction, gear_mesh, torque };
+/// A cylinder of a piston engine on a crank throw (seed 000 eqs. 2, 4). Its local crank
+/// angle is φ = θ_node + phase (phase = −k·720°/N for firing position k). Torque on the
+/// throw: gas (p(θ_node) − p_atm)·(πB²/4)·s'(φ) and reciprocating mass −m·s'(φ)·s̈ with the
+/// exact piston acceleration s̈ = s'(φ)·θ'' + s''(φ)·ω²; the θ'' part adds m·s'(φ)² to the
+/// throw's inertia. The pressure is a crank-angle channel looked up at the throw's angle.
+struct CylinderSpec {
+    std::string name;
+    int node = 0;
+    int pressure = 0;  ///< index into NetworkSpec::angle_input_names
+    double phase = 0.0;  ///< [rad]
+    Field bore, crank_radius, rod_length, mass, p_atm;
+};
+
+enum class ElementKind { spring_damper, clearance, friction, gear_mesh, torque, cylinder };
 
 struct ElementRef {
     ElementKind kind;
@@ -96,13 +109,15 @@ struct OutputSpec {
 struct NetworkSpec {
     std::string preset;                       ///< preset name, or "custom"
     std::vector<std::string> parameter_names; ///< model parameters, Field::parameter indexes these
-    std::vector<std::string> input_names;     ///< model inputs (channels), TorqueSpec::input indexes these
+    std::vector<std::string> input_names;     ///< model inputs by time, TorqueSpec::input indexes these
+    std::vector<std::string> angle_input_names; ///< model inputs by crank angle, CylinderSpec::pressure indexes these
     std::vector<NodeSpec> nodes;
     std::vector<SpringDamperSpec> spring_dampers;
     std::vector<ClearanceSpec> clearances;
     std::vector<FrictionSpec> frictions;
     std::vector<GearMeshSpec> gear_meshes;
     std::vector<TorqueSpec> torques;
+    std::vector<CylinderSpec> cylinders;
     std::vector<OutputSpec> outputs;          ///< every output the model offers
 
     int parameter_index(const std::string& name) const;  ///< -1 if absent

@@ -2,6 +2,7 @@
 // Preset networks with the papers' parametrizations (DESIGN.md "Names the presets use").
 
 #include <map>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -26,9 +27,23 @@ const std::vector<PresetInfo>& preset_catalogue();
 /// nullptr when there is no preset of that name.
 const PresetInfo* find_preset(const std::string& name);
 
-/// Builds the network of a preset. `constants` are the numeric keys given under `model:`
-/// (validated by the caller against PresetInfo::constants). Throws std::invalid_argument
-/// on an unknown preset.
-NetworkSpec build_preset(const std::string& name, const std::map<std::string, double>& constants);
+/// The constants given under `model:` (a number, or a list such as a firing order).
+using PresetConstants = std::map<std::string, std::vector<double>>;
+
+/// A constant a preset cannot use; `constant` names it.
+class PresetConstantError : public std::invalid_argument {
+public:
+    PresetConstantError(std::string constant, const std::string& problem)
+        : std::invalid_argument(problem), constant_(std::move(constant)) {}
+    const std::string& constant() const { return constant_; }
+
+private:
+    std::string constant_;
+};
+
+/// Builds the network of a preset from its constants (keys checked by the caller against
+/// PresetInfo::constants; values checked here: PresetConstantError). Throws
+/// std::invalid_argument on an unknown preset.
+NetworkSpec build_preset(const std::string& name, const PresetConstants& constants);
 
 }  // namespace tvid

@@ -1,0 +1,37 @@
+#pragma once
+// Piston kinematics of a slider-crank (seed 000 eq. 4, DESIGN.md "Preset engine_block"),
+// written once for any scalar type. φ is the crank angle from the cylinder's top dead
+// centre, r the crank radius, l the connecting-rod length.
+//
+//   s(φ)   = r(1 − cos φ) + l − √(l² − r² sin²φ)                 piston travel from TDC
+//   s'(φ)  = r sin φ + r² sin 2φ / (2√(l² − r² sin²φ))
+//   s''(φ) = r cos φ + r² cos 2φ / √D + r⁴ sin² 2φ / (4 D^{3/2}),  D = l² − r² sin²φ
+//
+// Seed 000 eq. 4 prints sin²(2θ) under the root; that is a typo: the geometry gives sin²φ.
+
+#include <cmath>
+
+namespace tvid {
+
+template <class T>
+struct SliderCrankMotion {
+    T s;    ///< piston travel from TDC [m]
+    T ds;   ///< ds/dφ [m/rad]: the lever arm of the piston force
+    T dds;  ///< d²s/dφ² [m/rad²]
+};
+
+template <class T, class R>
+SliderCrankMotion<T> slider_crank(const T& phi, const R& r, const R& l) {
+    using std::cos, std::sin, std::sqrt;
+    const T sn = sin(phi), cs = cos(phi);
+    const T sin2 = 2 * sn * cs, cos2 = cs * cs - sn * sn;
+    const T d = l * l - r * r * sn * sn;
+    const T root = sqrt(d);
+    SliderCrankMotion<T> m;
+    m.s = r * (1 - cs) + l - root;
+    m.ds = r * sn + r * r * sin2 / (2 * root);
+    m.dds = r * cs + r * r * cos2 / root + r * r * r * r * sin2 * sin2 / (4 * d * root);
+    return m;
+}
+
+}  // namespace tvid

@@ -1,0 +1,47 @@
+#pragma once
+// Channels recorded against crank angle — the cylinder pressures of seed 000 — looked up
+// by an angle of the model, not by time: a throw's pressure is the measured pressure
+// at that throw's own angle. The angle grid is the recording's cumulative crank angle
+// [rad], strictly increasing; between grid points a channel is linear in the angle and
+// beyond the ends its end value is held. Read-only and shared by all threads; each
+// caller keeps its own cursor.
+
+#include <cstddef>
+#include <vector>
+
+#include "tvid/model/scalar_value.hpp"
+
+namespace tvid {
+
+class CrankAngleChannels {
+public:
+    CrankAngleChannels() = default;
+    CrankAngleChannels(std::vector<double> angle, std::vector<std::vector<double>> values);
+
+    std::size_t count() const { return values_.size(); }
+    bool empty() const { return values_.empty(); }
+    const std::vector<double>& angle() const { return angle_; }
+
+    /// Channel k at angle a (any scalar type: the slope carries derivatives), using and
+    /// updating the caller's cursor so that a simulation moving forward finds its
+    /// interval in O(1).
+    template <class T>
+    T at(std::size_t k, const T& a, std::size_t& cursor) const {
+        const double x = scalar_value(a);
+        const std::size_t i = interval(x, cursor);
+        const std::vector<double>& v = values_[k];
+        if (x <= angle_.front()) return T(v.front());
+        if (x >= angle_.back()) return T(v.back());
+        const double slope = (v[i + 1] - v[i]) / (angle_[i + 1] - angle_[i]);
+        return v[i] + slope * (a - angle_[i]);
+    }
+
+private:
+    /// i with angle_[i] <= x < angle_[i+1] (clamped to the grid).
+    std::size_t interval(double x, std::size_t& cursor) const;
+
+    std::vector<double> angle_;
+    std::vector<std::vector<double>> values_;
+};
+
+}  // namespace tvid
