@@ -1,0 +1,295 @@
+#include "tvid/optim/levenberg_marquardt.hpp"
+
+#include <Eigen/QR>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace tvid {
+
+namespace {
+
+constexpr double kAcceptRatio = 1e-4;  // accept a step when ρ exceeds this (MINPACK's 1e-4)
+constexpr double kMinDamping = 1e-32;  // λ relative to a scaled JᵀJ whose diagonal is ≤ 1: below it is 0
+
+using Eigen::Index;
+
+void check_arguments(const LmSettings& settings, const std::vector<double>& x0, const std::vector<double>& lower,
+                     const std::vector<double>& upper, std::size_t residual_count) {
+    if (x0.empty()) throw std::invalid_argument("Levenberg-Marquardt: no free parameters");
+    if (lower.size() != x0.size() || upper.size() != x0.size())
+        throw std::invalid_argument("Levenberg-Marquardt: bounds and start differ in size");
+    if (residual_count == 0) throw std::invalid_argument("Levenberg-Marquardt: the problem has no residuals");
+    for (std::size_t j = 0; j < x0.size(); ++j) {
+        if (!std::isfinite(x0[j])) throw std::invalid_argument("Levenberg-Marquardt: non-finite start value");
+        if (!(lower[j] <= upper[j])) throw std::invalid_argument("Levenberg-Marquardt: lower bound above upper bound");
+    }
+    if (settings.max_iterations < 0 || settings.max_consecutive_rejections < 1)
+        throw std::invalid_argument("Levenberg-Marquardt: iteration limits must be positive");
+    if (!(settings.ftol >= 0) || !(settings.xtol >= 0) || !(settings.gtol >= 0))
+        throw std::invalid_argument("Levenberg-Marquardt: tolerances must not be negative");
+    if (!(settings.initial_damping > 0) || !std::isfinite(settings.initial_damping))
+        throw std::invalid_argument("Levenberg-Marquardt: the initial damping must be positive");
+}
+
+// r and J at x into the given buffers; false when the problem fails or returns non-finite values.
+bool evaluate_jacobian(LeastSquaresProblem& problem, const Eigen::VectorXd& x, Eigen::VectorXd& r,
+                       Eigen::MatrixXd& J) {
+    const Index n = r.size(), m = x.size();
+    J.resize(n, m);  // no-op unless a failed call left it resized
+    if (!problem.jacobian(x.data(), r.data(), J)) return false;
+    if (J.rows() != n || J.cols() != m)
+        throw std::logic_error("Levenberg-Marquardt: the problem returned a Jacobian of the wrong size");
+    return r.allFinite() && J.allFinite();
+}
+
+// The damped step for one λ (Moré 1978, eq. 2.3 in scaled form):
+//   min_p ‖R p + Qᵀr‖² + λ ‖D p‖²,   p_j = 0 for the held parameters,
+// which equals min ‖J p + r‖² + λ‖D p‖² because J = Q R. Solved as the 2M×M least-squares
+// problem [R; √λ D] p ≅ [−Qᵀr; 0] by Householder QR: the conditioning of J, not of JᵀJ.
+// A held parameter's column of R is zeroed, which leaves it only the row √λ d_j p_j = 0.
+class DampedStep {
+public:
+    explicit DampedStep(Index m) : m_(m), a_(2 * m, m), b_(2 * m), qr_(2 * m, m) {}
+
+    void solve(const Eigen::MatrixXd& R, const Eigen::VectorXd& qtr, const Eigen::VectorXd& scale, double lambda,
+               const std::vector<char>& held, Eigen::VectorXd& p) {
+        a_.setZero();
+        const double root = std::sqrt(lambda);
+        for (Index c = 0; c < m_; ++c) {
+            if (!held[static_cast<std::size_t>(c)]) a_.col(c).head(c + 1) = R.col(c).head(c + 1);
+            a_(m_ + c, c) = root * scale[c];
+        }
+        b_.head(m_) = -qtr;
+        b_.tail(m_).setZero();
+        qr_.compute(a_);
+        b_.applyOnTheLeft(qr_.householderQ().adjoint());
+        p = b_.head(m_);
+        qr_.matrixQR().topLeftCorner(m_, m_).triangularView<Eigen::Upper>().solveInPlace(p);
+        for (Index c = 0; c < m_; ++c)
+            if (held[static_cast<std::size_t>(c)]) p[c] = 0.0;
+    }
+
+private:
+    Index m_;
+    Eigen::MatrixXd a_;
+    Eigen::VectorXd b_;
+    Eigen::HouseholderQR<Eigen::MatrixXd> qr_;
+};
+
+}  // namespace
+
+LmSummary run_levenberg_marquardt(const LmSettings& settings, std::vector<double> x0,
+                                  const std::vector<double>& lower, const std::vector<double>& upper,
+                                  LeastSquaresProblem& problem, const LmProgress& progress) {
+    const std::size_t residual_count = problem.residual_count();
+    check_arguments(settings, x0, lower, upper, residual_count);
+    const auto m = static_cast<Index>(x0.size());
+    const auto n = static_cast<Index>(residual_count);
+    const auto mu = x0.size();
+    const double inf = std::numeric_limits<double>::infinity();
+
+    // Everything the iterations touch is allocated here, once.
+    Eigen::VectorXd lo(m), hi(m), x(m), x_trial(m);
+    for (Index j = 0; j < m; ++j) {
+        const auto u = static_cast<std::size_t>(j);
+        lo[j] = lower[u];
+        hi[j] = upper[u];
+        x[j] = std::clamp(x0[u], lo[j], hi[j]);  // start feasible
+    }
+    Eigen::VectorXd r(n), r_trial(n), qtr_full(n);
+    Eigen::MatrixXd J(n, m), J_trial(n, m);
+    Eigen::VectorXd gradient(m), column_norm(m), d = Eigen::VectorXd::Zero(m), scale(m);
+    Eigen::VectorXd p(m), step(m), qtr(m), Rs(m);
+    Eigen::MatrixXd R = Eigen::MatrixXd::Zero(m, m);
+    Eigen::HouseholderQR<Eigen::MatrixXd> qr_j(n, m);
+    DampedStep damped(m);
+    std::vector<char> held(mu, 0), held_trial(mu, 0);
+
+    LmSummary s;
+    s.best.assign(mu, 0.0);
+    s.history.reserve(static_cast<std::size_t>(std::min(settings.max_iterations, 1 << 16)) + 1);
+    auto finish = [&](const char* reason, bool converged) {
+        for (Index j = 0; j < m; ++j) s.best[static_cast<std::size_t>(j)] = x[j];
+        s.termination = reason;
+        s.success = converged;
+    };
+
+    ++s.jacobian_evaluations;
+    if (!evaluate_jacobian(problem, x, r, J)) {
+        ++s.failed_evaluations;
+        s.best_cost = s.initial_cost = inf;
+        s.history.push_back(HistoryRow{0, s.jacobian_evaluations, inf});
+        finish("start failed", false);
+        return s;
+    }
+    double f = 0.5 * r.squaredNorm();  // the solver's cost ½‖r‖²; reported as Σr² = 2f
+    s.initial_cost = 2.0 * f;
+    auto record = [&](int iteration) {
+        s.history.push_back(HistoryRow{iteration, s.residual_evaluations + s.jacobian_evaluations, 2.0 * f});
+        return !progress || progress(s.history.back());
+    };
+    if (!record(0)) {
+        finish("stopped", false);
+        s.best_cost = 2.0 * f;
+        s.jacobian_at_best = std::move(J);
+        return s;
+    }
+
+    double lambda = 0.0, nu = 2.0;
+    bool first = true, fresh_jacobian = true;
+    int rejected_in_row = 0;
+    bool failed_since_accept = false;  // a trial since the last accepted step could not be evaluated
+    for (;;) {
+        if (fresh_jacobian) {
+            fresh_jacobian = false;
+            gradient.noalias() = J.transpose() * r;  // ∇(½‖r‖²) = Jᵀr
+            for (Index j = 0; j < m; ++j) {
+                column_norm[j] = J.col(j).norm();
+                d[j] = std::max(d[j], column_norm[j]);  // Moré's scaling: max over iterations
+                scale[j] = d[j] > 0 ? d[j] : 1.0;       // a parameter without effect keeps scale 1
+            }
+            // Active set: a parameter on a bound that the gradient pushes outward stays there.
+            for (Index j = 0; j < m; ++j)
+                held[static_cast<std::size_t>(j)] =
+                    lo[j] == hi[j] || (x[j] <= lo[j] && gradient[j] > 0) || (x[j] >= hi[j] && gradient[j] < 0);
+            // Scaled gradient over the free parameters: cosine between r and each column of J.
+            const double r_norm = std::sqrt(2.0 * f);
+            double g_norm = 0.0;
+            if (r_norm > 0)
+                for (Index j = 0; j < m; ++j)
+                    if (!held[static_cast<std::size_t>(j)] && column_norm[j] > 0)
+                        g_norm = std::max(g_norm, std::abs(gradient[j]) / (column_norm[j] * r_norm));
+            if (g_norm <= settings.gtol) {
+                finish("gradient below gtol", true);
+                break;
+            }
+            // J = Q R once per Jacobian; each trial then solves only an M-sized system.
+            qr_j.compute(J);
+            const Index k = std::min(n, m);
+            R.setZero();
+            for (Index c = 0; c < m; ++c)
+                for (Index i = 0; i <= std::min(c, k - 1); ++i) R(i, c) = qr_j.matrixQR()(i, c);
+            qtr_full = r;
+            qtr_full.applyOnTheLeft(qr_j.householderQ().adjoint());
+            qtr.setZero();
+            qtr.head(k) = qtr_full.head(k);
+            if (first) {
+                first = false;
+                double diagonal = 0.0;  // largest diagonal entry of the scaled JᵀJ
+                for (Index j = 0; j < m; ++j) diagonal = std::max(diagonal, std::pow(column_norm[j] / scale[j], 2));
+                lambda = settings.initial_damping * (diagonal > 0 ? diagonal : 1.0);
+            }
+        }
+        if (s.iterations >= settings.max_iterations) {
+            finish("iteration limit", false);
+            break;
+        }
+        ++s.iterations;
+
+        // The step: a parameter on a bound whose step points outward joins the held set
+        // and the step is solved again (at most M times).
+        held_trial = held;
+        for (Index pass = 0; pass <= m; ++pass) {
+            damped.solve(R, qtr, scale, lambda, held_trial, p);
+            bool changed = false;
+            for (Index j = 0; j < m; ++j) {
+                auto& h = held_trial[static_cast<std::size_t>(j)];
+                if (!h && ((x[j] <= lo[j] && p[j] < 0) || (x[j] >= hi[j] && p[j] > 0))) {
+                    h = 1;
+                    changed = true;
+                }
+            }
+            if (!changed) break;
+        }
+        // Projection on the box keeps the trial point feasible.
+        bool moves = false;
+        for (Index j = 0; j < m; ++j) {
+            x_trial[j] = std::clamp(x[j] + p[j], lo[j], hi[j]);
+            step[j] = x_trial[j] - x[j];
+            if (step[j] != 0) moves = true;
+        }
+        const bool step_finite = step.allFinite();
+        // Reduction of ½‖r‖² that the linear model predicts for the projected step:
+        // ½‖r‖² − ½‖r + J s‖² = −(Qᵀr)ᵀ(R s) − ½‖R s‖².
+        double predicted = 0.0;
+        if (step_finite) {
+            Rs.noalias() = R.triangularView<Eigen::Upper>() * step;
+            predicted = -qtr.dot(Rs) - 0.5 * Rs.squaredNorm();
+        }
+
+        bool evaluable = step_finite;
+        double f_trial = f;
+        if (step_finite && moves) {
+            ++s.residual_evaluations;
+            evaluable = problem.residuals(x_trial.data(), r_trial.data()) && r_trial.allFinite();
+            if (evaluable) f_trial = 0.5 * r_trial.squaredNorm();
+            evaluable = evaluable && std::isfinite(f_trial);
+            if (!evaluable) ++s.failed_evaluations;
+        }
+        const double f_before = f;
+        const double actual = f - f_trial;
+        const double rho = evaluable && predicted > 0 ? actual / predicted : -inf;  // gain ratio
+        bool accepted = rho > kAcceptRatio;
+        if (accepted) {
+            ++s.jacobian_evaluations;
+            if (evaluate_jacobian(problem, x_trial, r_trial, J_trial)) {
+                x = x_trial;
+                r.swap(r_trial);
+                J.swap(J_trial);
+                f = 0.5 * r.squaredNorm();
+                fresh_jacobian = true;
+            } else {  // the model ran but its Jacobian did not: a failed step
+                ++s.failed_evaluations;
+                accepted = evaluable = false;
+            }
+        }
+        // Small only because the model fails a little further on (e.g. its simulation
+        // diverges there): the cost is not stationary, the solver is stuck at that region.
+        const bool blocked = failed_since_accept;
+        failed_since_accept = accepted ? false : (failed_since_accept || !evaluable);
+        // Nielsen's damping update (Madsen, Nielsen & Tingleff 2004, eq. 2.21).
+        if (accepted) {
+            lambda *= std::max(1.0 / 3.0, 1.0 - std::pow(2.0 * rho - 1.0, 3));
+            lambda = std::max(lambda, kMinDamping);
+            nu = 2.0;
+            rejected_in_row = 0;
+        } else {
+            lambda *= nu;
+            nu *= 2.0;
+            ++rejected_in_row;
+        }
+        const bool go_on = record(s.iterations);
+
+        const double step_norm = scale.cwiseProduct(step).norm();
+        const double x_norm = scale.cwiseProduct(x).norm();
+        const bool small_step = step_finite && step_norm <= settings.xtol * (x_norm + settings.xtol);
+        if (accepted && f_before > 0 && std::abs(actual) <= settings.ftol * f_before &&
+            predicted <= settings.ftol * f_before) {
+            finish("cost change below ftol", true);
+            break;
+        }
+        // A step that cannot be evaluated says nothing about convergence; a tiny evaluable
+        // step means the iterates have settled, or that no smaller one lowers the cost
+        // (MINPACK's xtol test), unless failed evaluations forced it to be that small.
+        if (evaluable && small_step) {
+            if (blocked) finish("no progress", false);
+            else finish("step below xtol", true);
+            break;
+        }
+        if (!go_on) {
+            finish("stopped", false);
+            break;
+        }
+        if (!accepted && (rejected_in_row >= settings.max_consecutive_rejections || !std::isfinite(lambda))) {
+            finish("no progress", false);
+            break;
+        }
+    }
+    s.best_cost = 2.0 * f;
+    s.jacobian_at_best = std::move(J);
+    return s;
+}
+
+}  // namespace tvid

@@ -1,0 +1,79 @@
+#pragma once
+// Levenberg–Marquardt nonlinear least squares with bounds (seed 000 uses LM for the
+// engine-block fit): minimize ½‖r(x)‖² over lower ≤ x ≤ upper.
+//
+// The shape is Ceres-like: a LeastSquaresProblem (the residuals and their Jacobian) is
+// separate from the solver; LmSettings go in, an LmSummary comes out. The solver knows
+// nothing of models: a fit wraps its simulation in a LeastSquaresProblem.
+//
+// Algorithm (details in levenberg_marquardt.cpp):
+//  * Moré's diagonal scaling D = diag(d_j), d_j = max over iterations of ‖J_j‖ (MINPACK
+//    lmder), so parameters of very different magnitude converge alike;
+//  * step from the damped least-squares system  min ‖J p + r‖² + λ ‖D p‖², solved by a QR
+//    of J once per Jacobian and a small QR of [R; √λ D] per trial (no normal equations);
+//  * bounds by an active set (a parameter on a bound whose gradient, or whose step,
+//    points outward is held for that step) and projection of the trial point on the box,
+//    so every iterate is feasible and an optimum on a bound is reached exactly;
+//  * gain ratio ρ = actual / predicted reduction: accept when ρ > 1e-4, Nielsen's update
+//    of λ (λ·max(1/3, 1 − (2ρ − 1)³) on success, λ·ν with ν doubling on failure);
+//  * a failed evaluation (false or non-finite residuals) is a rejected step.
+
+#include <Eigen/Core>
+#include <cstddef>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "tvid/optim/lm_options.hpp"
+#include "tvid/optim/pso.hpp"  // HistoryRow
+
+namespace tvid {
+
+/// Residuals r(x) (N values) of M parameters and optionally their Jacobian.
+class LeastSquaresProblem {
+public:
+    virtual ~LeastSquaresProblem() = default;
+    /// N, the number of residuals (constant for the life of the problem).
+    virtual std::size_t residual_count() const = 0;
+    /// r(x) into r[0..N). false when the model cannot be evaluated at x (e.g. its
+    /// simulation diverged): the solver takes that as a bad step, never a crash.
+    virtual bool residuals(const double* x, double* r) = 0;
+    /// r and the N×M Jacobian J = ∂r/∂x (column-major) at x; false on failure. J arrives
+    /// sized N×M. The r returned must be the one residuals() gives at the same x.
+    virtual bool jacobian(const double* x, double* r, Eigen::MatrixXd& J) = 0;
+};
+
+struct LmSummary {
+    std::vector<double> best;            ///< the last accepted point (the lowest cost seen)
+    /// Σ r² at `best`: the l2 cost of the rest of the tool (seed 000 eq. 7), i.e. twice the
+    /// ½‖r‖² the solver minimizes internally. +inf when the start could not be evaluated.
+    double best_cost = 0.0;
+    double initial_cost = 0.0;           ///< Σ r² at the (projected) start
+    int iterations = 0;                  ///< trial steps taken (accepted and rejected)
+    long long residual_evaluations = 0;  ///< residuals() calls
+    long long jacobian_evaluations = 0;  ///< jacobian() calls (the start counts one)
+    long long failed_evaluations = 0;    ///< calls that returned false or non-finite values
+    /// One row per iteration: row 0 is the start, row k follows trial step k. `evaluations`
+    /// counts residual + Jacobian evaluations; `best_cost` is Σ r², never increasing.
+    std::vector<HistoryRow> history;
+    /// "cost change below ftol", "step below xtol", "gradient below gtol" (converged),
+    /// "iteration limit", "stopped" (the progress callback returned false), "no progress"
+    /// (max_consecutive_rejections rejected steps in a row, or the only steps that evaluate
+    /// are below xtol because the model fails just beyond the current point: stuck at the
+    /// edge of a region where e.g. the simulation diverges), "start failed".
+    std::string termination;
+    bool success = false;                ///< true for the three convergence reasons only
+    Eigen::MatrixXd jacobian_at_best;    ///< N×M at `best`; empty when the start failed
+};
+
+/// Called after the start and after every iteration; return false to stop (e.g. Ctrl-C).
+using LmProgress = std::function<bool(const HistoryRow&)>;
+
+/// Minimize ½‖r(x)‖² subject to lower ≤ x ≤ upper, starting from x0 (projected on the box).
+/// A bound of ±1e300 or ±inf means none. Throws std::invalid_argument on inconsistent sizes,
+/// lower > upper, a non-finite start or invalid settings; never for a failed evaluation.
+LmSummary run_levenberg_marquardt(const LmSettings& settings, std::vector<double> x0,
+                                  const std::vector<double>& lower, const std::vector<double>& upper,
+                                  LeastSquaresProblem& problem, const LmProgress& progress = {});
+
+}  // namespace tvid
