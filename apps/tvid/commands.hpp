@@ -22,6 +22,7 @@ struct FitCommand {
     CommonOptions common;
     std::string output_dir;             ///< -o DIR (overrides report.dir)
     std::optional<std::uint64_t> seed;
+    std::string optimizer;              ///< --optimizer NAME (overrides estimation.optimizer)
 };
 
 struct EvaluateCommand {

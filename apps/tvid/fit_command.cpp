@@ -26,7 +26,9 @@ std::filesystem::path report_directory(const Experiment& ex, const std::string& 
 }
 
 int run_fit_command(const FitCommand& cmd) {
-    const Experiment ex = load_experiment(cmd.common.experiment, parse_overrides(cmd.common.overrides));
+    std::vector<Override> overrides = parse_overrides(cmd.common.overrides);
+    if (!cmd.optimizer.empty()) overrides.push_back(Override{"estimation.optimizer", cmd.optimizer});
+    const Experiment ex = load_experiment(cmd.common.experiment, overrides);
     const IdentificationProblem problem(ex);
     if (problem.dimension() == 0)
         throw InputError(ex.file.string(), 0, "parameters", "every parameter is fixed: there is nothing to identify");
@@ -35,7 +37,9 @@ int run_fit_command(const FitCommand& cmd) {
     FitOptions options;
     options.threads = cmd.common.threads;
     options.seed = cmd.seed;
-    ProgressLine progress(!cmd.common.quiet && is_terminal(2), ex.estimation_settings.pso.iterations);
+    const int planned = ex.estimation_settings.optimizer == OptimizerKind::lm ? ex.estimation_settings.lm.max_iterations
+                                                                              : ex.estimation_settings.pso.iterations;
+    ProgressLine progress(!cmd.common.quiet && is_terminal(2), planned);
     options.progress = [&progress](const HistoryRow& row) {
         progress.update(row);
         return true;

@@ -44,11 +44,12 @@ std::string fit_summary_text(const IdentificationProblem& problem, const FitResu
     const Experiment& ex = problem.experiment();
     std::ostringstream out;
     char line[512];
+    const std::string method =
+        fit.run.name == "pso" ? "pso, " + std::to_string(fit.pso.particles) + " particles" : "lm (" + fit.run.termination + ")";
     std::snprintf(line, sizeof line,
-                  "tvid fit %s: pso, %d particles, %d iterations, %lld simulations (%lld failed), %.2f s on %d "
-                  "thread%s\n",
-                  ex.name.c_str(), fit.pso.particles, fit.pso.iterations, fit.pso.evaluations,
-                  fit.pso.failed_evaluations, fit.wall_seconds, fit.threads, fit.threads == 1 ? "" : "s");
+                  "tvid fit %s: %s, %d iterations, %lld simulations (%lld failed), %.2f s on %d thread%s\n",
+                  ex.name.c_str(), method.c_str(), fit.run.iterations, fit.run.evaluations, fit.run.failed_evaluations,
+                  fit.wall_seconds, fit.threads, fit.threads == 1 ? "" : "s");
     out << line;
     if (!fit.success) {
         out << "  every candidate failed to simulate: no parameters were identified\n";

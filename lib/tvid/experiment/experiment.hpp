@@ -14,6 +14,7 @@
 #include "tvid/io/csv_table.hpp"
 #include "tvid/model/network_spec.hpp"
 #include "tvid/model/presets.hpp"
+#include "tvid/optim/lm_options.hpp"
 #include "tvid/optim/pso_options.hpp"
 
 namespace tvid {
@@ -59,7 +60,7 @@ struct Window {
 enum class InitialStateKind { equilibrium, rest, measured };
 enum class IntegrationMethod { rk4, dopri5 };
 enum class CostKind { l1, l2 };
-enum class OptimizerKind { pso };
+enum class OptimizerKind { pso, lm };
 
 struct SimulationSettings {
     IntegrationMethod method = IntegrationMethod::rk4;
@@ -74,6 +75,7 @@ struct EstimationSettings {
     CostKind cost = CostKind::l1;
     OptimizerKind optimizer = OptimizerKind::pso;
     PsoSettings pso;
+    LmSettings lm;   ///< the Jacobian is by central differences (`lm: { jacobian: fd }`)
 };
 
 struct Experiment {

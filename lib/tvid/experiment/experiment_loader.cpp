@@ -155,12 +155,36 @@ PsoSettings read_pso(const YamlMap& m) {
     return s;
 }
 
+LmSettings read_lm(const YamlMap& m) {
+    m.allow_only({"max_iterations", "ftol", "xtol", "gtol", "jacobian"});
+    LmSettings s;
+    if (m.has("max_iterations")) {
+        const long long n = m.integer("max_iterations");
+        if (n < 0 || n > 1000000) m.fail("max_iterations", "must be between 0 and 1e6");
+        s.max_iterations = static_cast<int>(n);
+    }
+    for (const char* key : {"ftol", "xtol", "gtol"}) {
+        if (!m.has(key)) continue;
+        const double v = m.number(key);
+        if (!(v >= 0)) m.fail(key, "a tolerance cannot be negative");
+        (std::string(key) == "ftol" ? s.ftol : std::string(key) == "xtol" ? s.xtol : s.gtol) = v;
+    }
+    if (m.has("jacobian") && m.choice("jacobian", {"fd", "sensitivity"}) == "sensitivity")
+        m.fail("jacobian", "the sensitivity Jacobian is not available in this version: use jacobian: fd");
+    return s;
+}
+
 EstimationSettings read_estimation(const YamlMap& m) {
-    m.allow_only({"cost", "optimizer", "pso"});
+    m.allow_only({"cost", "optimizer", "pso", "lm"});
     EstimationSettings s;
     if (m.has("cost")) s.cost = m.choice("cost", {"l1", "l2"}) == "l1" ? CostKind::l1 : CostKind::l2;
-    if (m.has("optimizer")) m.choice("optimizer", {"pso"});
+    if (m.has("optimizer"))
+        s.optimizer = m.choice("optimizer", {"pso", "lm"}) == "lm" ? OptimizerKind::lm : OptimizerKind::pso;
     if (m.has("pso")) s.pso = read_pso(m.map("pso"));
+    if (m.has("lm")) s.lm = read_lm(m.map("lm"));
+    // Levenberg–Marquardt minimizes a sum of squares (seed 000 eq. 7).
+    if (s.optimizer == OptimizerKind::lm && s.cost != CostKind::l2)
+        m.fail(m.has("cost") ? "cost" : "optimizer", "the lm optimizer minimizes a sum of squares: set cost: l2");
     return s;
 }
 
@@ -241,7 +265,7 @@ Experiment load_experiment(const std::filesystem::path& file, const std::vector<
     const PsoSettings& pso = ex.estimation_settings.pso;
     std::size_t free_count = 0;
     for (const ParameterSetting& p : ex.parameters) free_count += p.fixed ? 0 : 1;
-    if (pso.start == PsoStart::grid && std::pow(static_cast<double>(pso.grid), static_cast<double>(free_count)) > kMaxParticles) {
+    if (ex.estimation_settings.optimizer == OptimizerKind::pso && pso.start == PsoStart::grid && std::pow(static_cast<double>(pso.grid), static_cast<double>(free_count)) > kMaxParticles) {
         const std::string problem = "a grid of " + std::to_string(pso.grid) + " points on " + std::to_string(free_count) +
                                     " free parameters is more than 1e6 particles; use start: latin_hypercube with particles: N";
         // Name the setting that asked for the grid (it may come from --set), or, when the

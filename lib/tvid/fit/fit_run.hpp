@@ -11,20 +11,36 @@
 #include "tvid/estimation/evaluation.hpp"
 #include "tvid/estimation/identification_problem.hpp"
 #include "tvid/estimation/uncertainty.hpp"
+#include "tvid/optim/levenberg_marquardt.hpp"
 #include "tvid/optim/pso.hpp"
 
 namespace tvid {
 
 struct FitOptions {
     int threads = 0;                        ///< <= 0: all cores
-    std::optional<std::uint64_t> seed;      ///< overrides the experiment's seed
-    PsoProgress progress;                   ///< called after every iteration
+    std::optional<std::uint64_t> seed;      ///< overrides the experiment's seed (particle swarm)
+    std::function<bool(const HistoryRow&)> progress;  ///< called after every iteration; false stops
+};
+
+/// What every optimizer reports, whichever ran.
+struct OptimizerRun {
+    std::string name;                       ///< "pso" or "lm"
+    std::vector<double> best;               ///< free parameters
+    double best_cost = 0.0;                 ///< the estimation cost (l1 or l2 as configured)
+    int iterations = 0;
+    long long evaluations = 0;              ///< simulations run
+    long long failed_evaluations = 0;       ///< candidates whose simulation failed
+    std::vector<HistoryRow> history;        ///< iteration, simulations so far, best cost
+    std::string termination;
+    bool converged = false;                 ///< lm: a tolerance was met; pso: the iteration budget ran out
 };
 
 struct FitResult {
-    std::string optimizer;                  ///< "pso"
-    PsoSettings pso_settings;               ///< as run (seed resolved)
-    PsoSummary pso;
+    OptimizerRun run;
+    PsoSettings pso_settings;               ///< as run (seed resolved), when the swarm ran
+    PsoSummary pso;                         ///< the swarm's own summary (particles …), when it ran
+    LmSettings lm_settings;
+    LmSummary lm;                           ///< when Levenberg–Marquardt ran
     bool success = false;                   ///< a finite cost was reached
     std::vector<double> best_free;
     std::vector<double> best_params;        ///< full model parameter vector

@@ -107,7 +107,6 @@ json parameters_json(const IdentificationProblem& problem, const FitResult& fit)
 
 json fit_summary_json(const IdentificationProblem& problem, const FitResult& fit, const RunContext& context) {
     const Experiment& ex = problem.experiment();
-    const PsoSettings& ps = fit.pso_settings;
     json identifiability{{"available", fit.uncertainty.available},
                          {"problem", fit.uncertainty.problem},
                          {"rank", fit.uncertainty.rank},
@@ -123,7 +122,29 @@ json fit_summary_json(const IdentificationProblem& problem, const FitResult& fit
         identifiability["null_directions"].push_back(d);
     }
     const double evals_per_s =
-        fit.optimizer_seconds > 0 ? static_cast<double>(fit.pso.evaluations) / fit.optimizer_seconds : 0.0;
+        fit.optimizer_seconds > 0 ? static_cast<double>(fit.run.evaluations) / fit.optimizer_seconds : 0.0;
+    json optimizer{{"name", fit.run.name},
+                   {"iterations", fit.run.iterations},
+                   {"evaluations", fit.run.evaluations},
+                   {"failed_evaluations", fit.run.failed_evaluations},
+                   {"termination", fit.run.termination},
+                   {"converged", fit.run.converged}};
+    if (fit.run.name == "pso") {
+        const PsoSettings& ps = fit.pso_settings;
+        optimizer["particles"] = fit.pso.particles;
+        optimizer["seed"] = ps.seed;
+        optimizer["w"] = ps.w;
+        optimizer["c1"] = ps.c1;
+        optimizer["c2"] = ps.c2;
+    } else {
+        const LmSettings& ls = fit.lm_settings;
+        optimizer["jacobian"] = "fd";
+        optimizer["initial_cost"] = number(fit.lm.initial_cost);
+        optimizer["ftol"] = ls.ftol;
+        optimizer["xtol"] = ls.xtol;
+        optimizer["gtol"] = ls.gtol;
+        optimizer["max_iterations"] = ls.max_iterations;
+    }
     json s{{"tool", "tvid"},
            {"version", context.version},
            {"command", context.command_line},
@@ -137,17 +158,7 @@ json fit_summary_json(const IdentificationProblem& problem, const FitResult& fit
            {"model", ex.network.preset},
            {"cost", {{"kind", ex.estimation_settings.cost == CostKind::l1 ? "l1" : "l2"},
                      {"value", number(fit.evaluation.cost)}}},
-           {"optimizer",
-            {{"name", fit.optimizer},
-             {"particles", fit.pso.particles},
-             {"iterations", fit.pso.iterations},
-             {"evaluations", fit.pso.evaluations},
-             {"failed_evaluations", fit.pso.failed_evaluations},
-             {"termination", fit.pso.termination},
-             {"seed", ps.seed},
-             {"w", ps.w},
-             {"c1", ps.c1},
-             {"c2", ps.c2}}},
+           {"optimizer", optimizer},
            {"threads", fit.threads},
            {"wall_time_s", fit.wall_seconds},
            {"optimizer_time_s", fit.optimizer_seconds},
@@ -212,7 +223,7 @@ void write_fit_report(const std::filesystem::path& dir, const IdentificationProb
 
     std::ostringstream hist;
     hist << "iteration,evaluations,best_cost\n";
-    for (const HistoryRow& h : fit.pso.history)
+    for (const HistoryRow& h : fit.run.history)
         hist << h.iteration << ',' << h.evaluations << ',' << fmt(h.best_cost, "%.17g") << '\n';
     write_file_atomically(dir / "history.csv", hist.str());
 

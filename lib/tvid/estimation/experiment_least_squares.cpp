@@ -1,0 +1,86 @@
+#include "tvid/estimation/experiment_least_squares.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "tvid/estimation/parallel_evaluator.hpp"
+
+namespace tvid {
+
+namespace {
+
+// The central-difference step for parameter j: ε^(1/3) of its magnitude (of the bound
+// width, or 1, when it is zero), which balances truncation against rounding error.
+double difference_step(double x, double lower, double upper) {
+    double scale = std::abs(x);
+    if (scale == 0.0) scale = std::isfinite(upper - lower) && upper - lower < 1e100 ? 1e-3 * (upper - lower) : 1.0;
+    return 6e-6 * scale;
+}
+
+}  // namespace
+
+std::size_t estimation_residual_count(const Experiment& experiment) {
+    std::size_t n = 0;
+    for (const Window& w : experiment.estimation) n += w.last - std::max(w.first, w.start + 1) + 1;
+    return n * experiment.outputs.size();
+}
+
+ExperimentLeastSquares::ExperimentLeastSquares(const IdentificationProblem& problem, int threads)
+    : problem_(&problem), threads_(resolve_thread_count(threads)),
+      residual_count_(estimation_residual_count(problem.experiment())) {
+    for (int t = 0; t < threads_; ++t) workspaces_.push_back(problem.make_workspace());
+    const std::size_t m = problem.dimension();
+    plus_.assign(m, std::vector<double>(residual_count_));
+    minus_.assign(m, std::vector<double>(residual_count_));
+    buffer_.reserve(residual_count_);
+}
+
+bool ExperimentLeastSquares::residuals(const double* x, double* r) {
+    ++simulations_;
+    if (!problem_->residuals(x, *workspaces_[0], buffer_) || buffer_.size() != residual_count_) return false;
+    std::copy(buffer_.begin(), buffer_.end(), r);
+    return true;
+}
+
+bool ExperimentLeastSquares::jacobian(const double* x, double* r, Eigen::MatrixXd& J) {
+    if (!residuals(x, r)) return false;
+    const std::size_t m = problem_->dimension();
+    const std::vector<double>& lower = problem_->lower();
+    const std::vector<double>& upper = problem_->upper();
+    std::vector<double> step(m);
+    std::vector<char> ok(m, 1);
+    const auto columns = static_cast<long long>(m);
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads_)
+    for (long long jj = 0; jj < columns; ++jj) {
+        const auto j = static_cast<std::size_t>(jj);
+        ProblemWorkspace& ws = *workspaces_[static_cast<std::size_t>(omp_get_thread_num())];
+        std::vector<double> point(x, x + m);
+        const double h = difference_step(x[j], lower[j], upper[j]);
+        // Stay inside the bounds: a one-sided difference when x sits on (or near) one.
+        const double up = std::min(x[j] + h, upper[j]), down = std::max(x[j] - h, lower[j]);
+        step[j] = up - down;
+        point[j] = up;
+        std::vector<double> out;
+        bool good = problem_->residuals(point.data(), ws, out) && out.size() == residual_count_;
+        if (good) std::copy(out.begin(), out.end(), plus_[j].begin());
+        point[j] = down;
+        if (good && down != x[j]) {
+            good = problem_->residuals(point.data(), ws, out) && out.size() == residual_count_;
+            if (good) std::copy(out.begin(), out.end(), minus_[j].begin());
+        } else if (good) {
+            std::copy(r, r + residual_count_, minus_[j].begin());
+        }
+        ok[j] = good ? 1 : 0;
+    }
+    simulations_ += 2 * columns;
+    for (std::size_t j = 0; j < m; ++j) {
+        if (!ok[j] || !(step[j] > 0)) return false;
+        for (std::size_t i = 0; i < residual_count_; ++i)
+            J(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = (plus_[j][i] - minus_[j][i]) / step[j];
+    }
+    return true;
+}
+
+}  // namespace tvid
