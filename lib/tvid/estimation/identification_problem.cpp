@@ -91,6 +91,82 @@ bool IdentificationProblem::initial_state(std::size_t start, ProblemWorkspace& w
     return false;
 }
 
+SimulationStatus IdentificationProblem::shoot_warmup(const Window& w, ProblemWorkspace& ws) const {
+    // Seed 000's measured initial state made consistent with the encoder. Every node starts
+    // at the measured crank angle turning at the measured speed, untwisted. The fast twist
+    // modes forget that within milliseconds, but the slow rigid-body mode (its error decays
+    // only with ΣJ/ΣC, seconds) would keep any error of the start, e.g. the twist between
+    // a light measured wheel and the heavy flywheel. So its two unknowns, a common angle
+    // offset a and a common speed s, are solved for: the encoder's node must meet the
+    // measured crank angle at the middle and at the end of the warm-up, after the twist
+    // transient has died out (chord Newton on the 2×2 system).
+    const std::size_t n = ws.model.node_count();
+    const auto node = static_cast<std::size_t>(experiment_->angle_node);
+    const std::size_t mid = w.start + (w.first - w.start) / 2;
+    const std::vector<double>& angle = experiment_->crank_angle;
+    ws.x0 = ws.x;
+    SimulationStatus status = SimulationStatus::ok;
+    auto miss = [&](double a, double s, double e[2]) {
+        ws.x = ws.x0;
+        for (std::size_t i = 0; i < n; ++i) {
+            ws.x[i] += a;
+            ws.x[n + i] = s;
+        }
+        double at_mid = 0.0;
+        const auto watch = [&](std::size_t i, const std::vector<double>& x, const std::vector<double>&) {
+            if (i == mid) at_mid = x[node];
+            return true;
+        };
+        status = simulate_samples(ws.model, inputs_, w.start, w.first, ws.x, experiment_->simulation, ws.buffers, watch);
+        e[0] = at_mid - angle[mid];
+        e[1] = ws.x[node] - angle[w.first];
+        return status == SimulationStatus::ok && std::isfinite(e[0]) && std::isfinite(e[1]);
+    };
+    double a = 0.0, s = ws.x0[n], e[2], ea[2], es[2];
+    if (mid <= w.start || !miss(a, s, e)) return status;
+    // The Jacobian by differences, once: the map is close to linear.
+    const double da = 1e-6, ds = 1e-4;
+    if (!miss(a + da, s, ea) || !miss(a, s + ds, es)) return status;
+    const double j00 = (ea[0] - e[0]) / da, j10 = (ea[1] - e[1]) / da;
+    const double j01 = (es[0] - e[0]) / ds, j11 = (es[1] - e[1]) / ds;
+    const double det = j00 * j11 - j01 * j10;
+    if (!std::isfinite(det) || det == 0.0) return miss(a, s, e) ? status : status;
+    const double tolerance = 1e-12 + 1e-15 * std::abs(angle[w.first]);
+    for (int it = 0; it < 6; ++it) {
+        a -= (j11 * e[0] - j01 * e[1]) / det;
+        s -= (-j10 * e[0] + j00 * e[1]) / det;
+        if (!miss(a, s, e)) return status;
+        if (std::abs(e[0]) < tolerance && std::abs(e[1]) < tolerance) break;
+    }
+    return status;  // ws.x: the state at w.first
+}
+
+template <class Observer>
+SimulationStatus IdentificationProblem::simulate_window(const Window& w, ProblemWorkspace& ws, std::string* problem,
+                                                        Observer&& on_scored) const {
+    if (!initial_state(w.start, ws, problem)) return SimulationStatus::not_finite;
+    std::size_t from = w.start;
+    if (experiment_->initial_state == InitialStateKind::measured && w.start < w.first) {
+        const SimulationStatus warm = shoot_warmup(w, ws);
+        if (warm != SimulationStatus::ok) {
+            if (problem) *problem = std::string("warm-up simulation ") + to_string(warm);
+            return warm;
+        }
+        from = w.first;
+        // After a warm-up the first sample is a prediction too: score it.
+        std::size_t hint = w.first;
+        inputs_.at(inputs_.time()[w.first], hint, ws.buffers.u.data());
+        if (!on_scored(w.first, ws.x, ws.buffers.u)) return SimulationStatus::stopped_by_observer;
+    }
+    const auto scored = [&](std::size_t i, const std::vector<double>& x, const std::vector<double>& u) {
+        return i < w.first ? true : on_scored(i, x, u);  // warm-up: simulated, not scored
+    };
+    const SimulationStatus status =
+        simulate_samples(ws.model, inputs_, from, w.last, ws.x, experiment_->simulation, ws.buffers, scored);
+    if (status != SimulationStatus::ok && problem) *problem = std::string("simulation ") + to_string(status);
+    return status;
+}
+
 double IdentificationProblem::cost(const double* free, ProblemWorkspace& ws) const {
     for (std::size_t j = 0; j < free_.size(); ++j) {
         if (!std::isfinite(free[j])) return std::numeric_limits<double>::infinity();
@@ -101,11 +177,9 @@ double IdentificationProblem::cost(const double* free, ProblemWorkspace& ws) con
     const std::size_t n_out = experiment_->outputs.size();
     double total = 0.0;
     for (const Window& w : experiment_->estimation) {
-        if (!initial_state(w.start, ws, nullptr)) return std::numeric_limits<double>::infinity();
         double window_sum = 0.0;
         std::size_t scored = 0;
         auto score = [&](std::size_t i, const std::vector<double>& x, const std::vector<double>& u) {
-            if (i < w.first) return true;  // warm-up: simulated, not scored
             for (std::size_t k = 0; k < n_out; ++k) {
                 const double e = ws.model.output(experiment_->output_indices[k], x.data(), u.data()) - measured_[k][i];
                 window_sum += l1 ? std::abs(e) : e * e;
@@ -113,9 +187,7 @@ double IdentificationProblem::cost(const double* free, ProblemWorkspace& ws) con
             ++scored;
             return true;
         };
-        const SimulationStatus status =
-            simulate_samples(ws.model, inputs_, w.start, w.last, ws.x, experiment_->simulation, ws.buffers, score);
-        if (status != SimulationStatus::ok) return std::numeric_limits<double>::infinity();
+        if (simulate_window(w, ws, nullptr, score) != SimulationStatus::ok) return std::numeric_limits<double>::infinity();
         total += l1 ? window_sum / static_cast<double>(scored) : window_sum;  // l1: mean per window
     }
     return std::isfinite(total) ? total : std::numeric_limits<double>::infinity();
@@ -130,16 +202,12 @@ bool IdentificationProblem::residuals(const double* free, ProblemWorkspace& ws, 
     ws.model.set_parameters(ws.params.data());
     const std::size_t n_out = experiment_->outputs.size();
     for (const Window& w : experiment_->estimation) {
-        if (!initial_state(w.start, ws, nullptr)) return false;
         auto record = [&](std::size_t i, const std::vector<double>& x, const std::vector<double>& u) {
-            if (i < w.first) return true;
             for (std::size_t k = 0; k < n_out; ++k)
                 out.push_back(ws.model.output(experiment_->output_indices[k], x.data(), u.data()) - measured_[k][i]);
             return true;
         };
-        if (simulate_samples(ws.model, inputs_, w.start, w.last, ws.x, experiment_->simulation, ws.buffers, record) !=
-            SimulationStatus::ok)
-            return false;
+        if (simulate_window(w, ws, nullptr, record) != SimulationStatus::ok) return false;
     }
     return true;
 }
@@ -153,14 +221,7 @@ WindowTrace IdentificationProblem::trace(const std::vector<double>& params, cons
     tr.simulated.assign(n_out, {});
     ws.params = params;
     ws.model.set_parameters(ws.params.data());
-    std::string problem;
-    if (!initial_state(window.start, ws, &problem)) {
-        tr.status = SimulationStatus::not_finite;
-        tr.problem = problem;
-        return tr;
-    }
     auto record = [&](std::size_t i, const std::vector<double>& x, const std::vector<double>& u) {
-        if (i < window.first) return true;
         tr.samples.push_back(i);
         tr.time.push_back(inputs_.time()[i]);
         for (std::size_t k = 0; k < n_out; ++k) {
@@ -169,9 +230,7 @@ WindowTrace IdentificationProblem::trace(const std::vector<double>& params, cons
         }
         return true;
     };
-    tr.status = simulate_samples(ws.model, inputs_, window.start, window.last, ws.x,
-                                 experiment_->simulation, ws.buffers, record);
-    if (tr.status != SimulationStatus::ok) tr.problem = std::string("simulation ") + to_string(tr.status);
+    tr.status = simulate_window(window, ws, &tr.problem, record);
     return tr;
 }
 

@@ -24,6 +24,7 @@ struct ProblemWorkspace {
     std::vector<double> params;  ///< full model parameter vector
     std::vector<double> x;       ///< state
     std::vector<double> u0;      ///< inputs at the window start
+    std::vector<double> x0;      ///< initial state of a warm-up being shot
 };
 
 /// Measured and simulated outputs of one window at its scored samples.
@@ -77,6 +78,15 @@ public:
 private:
     // Sets ws.x to the initial state at sample `start`; false (with a reason) if impossible.
     bool initial_state(std::size_t start, ProblemWorkspace& ws, std::string* problem) const;
+
+    // Simulates window w from its initial state (through its warm-up) and calls
+    // on_scored(i, x, u) at every scored sample.
+    template <class Observer>
+    SimulationStatus simulate_window(const Window& w, ProblemWorkspace& ws, std::string* problem,
+                                     Observer&& on_scored) const;
+
+    // Measured initial state with a warm-up: leaves ws.x at the window's first sample.
+    SimulationStatus shoot_warmup(const Window& w, ProblemWorkspace& ws) const;
 
     const Experiment* experiment_;
     InputChannels inputs_;

@@ -86,6 +86,7 @@ struct Experiment {
     std::string time_column;
     std::string angle_column;            ///< data.angle: crank angle [deg], empty when not given
     std::vector<double> crank_angle;     ///< cumulative crank angle [rad] per sample (unwrapped), or empty
+    int angle_node = -1;                 ///< the node whose angle data.angle measures (data.angle_node), or -1
     double cycle_deg = 720.0;            ///< crank angle of one engine cycle
     NetworkSpec network;
     PresetConstants model_constants;      ///< a preset's constants as given under `model:`

@@ -208,7 +208,7 @@ Experiment load_experiment(const std::filesystem::path& file, const std::vector<
 
     // The recording.
     const YamlMap data = top.map("data");
-    data.allow_only({"file", "time", "angle", "cycle_deg"});
+    data.allow_only({"file", "time", "angle", "angle_node", "cycle_deg"});
     const std::filesystem::path folder = file.parent_path();
     const std::string data_name = data.text("file");
     ex.data_file = std::filesystem::path(data_name).is_absolute() ? std::filesystem::path(data_name) : folder / data_name;
@@ -241,6 +241,14 @@ Experiment load_experiment(const std::filesystem::path& file, const std::vector<
     const YamlMap parameters = top.map("parameters");
     ex.network = read_model(top.map("model"), parameters.keys(), ex.model_constants);
     ex.inputs = read_inputs(top.map("inputs"), ex.network, ex.data);
+    if (data.has("angle_node")) {
+        if (ex.angle_column.empty()) data.fail("angle_node", "names the node of the crank-angle channel: give data.angle too");
+        const std::string node = data.text("angle_node");
+        ex.angle_node = ex.network.node_index(node);
+        if (ex.angle_node < 0) data.fail("angle_node", "no node named '" + node + "' in the model");
+    } else if (!ex.angle_column.empty()) {
+        ex.angle_node = ex.network.node_index("flywheel");  // where engines carry their crank encoder
+    }
     if (!ex.network.angle_input_names.empty() && ex.angle_column.empty())
         data.fail_missing("angle", "(the model reads cylinder pressures by crank angle: name the crank-angle column)");
     for (const ChannelBinding& in : ex.inputs) {
@@ -300,6 +308,9 @@ Experiment load_experiment(const std::filesystem::path& file, const std::vector<
             if (ex.network.outputs[static_cast<std::size_t>(ex.output_indices[k])].kind == OutputKind::speed)
                 ex.initial_speed_output = static_cast<int>(k);
         if (ex.initial_speed_output < 0) top.fail("initial_state", "measured needs a measured speed among the outputs");
+        if (ex.angle_node < 0 && (ex.warmup > 0 || ex.warmup_cycles > 0))
+            data.fail_missing("angle_node", "(the node whose angle the crank-angle channel measures: the warm-up is "
+                                            "shot to meet it)");
     }
     if (top.has("simulation")) ex.simulation = read_simulation(top.map("simulation"));
     if (top.has("report")) {
