@@ -55,7 +55,9 @@ int run_fit_command(const FitCommand& cmd) {
         std::cout << fit_summary_text(problem, fit, dir.string()) << std::flush;
     }
     if (!fit.success) {
-        std::cerr << "tvid: every candidate's simulation failed; the report in " << dir.string() << " says so\n";
+        std::cerr << (fit.run.name == "lm" ? "tvid: the simulation at the start failed (every candidate failed); the report in "
+                                           : "tvid: every candidate's simulation failed; the report in ")
+                  << dir.string() << " says so\n";
         return 1;
     }
     return 0;

@@ -52,7 +52,8 @@ std::string fit_summary_text(const IdentificationProblem& problem, const FitResu
                   fit.wall_seconds, fit.threads, fit.threads == 1 ? "" : "s");
     out << line;
     if (!fit.success) {
-        out << "  every candidate failed to simulate: no parameters were identified\n";
+        out << (fit.run.name == "lm" ? "  the simulation at the start failed: no parameters were identified\n"
+                                     : "  every candidate failed to simulate: no parameters were identified\n");
     } else {
         std::snprintf(line, sizeof line, "  cost (%s) %.6g\n", ex.estimation_settings.cost == CostKind::l1 ? "l1" : "l2",
                       fit.evaluation.cost);

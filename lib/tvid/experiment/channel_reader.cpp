@@ -82,7 +82,7 @@ bool find_element(const NetworkSpec& n, const std::string& name, ElementRef& ref
     };
     return look(n.spring_dampers, ElementKind::spring_damper) || look(n.clearances, ElementKind::clearance) ||
            look(n.frictions, ElementKind::friction) || look(n.gear_meshes, ElementKind::gear_mesh) ||
-           look(n.torques, ElementKind::torque);
+           look(n.torques, ElementKind::torque) || look(n.cylinders, ElementKind::cylinder);
 }
 
 OutputSpec read_custom_output(const YamlMap& section, const std::string& name, const NetworkSpec& net) {

@@ -294,11 +294,17 @@ Experiment load_experiment(const std::filesystem::path& file, const std::vector<
     ex.validation = windows.validation;
     ex.warmup = windows.warmup;
     ex.warmup_cycles = windows.warmup_cycles;
+    // A running engine has no static equilibrium: its models start from the measurement.
+    const bool engine = !ex.network.cylinders.empty();
+    if (engine) ex.initial_state = InitialStateKind::measured;
     if (top.has("initial_state")) {
         const std::string kind = top.choice("initial_state", {"equilibrium", "rest", "measured"});
         ex.initial_state = kind == "rest"       ? InitialStateKind::rest
                            : kind == "measured" ? InitialStateKind::measured
                                                 : InitialStateKind::equilibrium;
+        if (engine && ex.initial_state != InitialStateKind::measured)
+            top.fail("initial_state", "a model with cylinders turns: it starts from the measured crank angle and "
+                                      "speed (initial_state: measured)");
     }
     if (ex.initial_state == InitialStateKind::measured) {
         // Every node starts at the measured crank angle, turning at the first measured speed.

@@ -206,7 +206,15 @@ private:
                 e.bore = field(m, "bore");
                 e.crank_radius = field(m, "crank_radius");
                 e.rod_length = field(m, "rod_length");
+                for (const char* key : {"bore", "crank_radius", "rod_length"}) {
+                    const Field& f = std::string(key) == "bore" ? e.bore : std::string(key) == "crank_radius" ? e.crank_radius : e.rod_length;
+                    if (!f.is_parameter() && !(f.constant > 0)) m.fail(key, "must be positive");
+                }
+                if (!e.crank_radius.is_parameter() && !e.rod_length.is_parameter() &&
+                    !(e.rod_length.constant > e.crank_radius.constant))
+                    m.fail("rod_length", "the connecting rod must be longer than the crank radius");
                 e.mass = field_or(m, "mass", Field::value(0.0));
+                if (!e.mass.is_parameter() && e.mass.constant < 0) m.fail("mass", "cannot be negative");
                 e.p_atm = field_or(m, "p_atm", Field::value(101325.0));
                 net_.cylinders.push_back(e);
             } else {  // torque

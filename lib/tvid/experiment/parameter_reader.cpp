@@ -36,6 +36,8 @@ ParameterSetting read_one(const YamlMap& m, const std::string& name, const char*
     if (m.has("value") && !p.fixed) m.fail("value", "value is for fixed parameters; a free parameter starts at init");
     if (m.has("min")) { p.min = m.number("min"); p.has_min = true; }
     if (m.has("max")) { p.max = m.number("max"); p.has_max = true; }
+    if (!p.fixed && p.has_min && p.has_max && p.min == p.max)
+        m.fail("max", "min equals max: nothing is left to identify; fix the parameter with value: " + number_text(p.min));
     if (p.has_min && p.has_max && p.min > p.max)
         m.fail("min", "min (" + number_text(p.min) + ") is greater than max (" + number_text(p.max) + ")");
     if (m.has("range")) {
