@@ -134,7 +134,10 @@ SimulationStatus IdentificationProblem::shoot_warmup(const Window& w, ProblemWor
     const double j00 = (ea[0] - e[0]) / da, j10 = (ea[1] - e[1]) / da;
     const double j01 = (es[0] - e[0]) / ds, j11 = (es[1] - e[1]) / ds;
     const double det = j00 * j11 - j01 * j10;
-    if (!std::isfinite(det) || det == 0.0) return miss(a, s, e) ? status : status;
+    if (!std::isfinite(det) || det == 0.0) {  // no handle on the rigid motion: keep the measured start
+        miss(a, s, e);
+        return status;
+    }
     const double tolerance = 1e-12 + 1e-15 * std::abs(angle[w.first]);
     for (int it = 0; it < 6; ++it) {
         a -= (j11 * e[0] - j01 * e[1]) / det;
