@@ -211,7 +211,8 @@ Experiment load_experiment(const std::filesystem::path& file, const std::vector<
     data.allow_only({"file", "time", "angle", "angle_node", "cycle_deg"});
     const std::filesystem::path folder = file.parent_path();
     const std::string data_name = data.text("file");
-    ex.data_file = std::filesystem::path(data_name).is_absolute() ? std::filesystem::path(data_name) : folder / data_name;
+    ex.data_file = (std::filesystem::path(data_name).is_absolute() ? std::filesystem::path(data_name) : folder / data_name)
+                       .lexically_normal();
     std::error_code ec;
     if (!std::filesystem::is_regular_file(ex.data_file, ec))
         data.fail("file", "no such data file: " + ex.data_file.string());
@@ -324,7 +325,7 @@ Experiment load_experiment(const std::filesystem::path& file, const std::vector<
         report.allow_only({"dir"});
         if (report.has("dir")) {
             const std::filesystem::path dir = report.text("dir");
-            ex.report_dir = dir.is_absolute() ? dir : folder / dir;
+            ex.report_dir = (dir.is_absolute() ? dir : folder / dir).lexically_normal();
         }
     }
     return ex;
