@@ -76,15 +76,22 @@ TEST_CASE("engine: LM from the 20 %-off prior on the noise-free recording", "[re
     INFO("fit cost " << fit.evaluation.cost << ", truth cost " << truth_cost);
     CHECK(fit.evaluation.cost < 10 * truth_cost);
     const std::vector<double>& p = fit.best_params;
-    // Inertias, reciprocating mass and the shaft dampings come back within 1 %, the totals
-    // closer; the split of the friction between wheel, throws and flywheel is only weakly
-    // seen in one cycle of damping-wheel speed, so only its total is checked.
-    for (std::size_t i : {0, 1, 2, 3, 7, 8, 9}) {
-        INFO(ex.parameters[i].name);
+    // With the exact (sensitivity) Jacobian every parameter comes back within 1 %, even
+    // the split of the friction between wheel, throws and flywheel, which one cycle of
+    // damping-wheel speed sees only weakly; the totals come closer.
+    CHECK(ex.estimation_settings.jacobian == JacobianKind::sensitivity);
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        INFO(ex.parameters[i].name << " " << p[i] << " truth " << p_true[i]);
         CHECK(p[i] == Approx(p_true[i]).epsilon(0.01));
     }
-    CHECK(total_inertia(p) == Approx(total_inertia(p_true)).epsilon(1e-3));
-    CHECK(total_friction(p) == Approx(total_friction(p_true)).epsilon(1e-3));
+    CHECK(total_inertia(p) == Approx(total_inertia(p_true)).epsilon(1e-4));
+    CHECK(total_friction(p) == Approx(total_friction(p_true)).epsilon(1e-4));
+    // The report makes the weak split visible: the friction parameters have far larger
+    // relative standard errors than the inertias.
+    REQUIRE(fit.uncertainty.std_error.size() == p.size());
+    const double inertia_error = fit.uncertainty.std_error[2] / p[2];
+    for (std::size_t i : {4, 5, 6})
+        if (fit.uncertainty.determined[i]) CHECK(fit.uncertainty.std_error[i] / p[i] > 100 * inertia_error);
     for (const WindowEvaluation* w : all_windows(fit.evaluation)) CHECK(w->metrics[0].max_abs_residual_ratio < 1e-6);
 }
 

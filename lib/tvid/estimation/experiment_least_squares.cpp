@@ -27,10 +27,13 @@ std::size_t estimation_residual_count(const Experiment& experiment) {
     return n * experiment.outputs.size();
 }
 
-ExperimentLeastSquares::ExperimentLeastSquares(const IdentificationProblem& problem, int threads)
-    : problem_(&problem), threads_(resolve_thread_count(threads)),
+ExperimentLeastSquares::ExperimentLeastSquares(const IdentificationProblem& problem, int threads, JacobianKind kind)
+    : problem_(&problem), kind_(kind), sensitivity_(problem), threads_(resolve_thread_count(threads)),
       residual_count_(estimation_residual_count(problem.experiment())) {
-    for (int t = 0; t < threads_; ++t) workspaces_.push_back(problem.make_workspace());
+    for (int t = 0; t < threads_; ++t) {
+        workspaces_.push_back(problem.make_workspace());
+        if (kind_ == JacobianKind::sensitivity) sensitivity_workspaces_.push_back(sensitivity_.make_workspace());
+    }
     const std::size_t m = problem.dimension();
     plus_.assign(m, std::vector<double>(residual_count_));
     minus_.assign(m, std::vector<double>(residual_count_));
@@ -46,6 +49,30 @@ bool ExperimentLeastSquares::residuals(const double* x, double* r) {
 
 bool ExperimentLeastSquares::jacobian(const double* x, double* r, Eigen::MatrixXd& J) {
     if (!residuals(x, r)) return false;
+    return kind_ == JacobianKind::sensitivity ? sensitivity_jacobian(x, J) : finite_difference_jacobian(x, r, J);
+}
+
+bool ExperimentLeastSquares::sensitivity_jacobian(const double* x, Eigen::MatrixXd& J) {
+    // Column blocks: one per thread with fixed-step RK4 (a column does not depend on its
+    // block), otherwise blocks as large as the dual numbers carry.
+    const std::size_t m = problem_->dimension();
+    const bool fixed_step = problem_->experiment().simulation.method == IntegrationMethod::rk4;
+    std::size_t blocks = (m + ForwardSensitivity::kMaxBlock - 1) / ForwardSensitivity::kMaxBlock;
+    if (fixed_step) blocks = std::max(blocks, std::min(m, static_cast<std::size_t>(threads_)));
+    const std::size_t width = (m + blocks - 1) / blocks;
+    std::vector<char> ok(blocks, 1);
+    const auto count = static_cast<long long>(blocks);
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads_)
+    for (long long b = 0; b < count; ++b) {
+        SensitivityWorkspace& ws = *sensitivity_workspaces_[static_cast<std::size_t>(omp_get_thread_num())];
+        const std::size_t j0 = static_cast<std::size_t>(b) * width, j1 = std::min(m, j0 + width);
+        ok[static_cast<std::size_t>(b)] = j0 >= j1 || sensitivity_.jacobian_columns(x, j0, j1, ws, J) ? 1 : 0;
+    }
+    simulations_ += count;
+    return std::all_of(ok.begin(), ok.end(), [](char c) { return c != 0; });
+}
+
+bool ExperimentLeastSquares::finite_difference_jacobian(const double* x, const double* r, Eigen::MatrixXd& J) {
     const std::size_t m = problem_->dimension();
     const std::vector<double>& lower = problem_->lower();
     const std::vector<double>& upper = problem_->upper();

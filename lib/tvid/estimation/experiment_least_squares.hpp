@@ -1,13 +1,17 @@
 #pragma once
 // An IdentificationProblem seen as nonlinear least squares for the Levenberg–Marquardt
 // solver: the residuals y* − y of every scored sample of every estimation window and
-// output (seed 000 eq. 7), and their Jacobian by central finite differences, its
-// 2M perturbed simulations run in parallel on all cores. Each column is computed by one
-// thread from its own inputs, so the Jacobian is the same for any thread count.
+// output (seed 000 eq. 7), and their Jacobian either from forward sensitivities (seed 000
+// eq. 9; the free parameters split into column blocks, one augmented simulation each, run
+// in parallel) or by central finite differences (2M perturbed simulations in parallel).
+// Each column is computed from its own inputs, so the Jacobian is the same for any thread
+// count (with an adaptive integrator the sensitivity blocks are fixed, not per thread,
+// because the step control sees the whole block).
 
 #include <memory>
 #include <vector>
 
+#include "tvid/estimation/forward_sensitivity.hpp"
 #include "tvid/estimation/identification_problem.hpp"
 #include "tvid/optim/levenberg_marquardt.hpp"
 
@@ -16,17 +20,24 @@ namespace tvid {
 class ExperimentLeastSquares : public LeastSquaresProblem {
 public:
     /// threads <= 0: all hardware threads.
-    ExperimentLeastSquares(const IdentificationProblem& problem, int threads);
+    ExperimentLeastSquares(const IdentificationProblem& problem, int threads, JacobianKind kind);
 
     std::size_t residual_count() const override { return residual_count_; }
     bool residuals(const double* x, double* r) override;
     bool jacobian(const double* x, double* r, Eigen::MatrixXd& J) override;
 
     int threads() const { return threads_; }
+    JacobianKind jacobian_kind() const { return kind_; }
     long long simulations() const { return simulations_; }  ///< simulations run so far
 
 private:
+    bool finite_difference_jacobian(const double* x, const double* r, Eigen::MatrixXd& J);
+    bool sensitivity_jacobian(const double* x, Eigen::MatrixXd& J);
+
     const IdentificationProblem* problem_;
+    JacobianKind kind_;
+    ForwardSensitivity sensitivity_;
+    std::vector<std::unique_ptr<SensitivityWorkspace>> sensitivity_workspaces_;
     int threads_;
     std::size_t residual_count_ = 0;
     std::vector<std::unique_ptr<ProblemWorkspace>> workspaces_;

@@ -91,7 +91,7 @@ bool IdentificationProblem::initial_state(std::size_t start, ProblemWorkspace& w
     return false;
 }
 
-SimulationStatus IdentificationProblem::shoot_warmup(const Window& w, ProblemWorkspace& ws) const {
+SimulationStatus IdentificationProblem::shoot_warmup(const Window& w, ProblemWorkspace& ws, bool* solved) const {
     // Seed 000's measured initial state made consistent with the encoder. Every node starts
     // at the measured crank angle turning at the measured speed, untwisted. The fast twist
     // modes forget that within milliseconds, but the slow rigid-body mode (its error decays
@@ -112,6 +112,7 @@ SimulationStatus IdentificationProblem::shoot_warmup(const Window& w, ProblemWor
             ws.x[i] += a;
             ws.x[n + i] = s;
         }
+        ws.x_start = ws.x;
         double at_mid = 0.0;
         const auto watch = [&](std::size_t i, const std::vector<double>& x, const std::vector<double>&) {
             if (i == mid) at_mid = x[node];
@@ -123,6 +124,8 @@ SimulationStatus IdentificationProblem::shoot_warmup(const Window& w, ProblemWor
         return status == SimulationStatus::ok && std::isfinite(e[0]) && std::isfinite(e[1]);
     };
     double a = 0.0, s = ws.x0[n], e[2], ea[2], es[2];
+    *solved = false;
+    ws.x_start = ws.x;
     if (mid <= w.start) {  // too short to shoot: a plain warm-up from the measured state
         const auto plain = [](std::size_t, const std::vector<double>&, const std::vector<double>&) { return true; };
         return simulate_samples(ws.model, inputs_, w.start, w.first, ws.x, experiment_->simulation, ws.buffers, plain);
@@ -139,6 +142,7 @@ SimulationStatus IdentificationProblem::shoot_warmup(const Window& w, ProblemWor
         return status;
     }
     const double tolerance = 1e-12 + 1e-15 * std::abs(angle[w.first]);
+    *solved = true;
     for (int it = 0; it < 6; ++it) {
         a -= (j11 * e[0] - j01 * e[1]) / det;
         s -= (-j10 * e[0] + j00 * e[1]) / det;
@@ -148,17 +152,30 @@ SimulationStatus IdentificationProblem::shoot_warmup(const Window& w, ProblemWor
     return status;  // ws.x: the state at w.first
 }
 
+WindowStart IdentificationProblem::start_window(const Window& w, ProblemWorkspace& ws, std::string* problem) const {
+    WindowStart start;
+    if (!initial_state(w.start, ws, problem)) {
+        start.status = SimulationStatus::not_finite;
+        return start;
+    }
+    ws.x_start = ws.x;
+    if (experiment_->initial_state == InitialStateKind::measured && w.start < w.first) {
+        start.status = shoot_warmup(w, ws, &start.shot);
+        start.mid = w.start + (w.first - w.start) / 2;
+        start.node = static_cast<std::size_t>(experiment_->angle_node);
+        if (start.status != SimulationStatus::ok && problem)
+            *problem = std::string("warm-up simulation ") + to_string(start.status);
+    }
+    return start;
+}
+
 template <class Observer>
 SimulationStatus IdentificationProblem::simulate_window(const Window& w, ProblemWorkspace& ws, std::string* problem,
                                                         Observer&& on_scored) const {
-    if (!initial_state(w.start, ws, problem)) return SimulationStatus::not_finite;
+    const WindowStart start = start_window(w, ws, problem);
+    if (start.status != SimulationStatus::ok) return start.status;
     std::size_t from = w.start;
     if (experiment_->initial_state == InitialStateKind::measured && w.start < w.first) {
-        const SimulationStatus warm = shoot_warmup(w, ws);
-        if (warm != SimulationStatus::ok) {
-            if (problem) *problem = std::string("warm-up simulation ") + to_string(warm);
-            return warm;
-        }
         from = w.first;
         // After a warm-up the first sample is a prediction too: score it.
         std::size_t hint = w.first;

@@ -25,6 +25,18 @@ struct ProblemWorkspace {
     std::vector<double> x;       ///< state
     std::vector<double> u0;      ///< inputs at the window start
     std::vector<double> x0;      ///< initial state of a warm-up being shot
+    std::vector<double> x_start; ///< the state at the window start a simulation set out from
+};
+
+/// How a window's simulation starts: from ws.x_start at sample `start`, possibly through a
+/// warm-up whose common angle offset and speed were solved for so that the encoder's node
+/// meets the measured crank angle at samples `mid` and `first` (then the start depends on
+/// the parameters through that solution).
+struct WindowStart {
+    SimulationStatus status = SimulationStatus::ok;
+    bool shot = false;       ///< the warm-up shooting was solved
+    std::size_t mid = 0;     ///< its first matching sample
+    std::size_t node = 0;    ///< the encoder's node
 };
 
 /// Measured and simulated outputs of one window at its scored samples.
@@ -56,6 +68,8 @@ public:
     const std::vector<double>& initial() const { return init_; }     ///< init of the free parameters
     const InputChannels& inputs() const { return inputs_; }
     const CrankAngleChannels& crank_angle_inputs() const { return angle_inputs_; }
+    /// Measured output k (unit-scaled) at every sample.
+    const std::vector<double>& measured(std::size_t k) const { return measured_[k]; }
 
     std::unique_ptr<ProblemWorkspace> make_workspace() const;
 
@@ -75,6 +89,10 @@ public:
     /// scored sample.
     WindowTrace trace(const std::vector<double>& params, const Window& window, ProblemWorkspace& ws) const;
 
+    /// Prepares window w with the parameters already set in ws.model: ws.x_start gets the
+    /// state at w.start and, after a warm-up, ws.x the state at w.first.
+    WindowStart start_window(const Window& w, ProblemWorkspace& ws, std::string* problem) const;
+
 private:
     // Sets ws.x to the initial state at sample `start`; false (with a reason) if impossible.
     bool initial_state(std::size_t start, ProblemWorkspace& ws, std::string* problem) const;
@@ -86,7 +104,7 @@ private:
                                      Observer&& on_scored) const;
 
     // Measured initial state with a warm-up: leaves ws.x at the window's first sample.
-    SimulationStatus shoot_warmup(const Window& w, ProblemWorkspace& ws) const;
+    SimulationStatus shoot_warmup(const Window& w, ProblemWorkspace& ws, bool* solved) const;
 
     const Experiment* experiment_;
     InputChannels inputs_;

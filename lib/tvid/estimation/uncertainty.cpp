@@ -1,6 +1,9 @@
 #include "tvid/estimation/uncertainty.hpp"
 
+#include "tvid/estimation/forward_sensitivity.hpp"
+
 #include <Eigen/Dense>
+#include <algorithm>
 #include <boost/math/distributions/students_t.hpp>
 #include <cmath>
 #include <limits>
@@ -33,23 +36,37 @@ ParameterUncertainty estimate_uncertainty(const IdentificationProblem& problem, 
     u.residuals = r0.size();
     if (r0.size() <= m) { u.problem = "fewer residuals than free parameters"; return u; }
 
-    // Central-difference Jacobian in scaled parameters: column j = s_j ∂r/∂p_j.
+    // The Jacobian in scaled parameters: column j = s_j ∂r/∂p_j, from the forward
+    // sensitivities or by central differences, as the experiment asks.
     Eigen::MatrixXd js(n, static_cast<Eigen::Index>(m));
     std::vector<double> scale(m), p = free_best;
-    for (std::size_t j = 0; j < m; ++j) {
-        scale[j] = free_best[j] != 0.0 ? std::abs(free_best[j]) : 1.0;
-        const double h = 1e-6 * scale[j];
-        p[j] = free_best[j] + h;
-        const bool ok_p = problem.residuals(p.data(), *ws, rp);
-        p[j] = free_best[j] - h;
-        const bool ok_m = problem.residuals(p.data(), *ws, rm);
-        p[j] = free_best[j];
-        if (!ok_p || !ok_m || rp.size() != r0.size() || rm.size() != r0.size()) {
-            u.problem = "the simulation failed near the optimum (parameter " + problem.free_names()[j] + ")";
-            return u;
+    for (std::size_t j = 0; j < m; ++j) scale[j] = free_best[j] != 0.0 ? std::abs(free_best[j]) : 1.0;
+    if (problem.experiment().estimation_settings.jacobian == JacobianKind::sensitivity) {
+        const ForwardSensitivity sensitivity(problem);
+        auto sws = sensitivity.make_workspace();
+        for (std::size_t j0 = 0; j0 < m; j0 += ForwardSensitivity::kMaxBlock)
+            if (!sensitivity.jacobian_columns(free_best.data(), j0, std::min(m, j0 + ForwardSensitivity::kMaxBlock),
+                                              *sws, js)) {
+                u.problem = "the sensitivity simulation failed at the optimum";
+                return u;
+            }
+        for (std::size_t j = 0; j < m; ++j) js.col(static_cast<Eigen::Index>(j)) *= scale[j];
+    } else {
+        for (std::size_t j = 0; j < m; ++j) {
+            const double h = 1e-6 * scale[j];
+            p[j] = free_best[j] + h;
+            const bool ok_p = problem.residuals(p.data(), *ws, rp);
+            p[j] = free_best[j] - h;
+            const bool ok_m = problem.residuals(p.data(), *ws, rm);
+            p[j] = free_best[j];
+            if (!ok_p || !ok_m || rp.size() != r0.size() || rm.size() != r0.size()) {
+                u.problem = "the simulation failed near the optimum (parameter " + problem.free_names()[j] + ")";
+                return u;
+            }
+            for (Eigen::Index i = 0; i < n; ++i)
+                js(i, static_cast<Eigen::Index>(j)) =
+                    scale[j] * (rp[static_cast<std::size_t>(i)] - rm[static_cast<std::size_t>(i)]) / (2 * h);
         }
-        for (Eigen::Index i = 0; i < n; ++i)
-            js(i, static_cast<Eigen::Index>(j)) = scale[j] * (rp[static_cast<std::size_t>(i)] - rm[static_cast<std::size_t>(i)]) / (2 * h);
     }
     double ssr = 0.0;
     for (double e : r0) ssr += e * e;

@@ -1,6 +1,6 @@
 #pragma once
 // Uncertainty of the estimate from the Jacobian J of the residuals at the optimum
-// (finite differences): covariance s²(JᵀJ)⁻¹ with s² = Σe²/(N − M), standard errors,
+// (forward sensitivities or finite differences): covariance s²(JᵀJ)⁻¹ with s² = Σe²/(N − M), standard errors,
 // 95 % intervals and correlations, computed in scaled parameters (p_j·∂r/∂p_j) so that
 // inertias of 1e-3 and dampings of 1e1 are conditioned alike. Directions that the data
 // do not determine (near-zero singular values of the scaled J) are reported, and the

@@ -58,16 +58,19 @@ struct Window {
 };
 
 enum class InitialStateKind { equilibrium, rest, measured };
-enum class IntegrationMethod { rk4, dopri5 };
+enum class IntegrationMethod { rk4, dopri5, rosenbrock4 };
 enum class CostKind { l1, l2 };
 enum class OptimizerKind { pso, lm };
+/// How the Jacobian of the residuals is formed (LM steps, standard errors): forward
+/// sensitivities (seed 000 eq. 9) or central finite differences.
+enum class JacobianKind { sensitivity, fd };
 
 struct SimulationSettings {
     IntegrationMethod method = IntegrationMethod::rk4;
     double max_step = 0.0;       ///< rk4: largest step [s]; 0 (`step: sample`) = one step per sample interval
-    double rtol = 1e-6;          ///< dopri5
-    double atol = 1e-8;          ///< dopri5
-    std::size_t max_steps = 10'000'000;  ///< step budget per simulation (dopri5)
+    double rtol = 1e-6;          ///< dopri5, rosenbrock4
+    double atol = 1e-8;          ///< dopri5, rosenbrock4
+    std::size_t max_steps = 10'000'000;  ///< step budget per simulation (dopri5, rosenbrock4)
 };
 
 
@@ -75,7 +78,8 @@ struct EstimationSettings {
     CostKind cost = CostKind::l1;
     OptimizerKind optimizer = OptimizerKind::pso;
     PsoSettings pso;
-    LmSettings lm;   ///< the Jacobian is by central differences (`lm: { jacobian: fd }`)
+    LmSettings lm;
+    JacobianKind jacobian = JacobianKind::sensitivity;  ///< `lm: { jacobian: sensitivity | fd }`
 };
 
 struct Experiment {

@@ -89,8 +89,12 @@ std::string reader_path(const std::string& key) {
 SimulationSettings read_simulation(const YamlMap& m) {
     m.allow_only({"method", "step", "rtol", "atol", "max_steps"});
     SimulationSettings s;
-    if (m.has("method"))
-        s.method = m.choice("method", {"rk4", "dopri5"}) == "rk4" ? IntegrationMethod::rk4 : IntegrationMethod::dopri5;
+    if (m.has("method")) {
+        const std::string method = m.choice("method", {"rk4", "dopri5", "rosenbrock4"});
+        s.method = method == "rk4"      ? IntegrationMethod::rk4
+                   : method == "dopri5" ? IntegrationMethod::dopri5
+                                        : IntegrationMethod::rosenbrock4;
+    }
     if (m.has("step")) {
         const YAML::Node step = m.get("step");
         if (!(step.IsScalar() && step.Scalar() == "sample")) {
@@ -169,8 +173,6 @@ LmSettings read_lm(const YamlMap& m) {
         if (!(v >= 0)) m.fail(key, "a tolerance cannot be negative");
         (std::string(key) == "ftol" ? s.ftol : std::string(key) == "xtol" ? s.xtol : s.gtol) = v;
     }
-    if (m.has("jacobian") && m.choice("jacobian", {"fd", "sensitivity"}) == "sensitivity")
-        m.fail("jacobian", "the sensitivity Jacobian is not available in this version: use jacobian: fd");
     return s;
 }
 
@@ -181,7 +183,12 @@ EstimationSettings read_estimation(const YamlMap& m) {
     if (m.has("optimizer"))
         s.optimizer = m.choice("optimizer", {"pso", "lm"}) == "lm" ? OptimizerKind::lm : OptimizerKind::pso;
     if (m.has("pso")) s.pso = read_pso(m.map("pso"));
-    if (m.has("lm")) s.lm = read_lm(m.map("lm"));
+    if (m.has("lm")) {
+        const YamlMap lm = m.map("lm");
+        s.lm = read_lm(lm);
+        if (lm.has("jacobian"))
+            s.jacobian = lm.choice("jacobian", {"sensitivity", "fd"}) == "fd" ? JacobianKind::fd : JacobianKind::sensitivity;
+    }
     // Levenberg–Marquardt minimizes a sum of squares (seed 000 eq. 7).
     if (s.optimizer == OptimizerKind::lm && s.cost != CostKind::l2)
         m.fail(m.has("cost") ? "cost" : "optimizer", "the lm optimizer minimizes a sum of squares: set cost: l2");

@@ -31,7 +31,7 @@ OptimizerRun run_swarm(const IdentificationProblem& problem, const FitOptions& o
 // Seed 000: nonlinear least squares by Levenberg–Marquardt from the experiment's init.
 OptimizerRun run_least_squares(const IdentificationProblem& problem, const FitOptions& options, FitResult& r) {
     r.lm_settings = problem.experiment().estimation_settings.lm;
-    ExperimentLeastSquares least_squares(problem, options.threads);
+    ExperimentLeastSquares least_squares(problem, options.threads, problem.experiment().estimation_settings.jacobian);
     r.threads = least_squares.threads();
     // The history counts simulations, as for the swarm.
     std::vector<HistoryRow> history;

@@ -6,6 +6,7 @@
 //
 // State layout: x = [θ_0 … θ_{n−1}, ω_0 … ω_{n−1}].
 
+#include <algorithm>
 #include <cstddef>
 #include <vector>
 
@@ -33,10 +34,12 @@ public:
           cylinder_lever_(spec.cylinders.size()),
           pressure_cursor_(spec.cylinders.size(), 0),
           inertia_(spec.nodes.size()),
-          output_offsets_(spec.outputs.size()) {}
+          output_offsets_(spec.outputs.size()),
+          parameters_(spec.parameter_names.size()) {}
 
     /// The crank-angle channels (cylinder pressures) the cylinders read; must outlive the model.
     void set_crank_angle_inputs(const CrankAngleChannels* channels) { angle_inputs_ = channels; }
+    const CrankAngleChannels* crank_angle_inputs() const { return angle_inputs_; }
 
     std::size_t node_count() const { return node_count_; }
     std::size_t state_size() const { return 2 * node_count_; }
@@ -46,6 +49,7 @@ public:
     /// Resolves every field from the model parameter vector p (NetworkSpec::parameter_names order).
     void set_parameters(const T* p) {
         const NetworkSpec& s = *spec_;
+        std::copy_n(p, parameters_.size(), parameters_.begin());
         auto v = [p](const Field& f) { return f.is_parameter() ? p[f.parameter] : T(f.constant); };
         for (std::size_t i = 0; i < node_count_; ++i) {
             const T j = v(s.nodes[i].inertia);
@@ -85,6 +89,9 @@ public:
         for (std::size_t i = 0; i < output_offsets_.size(); ++i)
             output_offsets_[i] = v(s.outputs[i].offset);
     }
+
+    /// The parameter vector last given to set_parameters (zeros before the first call).
+    const std::vector<T>& parameters() const { return parameters_; }
 
     /// dx/dt = f(x, u) with u the input values at the current time.
     void derivative(const T* x, const double* u, T* dxdt) {
@@ -229,6 +236,7 @@ private:
     std::vector<T> inertia_;
     const CrankAngleChannels* angle_inputs_ = nullptr;
     std::vector<T> output_offsets_;
+    std::vector<T> parameters_;  ///< copy of the last set_parameters argument
 };
 
 }  // namespace tvid

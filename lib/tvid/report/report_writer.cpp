@@ -138,7 +138,8 @@ json fit_summary_json(const IdentificationProblem& problem, const FitResult& fit
         optimizer["c2"] = ps.c2;
     } else {
         const LmSettings& ls = fit.lm_settings;
-        optimizer["jacobian"] = "fd";
+        optimizer["jacobian"] =
+            ex.estimation_settings.jacobian == JacobianKind::fd ? "fd" : "sensitivity";
         optimizer["initial_cost"] = number(fit.lm.initial_cost);
         optimizer["ftol"] = ls.ftol;
         optimizer["xtol"] = ls.xtol;

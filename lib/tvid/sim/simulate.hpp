@@ -1,18 +1,24 @@
 #pragma once
 // Simulation of a network over a span of samples with Boost.Odeint: fixed-step RK4
-// (the sampling interval, as seed 001 does, optionally split into substeps) or adaptive
-// Dormand–Prince 5(4) with rtol/atol. The observer sees the state at every sample.
+// (the sampling interval, as seed 001 does, optionally split into substeps), adaptive
+// Dormand–Prince 5(4) with rtol/atol, or the adaptive Rosenbrock 4(3) method for stiff
+// models (linearly implicit, with the dual-number Jacobian). The observer sees the state
+// at every sample.
 // A simulation that produces NaN/inf, grows without bound, or exceeds its step budget
 // stops with a status instead of throwing.
 
+#include <algorithm>
 #include <boost/numeric/odeint.hpp>
 #include <cmath>
 #include <cstddef>
+#include <functional>
 #include <vector>
+#include <utility>
 
 #include "tvid/experiment/experiment.hpp"
 #include "tvid/model/network_model.hpp"
 #include "tvid/sim/input_channels.hpp"
+#include "tvid/sim/stiff_network_system.hpp"
 
 namespace tvid {
 
@@ -29,6 +35,7 @@ public:
     NetworkSystem(NetworkModel<double>& model, const InputChannels& inputs, std::vector<double>& u)
         : model_(&model), inputs_(&inputs), u_(&u) {}
     void operator()(const std::vector<double>& x, std::vector<double>& dxdt, double t) {
+        ++evaluations;
         inputs_->at(t, hint_, u_->data());
         model_->derivative(x.data(), u_->data(), dxdt.data());
     }
@@ -47,28 +54,35 @@ struct SimulationBuffers {
     boost::numeric::odeint::runge_kutta4<std::vector<double>> rk4;
     using Dopri5 = boost::numeric::odeint::runge_kutta_dopri5<std::vector<double>>;
     Dopri5 dopri5;
+    StiffBuffers stiff;  ///< rosenbrock4
+    // Running totals over every simulate_samples call, for benchmarks.
+    std::size_t rhs_evaluations = 0;       ///< f(x, u) with double
+    std::size_t jacobian_evaluations = 0;  ///< ∂f/∂x (rosenbrock4)
 };
 
-inline bool state_is_sane(const std::vector<double>& x, SimulationStatus& status) {
-    for (double v : x) {
+/// Checks the first `checked` entries of x (the model state; sensitivities that may follow
+/// it are only checked for being finite).
+inline bool state_is_sane(const std::vector<double>& x, SimulationStatus& status,
+                          std::size_t checked = static_cast<std::size_t>(-1)) {
+    for (std::size_t i = 0; i < x.size(); ++i) {
+        const double v = x[i];
         if (!std::isfinite(v)) { status = SimulationStatus::not_finite; return false; }
-        if (std::abs(v) > kDivergenceLimit) { status = SimulationStatus::diverged; return false; }
+        if (i < checked && std::abs(v) > kDivergenceLimit) { status = SimulationStatus::diverged; return false; }
     }
     return true;
 }
 
-/// Integrates from sample `start` (state x at time[start]) to sample `last`, calling
+/// Marches any odeint system `system(x, dxdt, t)` over the sample grid of `inputs` from
+/// sample `start` to `last` with the integrator of `settings`, calling
 /// `observer(i, x, u)` at every sample i in (start, last] with u the inputs at time[i].
-/// The observer returns false to stop early.
-template <class Observer>
-SimulationStatus simulate_samples(NetworkModel<double>& model, const InputChannels& inputs,
-                                  std::size_t start, std::size_t last, std::vector<double>& x,
-                                  const SimulationSettings& settings, SimulationBuffers& buffers,
-                                  Observer&& observer) {
+/// The observer returns false to stop early. Only x[0 … checked) is tested for divergence.
+template <class System, class Observer>
+SimulationStatus march_samples(System& system, const InputChannels& inputs, std::size_t start, std::size_t last,
+                               std::vector<double>& x, std::size_t checked, const SimulationSettings& settings,
+                               SimulationBuffers& buffers, Observer&& observer) {
     namespace odeint = boost::numeric::odeint;
     const std::vector<double>& time = inputs.time();
     buffers.u.resize(inputs.count());
-    NetworkSystem system(model, inputs, buffers.u);
     std::size_t hint = start;
     SimulationStatus status = SimulationStatus::ok;
     if (settings.method == IntegrationMethod::rk4) {
@@ -80,14 +94,15 @@ SimulationStatus simulate_samples(NetworkModel<double>& model, const InputChanne
             const double dt = h / substeps;
             for (int s = 0; s < substeps; ++s)
                 buffers.rk4.do_step(std::ref(system), x, t0 + s * dt, dt);
-            if (!state_is_sane(x, status)) return status;
+            if (!state_is_sane(x, status, checked)) return status;
             inputs.at(time[i + 1], hint, buffers.u.data());
             if (!observer(i + 1, x, buffers.u)) return SimulationStatus::stopped_by_observer;
         }
         return status;
     }
     // Adaptive Dormand–Prince, restarted at every sample so the kinks of the linearly
-    // interpolated input fall on step boundaries.
+    // interpolated input fall on step boundaries. (A system without a Jacobian, such as
+    // the augmented sensitivity system, also marches this way under rosenbrock4.)
     auto stepper = odeint::make_controlled(settings.atol, settings.rtol, buffers.dopri5);
     std::size_t steps = 0;
     double dt = (time[std::min(start + 1, last)] - time[start]);
@@ -102,12 +117,79 @@ SimulationStatus simulate_samples(NetworkModel<double>& model, const InputChanne
                 if (!(dt > 1e-14 * (1.0 + std::abs(t)))) return SimulationStatus::step_budget_exceeded;
                 continue;
             }
+            if (!state_is_sane(x, status, checked)) return status;
+            if (t_end - t < 1e-12 * (1.0 + std::abs(t_end))) t = t_end;
+        }
+        inputs.at(time[i + 1], hint, buffers.u.data());
+        if (!observer(i + 1, x, buffers.u)) return SimulationStatus::stopped_by_observer;
+    }
+    return status;
+}
+
+/// march_samples for rosenbrock4: adaptive Rosenbrock 4(3) steps (odeint's controller on
+/// rtol/atol), restarted at every sample like dopri5, with ∂f/∂x from the dual-number model
+/// and ∂f/∂t from the slope of the inputs. The method is L-stable: a stiff mode does not
+/// limit its step, only the accuracy asked for (and the sample interval) does.
+template <class Observer>
+SimulationStatus march_samples_stiff(StiffNetworkSystem& stiff, const InputChannels& inputs, std::size_t start,
+                                     std::size_t last, std::vector<double>& x, const SimulationSettings& settings,
+                                     SimulationBuffers& buffers, Observer&& observer) {
+    namespace odeint = boost::numeric::odeint;
+    const std::vector<double>& time = inputs.time();
+    const auto system = stiff.odeint_system();
+    // A fresh controller per simulation: its step-size history must not leak from one
+    // simulation (or thread) into the next.
+    auto stepper = odeint::make_controlled(settings.atol, settings.rtol, buffers.stiff.rosenbrock4);
+    UblasVector& state = buffers.stiff.state;
+    state.resize(x.size(), false);
+    std::copy(x.begin(), x.end(), state.begin());
+    std::size_t hint = start, steps = 0;
+    SimulationStatus status = SimulationStatus::ok;
+    double dt = (time[std::min(start + 1, last)] - time[start]);
+    for (std::size_t i = start; i < last; ++i) {
+        stiff.enter_interval(i);
+        double t = time[i];
+        const double t_end = time[i + 1];
+        while (t < t_end) {
+            if (++steps > settings.max_steps) return SimulationStatus::step_budget_exceeded;
+            dt = std::min(dt, t_end - t);
+            const auto result = stepper.try_step(system, state, t, dt);
+            if (result == odeint::fail) {
+                if (!stiff.start_finite()) return SimulationStatus::not_finite;
+                if (!(dt > 1e-14 * (1.0 + std::abs(t)))) return SimulationStatus::step_budget_exceeded;
+                continue;
+            }
+            std::copy(state.begin(), state.end(), x.begin());
             if (!state_is_sane(x, status)) return status;
             if (t_end - t < 1e-12 * (1.0 + std::abs(t_end))) t = t_end;
         }
         inputs.at(time[i + 1], hint, buffers.u.data());
         if (!observer(i + 1, x, buffers.u)) return SimulationStatus::stopped_by_observer;
     }
+    return status;
+}
+
+/// Integrates the model from sample `start` (state x at time[start]) to sample `last`,
+/// calling `observer(i, x, u)` at every sample i in (start, last] with u the inputs at
+/// time[i]. The observer returns false to stop early.
+template <class Observer>
+SimulationStatus simulate_samples(NetworkModel<double>& model, const InputChannels& inputs,
+                                  std::size_t start, std::size_t last, std::vector<double>& x,
+                                  const SimulationSettings& settings, SimulationBuffers& buffers,
+                                  Observer&& observer) {
+    buffers.u.resize(inputs.count());
+    if (settings.method == IntegrationMethod::rosenbrock4) {
+        StiffNetworkSystem stiff(model, inputs, buffers.u, buffers.stiff);
+        const SimulationStatus status =
+            march_samples_stiff(stiff, inputs, start, last, x, settings, buffers, std::forward<Observer>(observer));
+        buffers.rhs_evaluations += stiff.evaluations;
+        buffers.jacobian_evaluations += stiff.jacobians;
+        return status;
+    }
+    NetworkSystem system(model, inputs, buffers.u);
+    const SimulationStatus status = march_samples(system, inputs, start, last, x, x.size(), settings, buffers,
+                                                  std::forward<Observer>(observer));
+    buffers.rhs_evaluations += system.evaluations;
     return status;
 }
 

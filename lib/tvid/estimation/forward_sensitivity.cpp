@@ -1,0 +1,213 @@
+#include "tvid/estimation/forward_sensitivity.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "tvid/sim/sensitivity_system.hpp"
+
+namespace tvid {
+
+SensitivityWorkspace::SensitivityWorkspace(const IdentificationProblem& problem)
+    : plain(problem.make_workspace()), model(problem.experiment().network) {
+    model.set_crank_angle_inputs(&problem.crank_angle_inputs());
+    params.resize(problem.experiment().network.parameter_names.size());
+    x.resize(model.state_size());
+    dxdt.resize(model.state_size());
+    y.resize(problem.experiment().outputs.size());
+    buffers.u.resize(problem.inputs().count());
+}
+
+std::unique_ptr<SensitivityWorkspace> ForwardSensitivity::make_workspace() const {
+    return std::make_unique<SensitivityWorkspace>(*problem_);
+}
+
+void ForwardSensitivity::set_parameters(const double* free, std::size_t j0, std::size_t j1, int d,
+                                        SensitivityWorkspace& ws) const {
+    const std::vector<std::size_t>& index = problem_->free_indices();
+    problem_->full_parameters(free, ws.plain->params);
+    ws.plain->model.set_parameters(ws.plain->params.data());
+    for (std::size_t i = 0; i < ws.params.size(); ++i) ws.params[i] = Dual(ws.plain->params[i]);
+    for (std::size_t j = j0; j < j1; ++j)
+        ws.params[index[j]] = Dual::variable(free[j], static_cast<int>(j - j0), d);
+    ws.model.set_parameters(ws.params.data());
+}
+
+bool ForwardSensitivity::equilibrium_sensitivity(std::size_t j0, std::size_t j1, SensitivityWorkspace& ws) const {
+    // F(θ̄(p), p) = 0 ⇒ ∂F/∂θ · dθ̄/dp = −∂F/∂p, with both Jacobians of the static torques
+    // from the dual model (θ seeded in blocks of the dual capacity, then p).
+    const std::size_t n = ws.model.node_count(), cols = j1 - j0;
+    const std::size_t d = cols;  // directions of z at this point
+    const double* u = ws.plain->u0.data();
+    std::vector<Dual> theta(n), torque(n);
+    Eigen::MatrixXd dFdtheta(n, n), dFdp(n, cols);
+    // ∂F/∂p: θ constant, the block's parameters seeded (as set).
+    for (std::size_t i = 0; i < n; ++i) theta[i] = Dual(ws.plain->x_start[i]);
+    ws.model.static_torques(theta.data(), u, torque.data());
+    for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t j = 0; j < cols; ++j)
+            dFdp(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = torque[i].derivative(static_cast<int>(j));
+    // ∂F/∂θ: the parameters constant.
+    std::vector<Dual> constant(ws.params.size());
+    for (std::size_t i = 0; i < constant.size(); ++i) constant[i] = Dual(ws.plain->params[i]);
+    ws.model.set_parameters(constant.data());
+    const auto capacity = static_cast<std::size_t>(kDualCapacity);
+    for (std::size_t c0 = 0; c0 < n; c0 += capacity) {
+        const std::size_t c1 = std::min(n, c0 + capacity);
+        for (std::size_t i = 0; i < n; ++i)
+            theta[i] = i >= c0 && i < c1 ? Dual::variable(ws.plain->x_start[i], static_cast<int>(i - c0),
+                                                          static_cast<int>(c1 - c0))
+                                         : Dual(ws.plain->x_start[i]);
+        ws.model.static_torques(theta.data(), u, torque.data());
+        for (std::size_t i = 0; i < n; ++i)
+            for (std::size_t k = c0; k < c1; ++k)
+                dFdtheta(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(k)) =
+                    torque[i].derivative(static_cast<int>(k - c0));
+    }
+    ws.model.set_parameters(ws.params.data());
+    const Eigen::FullPivLU<Eigen::MatrixXd> lu(dFdtheta);
+    if (!lu.isInvertible()) return false;
+    const Eigen::MatrixXd dtheta = -lu.solve(dFdp);
+    const std::size_t state = ws.model.state_size();
+    for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t j = 0; j < cols; ++j)
+            ws.z[state + i * d + j] = dtheta(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j));
+    return dtheta.allFinite();
+}
+
+template <class Observer>
+SimulationStatus ForwardSensitivity::simulate(const double* free, const Window& w, std::size_t j0, std::size_t j1,
+                                              SensitivityWorkspace& ws, std::string* problem,
+                                              Observer&& on_scored) const {
+    const Experiment& ex = problem_->experiment();
+    const std::size_t cols = j1 - j0, state = ws.model.state_size(), n = ws.model.node_count();
+    set_parameters(free, j0, j1, static_cast<int>(cols), ws);
+    const WindowStart start = problem_->start_window(w, *ws.plain, problem);
+    if (start.status != SimulationStatus::ok) return start.status;
+
+    // z = [x, S] at w.start; with a solved warm-up two more directions: the offset a, the speed s.
+    std::size_t d = cols + (start.shot ? 2 : 0);
+    if (d != cols) set_parameters(free, j0, j1, static_cast<int>(d), ws);
+    ws.z.assign(state * (1 + d), 0.0);
+    std::copy(ws.plain->x_start.begin(), ws.plain->x_start.end(), ws.z.begin());
+    if (ex.initial_state == InitialStateKind::equilibrium && !equilibrium_sensitivity(j0, j1, ws)) {
+        if (problem) *problem = "the equilibrium start has no sensitivity (singular static stiffness)";
+        return SimulationStatus::not_finite;
+    }
+    if (start.shot)
+        for (std::size_t i = 0; i < n; ++i) {
+            ws.z[state + i * d + cols] = 1.0;             // ∂θ_i/∂a
+            ws.z[state + (n + i) * d + cols + 1] = 1.0;  // ∂ω_i/∂s
+        }
+
+    const auto outputs = [&](std::size_t i, const std::vector<double>& z, const std::vector<double>& u) {
+        SensitivitySystem::unpack(z, state, d, ws.x);
+        for (std::size_t k = 0; k < ws.y.size(); ++k)
+            ws.y[k] = ws.model.output(ex.output_indices[k], ws.x.data(), u.data());
+        return on_scored(i, ws);
+    };
+    std::size_t from = w.start;
+    if (ex.initial_state == InitialStateKind::measured && w.start < w.first) {
+        // The warm-up, watching the encoder node's sensitivity row at the shooting's samples.
+        SensitivitySystem warm(ws.model, problem_->inputs(), ws.buffers.u, ws.x, ws.dxdt, static_cast<int>(d));
+        const std::size_t node = start.node;
+        const auto watch = [&](std::size_t i, const std::vector<double>& z, const std::vector<double>&) {
+            if (i == start.mid) ws.row_mid.assign(z.begin() + static_cast<std::ptrdiff_t>(state + node * d),
+                                                  z.begin() + static_cast<std::ptrdiff_t>(state + node * d + d));
+            return true;
+        };
+        const SimulationStatus status =
+            march_samples(warm, problem_->inputs(), w.start, w.first, ws.z, state, ex.simulation, ws.buffers, watch);
+        if (status != SimulationStatus::ok) {
+            if (problem) *problem = std::string("warm-up simulation ") + to_string(status);
+            return status;
+        }
+        if (start.shot) {
+            // G = (θ_node(mid), θ_node(first)) − measured: d(a, s)/dp = −(∂G/∂(a, s))⁻¹ ∂G/∂p.
+            ws.row_first.assign(ws.z.begin() + static_cast<std::ptrdiff_t>(state + node * d),
+                                ws.z.begin() + static_cast<std::ptrdiff_t>(state + node * d + d));
+            const double g00 = ws.row_mid[cols], g01 = ws.row_mid[cols + 1];
+            const double g10 = ws.row_first[cols], g11 = ws.row_first[cols + 1];
+            const double det = g00 * g11 - g01 * g10;
+            if (!std::isfinite(det) || det == 0.0) {
+                if (problem) *problem = "the warm-up shooting has no sensitivity (singular)";
+                return SimulationStatus::not_finite;
+            }
+            // Repack z to the block's columns with the total derivative S_p + S_(a,s)·d(a,s)/dp.
+            std::vector<double> packed(state * (1 + cols));
+            std::copy(ws.z.begin(), ws.z.begin() + static_cast<std::ptrdiff_t>(state), packed.begin());
+            for (std::size_t j = 0; j < cols; ++j) {
+                const double da = -(g11 * ws.row_mid[j] - g01 * ws.row_first[j]) / det;
+                const double ds = -(-g10 * ws.row_mid[j] + g00 * ws.row_first[j]) / det;
+                for (std::size_t i = 0; i < state; ++i) {
+                    const double* row = ws.z.data() + state + i * d;
+                    packed[state + i * cols + j] = row[j] + row[cols] * da + row[cols + 1] * ds;
+                }
+            }
+            ws.z.swap(packed);
+            d = cols;
+            set_parameters(free, j0, j1, static_cast<int>(d), ws);
+        }
+        // After a warm-up the first sample is a prediction too: score it.
+        std::size_t hint = w.first;
+        problem_->inputs().at(problem_->inputs().time()[w.first], hint, ws.buffers.u.data());
+        if (!outputs(w.first, ws.z, ws.buffers.u)) return SimulationStatus::stopped_by_observer;
+        from = w.first;
+    }
+    SensitivitySystem system(ws.model, problem_->inputs(), ws.buffers.u, ws.x, ws.dxdt, static_cast<int>(d));
+    const auto scored = [&](std::size_t i, const std::vector<double>& z, const std::vector<double>& u) {
+        return i < w.first ? true : outputs(i, z, u);
+    };
+    const SimulationStatus status =
+        march_samples(system, problem_->inputs(), from, w.last, ws.z, state, ex.simulation, ws.buffers, scored);
+    if (status != SimulationStatus::ok && problem) *problem = std::string("simulation ") + to_string(status);
+    return status;
+}
+
+bool ForwardSensitivity::jacobian_columns(const double* free, std::size_t j0, std::size_t j1,
+                                          SensitivityWorkspace& ws, Eigen::MatrixXd& J) const {
+    const std::size_t m = problem_->dimension();
+    for (std::size_t j = 0; j < m; ++j)
+        if (!std::isfinite(free[j])) return false;
+    const Experiment& ex = problem_->experiment();
+    Eigen::Index row = 0;
+    for (const Window& w : ex.estimation) {
+        const auto record = [&](std::size_t, SensitivityWorkspace& s) {
+            for (const Dual& y : s.y) {
+                if (row >= J.rows()) return false;
+                for (std::size_t j = j0; j < j1; ++j)
+                    J(row, static_cast<Eigen::Index>(j)) = y.derivative(static_cast<int>(j - j0));
+                ++row;
+            }
+            return true;
+        };
+        if (simulate(free, w, j0, j1, ws, nullptr, record) != SimulationStatus::ok) return false;
+    }
+    return row == J.rows() && J.middleCols(static_cast<Eigen::Index>(j0), static_cast<Eigen::Index>(j1 - j0)).allFinite();
+}
+
+WindowSensitivity ForwardSensitivity::window_sensitivity(const double* free, const Window& w,
+                                                         SensitivityWorkspace& ws) const {
+    WindowSensitivity out;
+    out.window = &w;
+    const std::size_t m = problem_->dimension(), n_out = problem_->experiment().outputs.size();
+    out.output.assign(n_out, {});
+    out.dydp.assign(n_out, std::vector<std::vector<double>>(m));
+    for (std::size_t j0 = 0; j0 < std::max<std::size_t>(m, 1); j0 += kMaxBlock) {
+        const std::size_t j1 = std::min(m, j0 + kMaxBlock);
+        const bool first_block = j0 == 0;
+        const auto record = [&](std::size_t i, SensitivityWorkspace& s) {
+            if (first_block) out.time.push_back(problem_->inputs().time()[i]);
+            for (std::size_t k = 0; k < n_out; ++k) {
+                if (first_block) out.output[k].push_back(s.y[k].value());
+                for (std::size_t j = j0; j < j1; ++j)
+                    out.dydp[k][j].push_back(s.y[k].derivative(static_cast<int>(j - j0)));
+            }
+            return true;
+        };
+        out.status = simulate(free, w, j0, j1, ws, &out.problem, record);
+        if (out.status != SimulationStatus::ok) break;
+    }
+    return out;
+}
+
+}  // namespace tvid

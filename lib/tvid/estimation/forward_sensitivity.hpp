@@ -1,0 +1,85 @@
+#pragma once
+// Forward sensitivities of an identification problem (seed 000 eq. 9): the derivatives
+// ∂y/∂p of every simulated output at every scored sample with respect to the free
+// parameters, from the augmented system integrated alongside the state (SensitivitySystem)
+// through the same templated element code. The start of a window depends on the
+// parameters too, and that dependence is carried into the sensitivities:
+//  - `equilibrium`: dθ̄/dp = −(∂F/∂θ)⁻¹ ∂F/∂p from the static torques F (implicit
+//    function theorem);
+//  - `measured` with a warm-up: the solved angle offset a and speed s of the warm-up
+//    shooting satisfy G(a, s, p) = 0 (the encoder node meets the measured crank angle at
+//    two samples), so d(a, s)/dp = −(∂G/∂(a, s))⁻¹ ∂G/∂p, with ∂G from two extra
+//    directions integrated through the warm-up;
+//  - `rest`, or a measured start without warm-up: the start does not depend on p.
+// The free parameters may be taken in column blocks [j0, j1) so that blocks run on
+// different threads; a column's values do not depend on the blocking with fixed-step RK4.
+
+#include <Eigen/Dense>
+#include <cstddef>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "tvid/estimation/identification_problem.hpp"
+#include "tvid/model/dual.hpp"
+#include "tvid/sim/simulate.hpp"
+
+namespace tvid {
+
+/// Per-thread scratch space of the sensitivity simulation, built once.
+struct SensitivityWorkspace {
+    explicit SensitivityWorkspace(const IdentificationProblem& problem);
+    std::unique_ptr<ProblemWorkspace> plain;  ///< the plain simulation: initial state and warm-up shooting
+    NetworkModel<Dual> model;
+    SimulationBuffers buffers;
+    std::vector<Dual> params;                 ///< full model parameter vector, the block's columns seeded
+    std::vector<Dual> x, dxdt, y;             ///< state, its rate, outputs
+    std::vector<double> z;                    ///< augmented state [x, S]
+    std::vector<double> row_mid, row_first;   ///< the encoder node's sensitivity row in the warm-up
+};
+
+/// One window's outputs and their derivatives for `tvid sensitivity`.
+struct WindowSensitivity {
+    const Window* window = nullptr;
+    SimulationStatus status = SimulationStatus::ok;
+    std::string problem;
+    std::vector<double> time;                           ///< scored samples
+    std::vector<std::vector<double>> output;            ///< [output][k]
+    std::vector<std::vector<std::vector<double>>> dydp; ///< [output][parameter][k]
+};
+
+class ForwardSensitivity {
+public:
+    /// Columns one block can carry: the dual capacity less the two shooting directions.
+    static constexpr std::size_t kMaxBlock = static_cast<std::size_t>(kDualCapacity) - 2;
+
+    explicit ForwardSensitivity(const IdentificationProblem& problem) : problem_(&problem) {}
+
+    std::unique_ptr<SensitivityWorkspace> make_workspace() const;
+
+    /// Columns [j0, j1) of the Jacobian ∂r/∂p of the residuals (IdentificationProblem::
+    /// residuals order) at free parameter values `free`, written into J. False when a
+    /// simulation fails.
+    bool jacobian_columns(const double* free, std::size_t j0, std::size_t j1, SensitivityWorkspace& ws,
+                          Eigen::MatrixXd& J) const;
+
+    /// Window w's outputs and their derivatives for every free parameter.
+    WindowSensitivity window_sensitivity(const double* free, const Window& w, SensitivityWorkspace& ws) const;
+
+private:
+    // Sets the plain and dual parameters, the block's columns [j0, j1) seeded among d directions.
+    void set_parameters(const double* free, std::size_t j0, std::size_t j1, int d, SensitivityWorkspace& ws) const;
+
+    // Simulates window w with the sensitivities of the columns [j0, j1) and calls
+    // on_scored(i, ws) at every scored sample with ws.y holding the outputs.
+    template <class Observer>
+    SimulationStatus simulate(const double* free, const Window& w, std::size_t j0, std::size_t j1,
+                              SensitivityWorkspace& ws, std::string* problem, Observer&& on_scored) const;
+
+    // The equilibrium start's sensitivity rows (angles) for columns [j0, j1) into ws.z.
+    bool equilibrium_sensitivity(std::size_t j0, std::size_t j1, SensitivityWorkspace& ws) const;
+
+    const IdentificationProblem* problem_;
+};
+
+}  // namespace tvid
