@@ -31,9 +31,17 @@ struct EvaluateCommand {
     std::string output;                 ///< -o FILE.csv (simulate) / FILE.json (validate)
 };
 
+struct SensitivityCommand {
+    CommonOptions common;
+    std::string params_file;            ///< --params P.json (empty: the experiment's init values)
+    std::string output_dir;             ///< -o DIR (default: the report directory + /sensitivity)
+    bool validation = false;            ///< --validation: the validation windows too
+};
+
 int run_fit_command(const FitCommand& cmd);
 int run_simulate_command(const EvaluateCommand& cmd);
 int run_validate_command(const EvaluateCommand& cmd);
+int run_sensitivity_command(const SensitivityCommand& cmd);
 int run_models_command(bool json);
 
 }  // namespace tvid::cli

@@ -54,6 +54,15 @@ int main(int argc, char** argv) {
     val_cmd->add_option("--params", validate.params_file, "parameter file")->required();
     val_cmd->add_option("-o,--output", validate.output, "write the JSON to this file");
 
+    SensitivityCommand sensitivity;
+    auto* sens_cmd = app.add_subcommand(
+        "sensitivity", "forward sensitivities dy/dp of the outputs to each free parameter, and their ranking");
+    add_common(sens_cmd, sensitivity.common);
+    sens_cmd->add_option("--params", sensitivity.params_file, "parameter file (default: the experiment's init values)");
+    sens_cmd->add_option("-o,--output", sensitivity.output_dir,
+                         "output directory (default: report.dir or results/NAME, then /sensitivity)");
+    sens_cmd->add_flag("--validation", sensitivity.validation, "include the validation windows");
+
     bool models_json = false;
     auto* models_cmd = app.add_subcommand("models", "list the preset models with their parameters, inputs, outputs");
     models_cmd->add_flag("--json", models_json, "as JSON");
@@ -65,12 +74,14 @@ int main(int argc, char** argv) {
         return code == 0 ? 0 : 2;
     }
     const std::string command_line = joined_command_line(argc, argv);
-    fit.common.command_line = simulate.common.command_line = validate.common.command_line = command_line;
+    fit.common.command_line = simulate.common.command_line = validate.common.command_line =
+        sensitivity.common.command_line = command_line;
 
     try {
         if (*fit_cmd) return run_fit_command(fit);
         if (*sim_cmd) return run_simulate_command(simulate);
         if (*val_cmd) return run_validate_command(validate);
+        if (*sens_cmd) return run_sensitivity_command(sensitivity);
         if (*models_cmd) return run_models_command(models_json);
     } catch (const tvid::InputError& e) {
         std::cerr << e.what() << '\n';

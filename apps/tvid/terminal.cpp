@@ -95,4 +95,28 @@ std::string fit_summary_text(const IdentificationProblem& problem, const FitResu
     return out.str();
 }
 
+std::string sensitivity_summary_text(const SensitivityStudy& study, const std::vector<OutputRanking>& rankings,
+                                     const SensitivityRunInfo& run, const std::string& report_dir) {
+    std::ostringstream out;
+    char line[512];
+    const std::size_t windows = study.estimation.size() + study.validation.size();
+    std::snprintf(line, sizeof line,
+                  "tvid sensitivity %s: %zu window%s, %zu samples, %zu free parameters, %.2f s on %d thread%s\n",
+                  study.experiment.c_str(), windows, windows == 1 ? "" : "s", study.samples(), study.free.size(),
+                  run.wall_seconds, run.threads, run.threads == 1 ? "" : "s");
+    out << line;
+    for (const OutputRanking& r : rankings) {
+        // RMS of p·∂y/∂p: the output change (in the output's unit) for a 100 % parameter change.
+        out << "  " << r.output << ": RMS of p*dy/dp over the scored samples (output change for a 100 % change of p)\n";
+        out << "    rank  parameter       value           rms p*dy/dp   relative\n";
+        for (const ParameterRank& p : r.ranks) {
+            std::snprintf(line, sizeof line, "    %4d  %-14s  %-14.6g  %-12.4g  %s\n", p.rank, p.parameter.c_str(),
+                          p.value, p.rms_scaled, percent(p.relative * 100).c_str());
+            out << line;
+        }
+    }
+    out << "  report: " << report_dir << "\n";
+    return out.str();
+}
+
 }  // namespace tvid::cli

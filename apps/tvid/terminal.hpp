@@ -5,6 +5,7 @@
 #include <string>
 
 #include "tvid/fit/fit_run.hpp"
+#include "tvid/report/sensitivity_report.hpp"
 
 namespace tvid::cli {
 
@@ -27,5 +28,9 @@ private:
 
 /// The short human summary of a fit: cost, Q, parameters, time, report folder.
 std::string fit_summary_text(const IdentificationProblem& problem, const FitResult& fit, const std::string& report_dir);
+
+/// The short human summary of `tvid sensitivity`: per output, the ranking table.
+std::string sensitivity_summary_text(const SensitivityStudy& study, const std::vector<OutputRanking>& rankings,
+                                     const SensitivityRunInfo& run, const std::string& report_dir);
 
 }  // namespace tvid::cli

@@ -1,0 +1,83 @@
+// `tvid sensitivity EXP.yaml`: how the outputs respond to each free parameter (seed 000
+// Figs. 4–5), from forward sensitivities at one parameter set, and a ranking.
+
+#include <omp.h>
+
+#include <algorithm>
+#include <chrono>
+#include <iostream>
+#include <memory>
+
+#include "commands.hpp"
+#include "terminal.hpp"
+#include "tvid/estimation/forward_sensitivity.hpp"
+#include "tvid/estimation/identification_problem.hpp"
+#include "tvid/estimation/parallel_evaluator.hpp"
+#include "tvid/experiment/experiment.hpp"
+#include "tvid/report/parameter_file.hpp"
+#include "tvid/report/sensitivity_report.hpp"
+#include "tvid/util/input_error.hpp"
+
+namespace tvid::cli {
+
+std::vector<Override> parse_overrides(const std::vector<std::string>& texts);
+std::filesystem::path report_directory(const Experiment& ex, const std::string& output_dir);
+
+int run_sensitivity_command(const SensitivityCommand& cmd) {
+    const Experiment ex = load_experiment(cmd.common.experiment, parse_overrides(cmd.common.overrides));
+    const IdentificationProblem problem(ex);
+    if (problem.dimension() == 0)
+        throw InputError(ex.file.string(), 0, "parameters", "every parameter is fixed: there is no sensitivity to compute");
+    const std::vector<double> params =
+        cmd.params_file.empty() ? initial_parameters(ex) : read_parameter_file(cmd.params_file, ex);
+    std::vector<double> free;
+    for (std::size_t i : problem.free_indices()) free.push_back(params[i]);
+    const std::filesystem::path dir =
+        cmd.output_dir.empty() ? report_directory(ex, "") / "sensitivity" : std::filesystem::path(cmd.output_dir);
+
+    std::vector<const Window*> windows;
+    for (const Window& w : ex.estimation) windows.push_back(&w);
+    if (cmd.validation)
+        for (const Window& w : ex.validation) windows.push_back(&w);
+
+    // One window per task, each thread with its own workspace: a window's sensitivities
+    // do not depend on the thread count.
+    const ForwardSensitivity sensitivity(problem);
+    const int threads = std::max(1, std::min(resolve_thread_count(cmd.common.threads), static_cast<int>(windows.size())));
+    std::vector<std::unique_ptr<SensitivityWorkspace>> workspaces;
+    for (int t = 0; t < threads; ++t) workspaces.push_back(sensitivity.make_workspace());
+    std::vector<WindowSensitivity> results(windows.size());
+    const auto start = std::chrono::steady_clock::now();
+    const auto n = static_cast<long long>(windows.size());
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+    for (long long i = 0; i < n; ++i) {
+        const auto w = static_cast<std::size_t>(i);
+        results[w] = sensitivity.window_sensitivity(free.data(), *windows[w], *workspaces[omp_get_thread_num()]);
+    }
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+    for (std::size_t w = 0; w < results.size(); ++w) {
+        if (results[w].status == SimulationStatus::ok) continue;
+        const char* split = w < ex.estimation.size() ? "estimation" : "validation";
+        const std::string why = results[w].problem.empty() ? to_string(results[w].status) : results[w].problem;
+        std::cerr << "tvid: the simulation of " << split << " window " << windows[w]->label << " failed: " << why
+                  << "; nothing written\n";
+        return 1;
+    }
+
+    const auto first_validation = results.begin() + static_cast<std::ptrdiff_t>(ex.estimation.size());
+    const SensitivityStudy study =
+        make_sensitivity_study(problem, params, std::vector<WindowSensitivity>(results.begin(), first_validation),
+                               std::vector<WindowSensitivity>(first_validation, results.end()));
+    const std::vector<OutputRanking> rankings = rank_parameters(study);
+    const SensitivityRunInfo run{TVID_VERSION, cmd.common.command_line, threads, seconds};
+    write_sensitivity_report(dir, study, rankings, run);
+    if (cmd.common.json) {
+        std::cout << sensitivity_json(study, rankings, run).dump(2) << std::endl;
+    } else if (!cmd.common.quiet) {
+        std::cout << sensitivity_summary_text(study, rankings, run, dir.string()) << std::flush;
+    }
+    return 0;
+}
+
+}  // namespace tvid::cli

@@ -1,0 +1,200 @@
+#include "tvid/report/sensitivity_report.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+
+#include "tvid/io/atomic_file.hpp"
+
+namespace tvid {
+
+namespace {
+
+using nlohmann::json;
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// JSON has no NaN or infinity: such values are written as null.
+json number(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
+
+// CSV cell: NaN is empty, infinities are inf/-inf (docs/report-format.md, conventions).
+std::string fmt(double v, const char* format = "%.10g") {
+    if (!std::isfinite(v)) return std::isnan(v) ? "" : (v > 0 ? "inf" : "-inf");
+    char buf[40];
+    std::snprintf(buf, sizeof buf, format, v == 0.0 ? 0.0 : v);  // no "-0" for p·0 with p < 0
+    return buf;
+}
+
+// The shortest text that reads back to exactly v (parameter values).
+std::string exact(double v) {
+    if (!std::isfinite(v)) return fmt(v);
+    char buf[40];
+    const auto end = std::to_chars(buf, buf + sizeof buf, v).ptr;
+    return std::string(buf, end);
+}
+
+// Sample i of a series; NaN past its end (a window whose simulation stopped early).
+double at(const std::vector<double>& series, std::size_t i) { return i < series.size() ? series[i] : kNaN; }
+
+template <class Visit>
+void for_each_window(const SensitivityStudy& study, Visit&& visit) {
+    for (const WindowSensitivity& w : study.estimation) visit(w, "estimation");
+    for (const WindowSensitivity& w : study.validation) visit(w, "validation");
+}
+
+}  // namespace
+
+std::size_t SensitivityStudy::samples() const {
+    std::size_t n = 0;
+    for_each_window(*this, [&](const WindowSensitivity& w, const char*) { n += w.time.size(); });
+    return n;
+}
+
+SensitivityStudy make_sensitivity_study(const IdentificationProblem& problem, const std::vector<double>& values,
+                                        std::vector<WindowSensitivity> estimation,
+                                        std::vector<WindowSensitivity> validation) {
+    const Experiment& ex = problem.experiment();
+    SensitivityStudy study;
+    study.experiment = ex.name;
+    study.model = ex.network.preset;
+    for (const ParameterSetting& p : ex.parameters) study.parameters.push_back(p.name);
+    study.values = values;
+    study.free = problem.free_indices();
+    for (const ChannelBinding& o : ex.outputs) study.outputs.push_back(o.model_name);
+    study.estimation = std::move(estimation);
+    study.validation = std::move(validation);
+    return study;
+}
+
+std::vector<OutputRanking> rank_parameters(const SensitivityStudy& study) {
+    std::vector<OutputRanking> rankings;
+    for (std::size_t k = 0; k < study.outputs.size(); ++k) {
+        OutputRanking r;
+        r.output = study.outputs[k];
+        r.samples = study.samples();
+        for (std::size_t j = 0; j < study.free.size(); ++j) {
+            // Σ (∂y/∂p_j)² over every scored sample; the scaled sum is p_j² times it.
+            double sum_sq = 0.0;
+            for_each_window(study, [&](const WindowSensitivity& w, const char*) {
+                for (std::size_t i = 0; i < w.time.size(); ++i) {
+                    const double d = at(w.dydp[k][j], i);
+                    sum_sq += d * d;
+                }
+            });
+            ParameterRank p;
+            p.free_index = j;
+            p.parameter = study.parameters[study.free[j]];
+            p.value = study.values[study.free[j]];
+            p.rms_raw = r.samples > 0 ? std::sqrt(sum_sq / static_cast<double>(r.samples)) : 0.0;
+            p.rms_scaled = std::abs(p.value) * p.rms_raw;  // RMS of p_j ∂y/∂p_j
+            r.ranks.push_back(p);
+        }
+        // Largest scaled sensitivity first; a NaN (unknown) ranks last.
+        std::stable_sort(r.ranks.begin(), r.ranks.end(), [](const ParameterRank& a, const ParameterRank& b) {
+            if (std::isnan(b.rms_scaled)) return !std::isnan(a.rms_scaled);
+            return a.rms_scaled > b.rms_scaled;
+        });
+        const double largest = r.ranks.empty() ? 0.0 : r.ranks.front().rms_scaled;
+        for (std::size_t n = 0; n < r.ranks.size(); ++n) {
+            r.ranks[n].rank = static_cast<int>(n) + 1;
+            r.ranks[n].relative = largest > 0 ? r.ranks[n].rms_scaled / largest : kNaN;
+        }
+        rankings.push_back(std::move(r));
+    }
+    return rankings;
+}
+
+std::string sensitivity_csv(const SensitivityStudy& study) {
+    std::ostringstream out;
+    out << "window,time,output,y";
+    for (std::size_t j : study.free) out << ",d_" << study.parameters[j];
+    for (std::size_t j : study.free) out << ",s_" << study.parameters[j];
+    out << '\n';
+    for_each_window(study, [&](const WindowSensitivity& w, const char*) {
+        for (std::size_t i = 0; i < w.time.size(); ++i) {
+            for (std::size_t k = 0; k < study.outputs.size(); ++k) {
+                // labels hold no comma
+                out << w.window->label << ',' << fmt(w.time[i]) << ',' << study.outputs[k] << ','
+                    << fmt(at(w.output[k], i));
+                for (std::size_t j = 0; j < study.free.size(); ++j) out << ',' << fmt(at(w.dydp[k][j], i));
+                for (std::size_t j = 0; j < study.free.size(); ++j)
+                    out << ',' << fmt(study.values[study.free[j]] * at(w.dydp[k][j], i));
+                out << '\n';
+            }
+        }
+    });
+    return out.str();
+}
+
+std::string ranking_csv(const std::vector<OutputRanking>& rankings) {
+    std::ostringstream out;
+    out << "output,rank,parameter,value,rms_scaled,relative,rms_raw\n";
+    for (const OutputRanking& r : rankings)
+        for (const ParameterRank& p : r.ranks)
+            out << r.output << ',' << p.rank << ',' << p.parameter << ',' << exact(p.value) << ','
+                << fmt(p.rms_scaled) << ',' << fmt(p.relative) << ',' << fmt(p.rms_raw) << '\n';
+    return out.str();
+}
+
+json sensitivity_json(const SensitivityStudy& study, const std::vector<OutputRanking>& rankings,
+                      const SensitivityRunInfo& run) {
+    json parameters = json::array();
+    for (std::size_t i = 0; i < study.parameters.size(); ++i) {
+        const bool is_free = std::find(study.free.begin(), study.free.end(), i) != study.free.end();
+        parameters.push_back(json{{"name", study.parameters[i]}, {"value", number(study.values[i])}, {"fixed", !is_free}});
+    }
+    json windows = json::array();
+    for_each_window(study, [&](const WindowSensitivity& w, const char* split) {
+        windows.push_back(json{{"window", w.window->label},
+                               {"split", split},
+                               {"samples", w.time.size()},
+                               {"status", to_string(w.status)},
+                               {"problem", w.problem}});
+    });
+    json ranking = json::object();
+    for (const OutputRanking& r : rankings) {
+        json ranks = json::array();
+        for (const ParameterRank& p : r.ranks)
+            ranks.push_back(json{{"rank", p.rank},
+                                 {"parameter", p.parameter},
+                                 {"value", number(p.value)},
+                                 {"rms_scaled", number(p.rms_scaled)},
+                                 {"rms_raw", number(p.rms_raw)},
+                                 {"relative", number(p.relative)}});
+        ranking[r.output] = ranks;
+    }
+    json free_names = json::array();
+    for (std::size_t j : study.free) free_names.push_back(study.parameters[j]);
+    return json{{"tool", "tvid"},
+                {"version", run.version},
+                {"command", run.command_line},
+                {"experiment", study.experiment},
+                {"model", study.model},
+                {"parameters", parameters},
+                {"free_parameters", free_names},
+                {"outputs", study.outputs},
+                {"windows", windows},
+                {"samples", study.samples()},
+                {"ranking", ranking},
+                {"threads", run.threads},
+                {"wall_time_s", run.wall_seconds}};
+}
+
+void write_sensitivity_report(const std::filesystem::path& dir, const SensitivityStudy& study,
+                              const std::vector<OutputRanking>& rankings, const SensitivityRunInfo& run) {
+    std::error_code ec;
+    std::filesystem::create_directories(dir, ec);
+    if (ec) throw std::runtime_error("cannot create the sensitivity directory " + dir.string() + ": " + ec.message());
+    // An earlier run's sensitivity.json would vouch for files this run is about to replace.
+    std::filesystem::remove(dir / "sensitivity.json", ec);
+    if (ec) throw std::runtime_error("cannot replace " + (dir / "sensitivity.json").string() + ": " + ec.message());
+    write_file_atomically(dir / "sensitivity.csv", sensitivity_csv(study));
+    write_file_atomically(dir / "ranking.csv", ranking_csv(rankings));
+    write_file_atomically(dir / "sensitivity.json", sensitivity_json(study, rankings, run).dump(2) + "\n");
+}
+
+}  // namespace tvid
