@@ -23,6 +23,7 @@ struct FitCommand {
     std::string output_dir;             ///< -o DIR (overrides report.dir)
     std::optional<std::uint64_t> seed;
     std::string optimizer;              ///< --optimizer NAME (overrides estimation.optimizer)
+    bool force = false;                 ///< --force: replace a report already in the directory
 };
 
 struct EvaluateCommand {
@@ -38,10 +39,34 @@ struct SensitivityCommand {
     bool validation = false;            ///< --validation: the validation windows too
 };
 
+struct CheckCommand {
+    std::string report_dir;             ///< REPORT_DIR written by `tvid fit`
+    std::string reference;              ///< --reference REF.json
+    std::string write_reference;        ///< --write-reference REF.json: make a reference instead
+    double rel = 0.01;                  ///< --rel: the default relative tolerance written
+    bool quiet = false;                 ///< only the final line
+    bool json = false;                  ///< the rows as JSON
+};
+
 int run_fit_command(const FitCommand& cmd);
 int run_simulate_command(const EvaluateCommand& cmd);
 int run_validate_command(const EvaluateCommand& cmd);
 int run_sensitivity_command(const SensitivityCommand& cmd);
 int run_models_command(bool json);
+int run_check_command(const CheckCommand& cmd);
+
+// `tvid batch`: many recordings and/or cycles of one experiment, one row per job.
+struct BatchCommand {
+    CommonOptions common;
+    std::string output_dir;                 ///< -o DIR (default: the report directory + "-batch")
+    std::optional<std::uint64_t> seed;
+    std::vector<std::string> data_globs;    ///< --data 'recordings/*.csv' (repeatable)
+    std::string data_list;                  ///< --data-list FILE: one CSV per line
+    std::string cycles;                     ///< --cycles 3-9 or 3,5,7
+    bool no_validation = false;             ///< --no-validation
+    bool resume = false;                    ///< --resume: skip jobs already in batch.csv
+    bool force = false;                     ///< --force: replace an existing batch.csv
+};
+int run_batch_command(const BatchCommand& cmd);
 
 }  // namespace tvid::cli

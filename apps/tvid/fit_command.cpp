@@ -8,6 +8,7 @@
 #include "tvid/estimation/identification_problem.hpp"
 #include "tvid/experiment/experiment.hpp"
 #include "tvid/fit/fit_run.hpp"
+#include "tvid/report/report_directory.hpp"
 #include "tvid/report/report_writer.hpp"
 #include "tvid/util/input_error.hpp"
 
@@ -33,6 +34,7 @@ int run_fit_command(const FitCommand& cmd) {
     if (problem.dimension() == 0)
         throw InputError(ex.file.string(), 0, "parameters", "every parameter is fixed: there is nothing to identify");
     const std::filesystem::path dir = report_directory(ex, cmd.output_dir);
+    prepare_report_directory(dir, cmd.force);  // before the fit: refuse early, not after it
 
     FitOptions options;
     options.threads = cmd.common.threads;

@@ -41,6 +41,7 @@ int main(int argc, char** argv) {
     fit_cmd->add_option("-o,--output", fit.output_dir, "report directory (default: report.dir or results/NAME)");
     fit_cmd->add_option("--seed", fit.seed, "random seed of the optimizer");
     fit_cmd->add_option("--optimizer", fit.optimizer, "pso or lm (overrides estimation.optimizer)");
+    fit_cmd->add_flag("--force", fit.force, "replace a report already in the report directory");
 
     EvaluateCommand simulate;
     auto* sim_cmd = app.add_subcommand("simulate", "simulate every window and print measured vs simulated as CSV");
@@ -63,6 +64,31 @@ int main(int argc, char** argv) {
                          "output directory (default: report.dir or results/NAME, then /sensitivity)");
     sens_cmd->add_flag("--validation", sensitivity.validation, "include the validation windows");
 
+    CheckCommand check;
+    auto* check_cmd = app.add_subcommand("check", "compare a fit report with a reference of expected values (CI)");
+    check_cmd->add_option("report", check.report_dir, "report directory written by tvid fit")->required();
+    auto* reference_opt = check_cmd->add_option("--reference", check.reference, "reference file (JSON) to check against");
+    auto* write_opt = check_cmd->add_option("--write-reference", check.write_reference,
+                                            "write a reference from this known-good report instead");
+    reference_opt->excludes(write_opt);
+    check_cmd->add_option("--rel", check.rel, "default relative tolerance written (default 0.01)")
+        ->needs(write_opt)
+        ->check(CLI::NonNegativeNumber);
+    check_cmd->add_flag("-q,--quiet", check.quiet, "print only the final line");
+    check_cmd->add_flag("--json", check.json, "print the checks as JSON");
+
+    BatchCommand batch;
+    auto* batch_cmd = app.add_subcommand("batch", "fit the experiment to many recordings and/or cycles, one row per job");
+    add_common(batch_cmd, batch.common);
+    batch_cmd->add_option("-o,--output", batch.output_dir, "output directory (default: the report directory + -batch)");
+    batch_cmd->add_option("--seed", batch.seed, "random seed of the optimizer, the same for every job");
+    batch_cmd->add_option("--data", batch.data_globs, "recordings: files, or globs such as 'recordings/*.csv'");
+    batch_cmd->add_option("--data-list", batch.data_list, "file with one recording per line (relative to it)");
+    batch_cmd->add_option("--cycles", batch.cycles, "fit each cycle on its own: 3-9 or 3,5,7");
+    batch_cmd->add_flag("--no-validation", batch.no_validation, "no validation (else the next cycle validates)");
+    batch_cmd->add_flag("--resume", batch.resume, "continue an interrupted batch: skip the jobs in batch.csv");
+    batch_cmd->add_flag("--force", batch.force, "replace an existing batch.csv");
+
     bool models_json = false;
     auto* models_cmd = app.add_subcommand("models", "list the preset models with their parameters, inputs, outputs");
     models_cmd->add_flag("--json", models_json, "as JSON");
@@ -77,12 +103,16 @@ int main(int argc, char** argv) {
     fit.common.command_line = simulate.common.command_line = validate.common.command_line =
         sensitivity.common.command_line = command_line;
 
+    batch.common.command_line = command_line;
+
     try {
+        if (*batch_cmd) return run_batch_command(batch);
         if (*fit_cmd) return run_fit_command(fit);
         if (*sim_cmd) return run_simulate_command(simulate);
         if (*val_cmd) return run_validate_command(validate);
         if (*sens_cmd) return run_sensitivity_command(sensitivity);
         if (*models_cmd) return run_models_command(models_json);
+        if (*check_cmd) return run_check_command(check);
     } catch (const tvid::InputError& e) {
         std::cerr << e.what() << '\n';
         return 2;

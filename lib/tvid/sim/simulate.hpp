@@ -49,10 +49,21 @@ private:
 };
 
 /// Steppers and buffers reused from one simulation to the next (one per thread).
+/// The steppers resize their stage buffers whenever the state's size changes (odeint's
+/// default resizes only once): the same buffers serve the plain state and augmented
+/// sensitivity states of different widths. The check is one size comparison per step.
 struct SimulationBuffers {
+    using State = std::vector<double>;
+    using Rk4 = boost::numeric::odeint::runge_kutta4<State, double, State, double,
+                                                     boost::numeric::odeint::range_algebra,
+                                                     boost::numeric::odeint::default_operations,
+                                                     boost::numeric::odeint::always_resizer>;
+    using Dopri5 = boost::numeric::odeint::runge_kutta_dopri5<State, double, State, double,
+                                                              boost::numeric::odeint::range_algebra,
+                                                              boost::numeric::odeint::default_operations,
+                                                              boost::numeric::odeint::always_resizer>;
     std::vector<double> u;
-    boost::numeric::odeint::runge_kutta4<std::vector<double>> rk4;
-    using Dopri5 = boost::numeric::odeint::runge_kutta_dopri5<std::vector<double>>;
+    Rk4 rk4;
     Dopri5 dopri5;
     StiffBuffers stiff;  ///< rosenbrock4
     // Running totals over every simulate_samples call, for benchmarks.

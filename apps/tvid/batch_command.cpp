@@ -1,0 +1,229 @@
+// `tvid batch EXP.yaml`: the experiment fitted to many recordings and/or engine cycles,
+// jobs in parallel, one row per job in batch.csv and the spread in batch_summary.json.
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <map>
+#include <optional>
+
+#include "commands.hpp"
+#include "tvid/batch/batch_plan.hpp"
+#include "tvid/batch/batch_runner.hpp"
+#include "tvid/batch/batch_summary.hpp"
+#include "tvid/batch/batch_table.hpp"
+#include "tvid/estimation/identification_problem.hpp"
+#include "tvid/estimation/parallel_evaluator.hpp"
+#include "tvid/io/atomic_file.hpp"
+#include "tvid/util/input_error.hpp"
+
+namespace tvid::cli {
+
+std::vector<Override> parse_overrides(const std::vector<std::string>& texts);
+std::filesystem::path report_directory(const Experiment& ex, const std::string& output_dir);
+
+namespace {
+
+// The experiment as the batch's jobs see it: as written, or else with the first job's
+// overrides (an experiment whose data.file is only a placeholder for the recordings).
+Experiment load_batch_experiment(const BatchSettings& settings, const std::vector<BatchJob>& jobs) {
+    try {
+        return load_experiment(settings.experiment, settings.overrides);
+    } catch (const InputError&) {
+        if (jobs.empty() || jobs.front().overrides.empty()) throw;
+        std::vector<Override> first = settings.overrides;
+        first.insert(first.end(), jobs.front().overrides.begin(), jobs.front().overrides.end());
+        try {
+            return load_experiment(settings.experiment, first);
+        } catch (const InputError&) {
+        }
+        throw;
+    }
+}
+
+// The default output directory: the report directory followed by "-batch".
+std::filesystem::path batch_directory(const Experiment& ex, const std::string& output_dir) {
+    if (!output_dir.empty()) return output_dir;
+    std::string dir = report_directory(ex, "").string();
+    while (dir.size() > 1 && dir.back() == '/') dir.pop_back();
+    return dir + "-batch";
+}
+
+std::string header_line(const BatchColumns& columns) { return batch_csv_line(columns.header()); }
+
+// The rows of an earlier run of this batch that --resume keeps, by job. Refuses a file
+// written for other columns or other jobs.
+std::map<std::size_t, BatchRow> resumed_rows(const std::filesystem::path& file, const BatchColumns& columns,
+                                             const std::vector<BatchJob>& jobs, bool quiet) {
+    std::map<std::size_t, BatchRow> kept;
+    const std::optional<BatchFile> existing = read_batch_file(file);
+    if (!existing) return kept;
+    if (existing->header != columns.header())
+        throw InputError(file.string(), 1, "", "the columns differ from this batch's (another experiment or --set?): "
+                                               "use another -o, or --force to start over");
+    std::map<std::string, std::size_t> job_of;
+    for (std::size_t j = 0; j < jobs.size(); ++j) job_of[jobs[j].id] = j;
+    std::size_t redo = existing->incomplete_rows;
+    for (const BatchRow& row : existing->rows) {
+        const auto job = job_of.find(row[0]);
+        if (job == job_of.end())
+            throw InputError(file.string(), 0, "", "job '" + row[0] + "' is not part of this batch (other --data or "
+                                                   "--cycles?): use another -o, or --force to start over");
+        if (is_batch_status(row[1]) && !kept.count(job->second))
+            kept.emplace(job->second, row);
+        else
+            ++redo;
+    }
+    if (!quiet)
+        std::cerr << "tvid batch: resuming " << file.string() << ": " << kept.size() << " of " << jobs.size()
+                  << " jobs done" << (redo ? ", " + std::to_string(redo) + " incomplete row(s) dropped" : "") << '\n';
+    return kept;
+}
+
+std::string cell_or_dash(const std::string& cell) { return cell.empty() ? "-" : cell; }
+
+std::string short_number(const std::string& cell, const char* format) {
+    const double v = batch_cell_value(cell);
+    if (!std::isfinite(v)) return cell_or_dash(cell);
+    char buf[32];
+    std::snprintf(buf, sizeof buf, format, v);
+    return buf;
+}
+
+// `[k/N] id status cost C Q q % wall s` (bad input and failures: the message instead).
+std::string progress_line(std::size_t done, std::size_t total, const BatchColumns& columns, const BatchRow& row,
+                          bool single_output) {
+    std::string line = "[" + std::to_string(done) + "/" + std::to_string(total) + "] " + row[0] + "  " + row[1];
+    if (row[1] == kBatchOk) {
+        line += "  cost " + short_number(row[columns.index("cost")], "%.6g");
+        if (single_output) {
+            line += "  Q " + short_number(row[columns.index("q_estimation")], "%.2f") + " %";
+            if (!row[columns.index("q_validation")].empty())
+                line += " (validation " + short_number(row[columns.index("q_validation")], "%.2f") + " %)";
+        }
+    } else {
+        line += "  " + row[2];
+    }
+    return line + "  " + short_number(row[columns.index("wall_seconds")], "%.1f") + " s";
+}
+
+std::string spread_line(const ColumnSpread& s) {
+    char buf[160];
+    if (s.count == 0) {
+        std::snprintf(buf, sizeof buf, "  %-26s (no successful job)\n", s.column.c_str());
+    } else if (s.count == 1) {
+        std::snprintf(buf, sizeof buf, "  %-26s %-14.8g                   (1 job)\n", s.column.c_str(), s.mean);
+    } else {
+        std::snprintf(buf, sizeof buf, "  %-26s %-14.8g ± %-14.4g  [%.8g, %.8g]\n", s.column.c_str(), s.mean,
+                      s.std_dev, s.min, s.max);
+    }
+    return buf;
+}
+
+std::string batch_summary_text(const BatchSummary& s, const std::string& name, const std::filesystem::path& dir) {
+    char head[256];
+    std::snprintf(head, sizeof head,
+                  "tvid batch %s: %zu jobs (%zu ok, %zu failed, %zu bad input), %zu run in %.2f s on %d thread%s",
+                  name.c_str(), s.jobs, s.ok, s.failed, s.bad_input, s.run, s.wall_seconds, s.threads,
+                  s.threads == 1 ? "" : "s");
+    std::string out = head;
+    if (std::isfinite(s.jobs_per_second)) {
+        char rate[64];
+        std::snprintf(rate, sizeof rate, ", %.3g jobs/s", s.jobs_per_second);
+        out += rate;
+    }
+    out += "\n  over the ok jobs:          mean             std               [min, max]\n";
+    for (const ColumnSpread& p : s.parameters) out += spread_line(p);
+    for (const ColumnSpread& m : s.metrics) out += spread_line(m);
+    return out + "  batch: " + (dir / "batch.csv").string() + "\n";
+}
+
+}  // namespace
+
+int run_batch_command(const BatchCommand& cmd) {
+    using clock = std::chrono::steady_clock;
+    const auto start = clock::now();
+    BatchSettings settings{cmd.common.experiment, parse_overrides(cmd.common.overrides), cmd.seed};
+
+    // The jobs: recordings × cycles, each a set of overrides on the experiment.
+    BatchRequest request;
+    for (const std::string& pattern : cmd.data_globs) {
+        const auto files = expand_recording_glob(pattern);
+        request.recordings.insert(request.recordings.end(), files.begin(), files.end());
+    }
+    if (!cmd.data_list.empty()) {
+        const auto files = read_recording_list(cmd.data_list);
+        request.recordings.insert(request.recordings.end(), files.begin(), files.end());
+    }
+    if (!cmd.cycles.empty()) request.cycles = parse_cycle_list(cmd.cycles);
+    request.validation = !cmd.no_validation;
+    const std::vector<BatchJob> jobs = plan_batch_jobs(request);
+
+    const Experiment ex = load_batch_experiment(settings, jobs);
+    const IdentificationProblem problem(ex);
+    if (problem.dimension() == 0)
+        throw InputError(ex.file.string(), 0, "parameters", "every parameter is fixed: there is nothing to identify");
+    if (!request.cycles.empty() && request.recordings.empty())
+        check_cycles_in_recording(ex, request.cycles, request.validation);
+    std::vector<std::string> outputs;
+    for (const ChannelBinding& o : ex.outputs) outputs.push_back(o.model_name);
+    const BatchColumns columns(problem.free_names(), outputs);
+
+    // The output directory: a fresh batch.csv, or the rows of an interrupted one (--resume).
+    const std::filesystem::path dir = batch_directory(ex, cmd.output_dir);
+    const std::filesystem::path table = dir / "batch.csv", summary_file = dir / "batch_summary.json";
+    std::error_code ec;
+    std::filesystem::create_directories(dir, ec);
+    if (ec) throw std::runtime_error("cannot create " + dir.string() + ": " + ec.message());
+    if (!cmd.resume && !cmd.force && std::filesystem::exists(table))
+        throw InputError(table.string(), 0, "",
+                         "a batch is already here: use --resume to continue it or --force to start over");
+    std::map<std::size_t, BatchRow> rows = cmd.resume ? resumed_rows(table, columns, jobs, cmd.common.quiet)
+                                                      : std::map<std::size_t, BatchRow>{};
+    std::filesystem::remove(summary_file, ec);  // its presence marks a complete batch
+    std::string kept = header_line(columns);
+    for (const auto& [job, row] : rows) kept += batch_csv_line(row);
+    write_file_atomically(table, kept);
+
+    std::vector<std::size_t> pending;
+    for (std::size_t j = 0; j < jobs.size(); ++j)
+        if (!rows.count(j)) pending.push_back(j);
+    const int threads = std::max(1, std::min(resolve_thread_count(cmd.common.threads),
+                                             static_cast<int>(std::max<std::size_t>(1, pending.size()))));
+
+    // Every finished row is on disk before the next one is reported.
+    BatchAppender appender(table);
+    std::size_t done = 0;
+    run_batch_jobs(settings, jobs, pending, columns, threads, [&](std::size_t job, const BatchRow& row) {
+        appender.append(row);
+        rows[job] = row;
+        ++done;
+        if (!cmd.common.quiet)
+            std::cerr << progress_line(done, pending.size(), columns, row, outputs.size() == 1) << '\n';
+    });
+
+    // The final table in job order, then the summary last.
+    std::vector<BatchRow> ordered;
+    std::string text = header_line(columns);
+    for (const auto& [job, row] : rows) {
+        ordered.push_back(row);
+        text += batch_csv_line(row);
+    }
+    write_file_atomically(table, text);
+    const double seconds = std::chrono::duration<double>(clock::now() - start).count();
+    const BatchSummary summary = summarize_batch(columns, ordered, pending.size(), seconds, threads);
+    const BatchRunContext context{TVID_VERSION, cmd.common.command_line, cmd.common.experiment, ex.name, dir.string()};
+    const nlohmann::json json = batch_summary_json(summary, context);
+    write_file_atomically(summary_file, json.dump(2) + "\n");
+
+    if (cmd.common.json) {
+        std::cout << json.dump(2) << std::endl;
+    } else if (!cmd.common.quiet) {
+        std::cout << batch_summary_text(summary, ex.name, dir) << std::flush;
+    }
+    return summary.failed + summary.bad_input > 0 ? 1 : 0;
+}
+
+}  // namespace tvid::cli

@@ -1,0 +1,151 @@
+// `tvid check REPORT_DIR --reference REF.json`: a fit report against a reference of
+// expected values and tolerances, as a table of PASS/FAIL rows (CI regression checks).
+// `--write-reference REF.json` makes such a reference from a known-good report.
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <sstream>
+
+#include "commands.hpp"
+#include "tvid/io/atomic_file.hpp"
+#include "tvid/report/reference_check.hpp"
+#include "tvid/util/input_error.hpp"
+
+namespace tvid::cli {
+
+namespace {
+
+std::string number(double v, int digits = 6) {
+    char buf[40];
+    std::snprintf(buf, sizeof buf, "%.*g", digits, v);
+    return buf;
+}
+
+std::string value_text(const nlohmann::json& v) {
+    if (v.is_null()) return "-";
+    if (v.is_string()) return v.get<std::string>();
+    if (v.is_number()) return number(v.get<double>());
+    return v.dump();
+}
+
+// The actual value with enough digits to show how far it is from what it is compared
+// with: 99.99989 against a minimum of 99.9999, not "99.9999".
+std::string actual_text(const CheckRow& r) {
+    if (!r.actual.is_number()) return value_text(r.actual);
+    const double x = r.actual.get<double>();
+    const std::optional<double> reference = r.expectation.reference_value(r.actual);
+    int digits = 6;
+    while (reference && digits < 12 && std::abs(std::stod(number(x, digits)) - x) > 0.01 * std::abs(x - *reference))
+        ++digits;
+    return number(x, digits);
+}
+
+std::string expected_text(const Expectation& e) {
+    if (!e.equals.is_null()) return value_text(e.equals);
+    std::string out = e.expected ? number(*e.expected) : "";
+    if (!out.empty() && (e.min || e.max)) out += ", ";
+    if (e.min && e.max) return out + "in [" + number(*e.min) + ", " + number(*e.max) + "]";
+    if (e.min) return out + ">= " + number(*e.min);
+    if (e.max) return out + "<= " + number(*e.max);
+    return out;
+}
+
+std::string tolerance_text(const Expectation& e) {
+    if (!e.expected) return "-";
+    const Tolerance& t = e.tolerance;
+    const std::string rel = number(100 * t.rel) + " %";
+    if (t.abs > 0 && t.rel > 0) return number(t.abs) + " + " + rel;
+    if (t.abs > 0) return number(t.abs);
+    if (t.rel > 0) return rel;
+    return "exact";
+}
+
+std::string deviation_text(const std::optional<double>& d) {
+    if (!d) return "-";
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%+.3g %%", 100 * *d);
+    return buf;
+}
+
+std::string result_text(const CheckRow& r) { return (r.pass ? "PASS" : "FAIL") + (r.note.empty() ? "" : " (" + r.note + ")"); }
+
+// The verdict: also the only line `--quiet` prints.
+std::string final_line(const CheckResult& result) {
+    const std::string where = " (" + result.report_dir + " against " + result.reference_file + ")";
+    const std::size_t failed = result.failures();
+    if (failed == 0) return "tvid check: PASS, all " + std::to_string(result.rows.size()) + " checks hold" + where;
+    std::string names;
+    std::size_t listed = 0;
+    for (const CheckRow& r : result.rows) {
+        if (r.pass) continue;
+        if (listed++ == 5) {
+            names += ", ...";
+            break;
+        }
+        names += (names.empty() ? "" : ", ") + r.quantity;
+    }
+    return "tvid check: FAIL, " + std::to_string(failed) + " of " + std::to_string(result.rows.size()) +
+           " checks failed: " + names + where;
+}
+
+// Every check as a row; the failing rows first.
+std::string table_text(const CheckResult& result) {
+    std::vector<const CheckRow*> order;
+    for (const CheckRow& r : result.rows) order.push_back(&r);
+    std::stable_partition(order.begin(), order.end(), [](const CheckRow* r) { return !r->pass; });
+
+    std::vector<std::vector<std::string>> cells = {{"quantity", "expected", "tolerance", "actual", "deviation", "result"}};
+    for (const CheckRow* r : order)
+        cells.push_back({r->quantity, expected_text(r->expectation), tolerance_text(r->expectation),
+                         actual_text(*r), deviation_text(r->deviation), result_text(*r)});
+    std::vector<std::size_t> width(cells[0].size(), 0);
+    for (const auto& row : cells)
+        for (std::size_t c = 0; c < row.size(); ++c) width[c] = std::max(width[c], row[c].size());
+
+    std::ostringstream out;
+    out << "tvid check " << result.report_dir << " against " << result.reference_file << ": " << result.rows.size()
+        << " checks\n";
+    for (const auto& row : cells) {
+        std::string line = " ";
+        for (std::size_t c = 0; c < row.size(); ++c) {
+            line += ' ' + row[c];
+            if (c + 1 < row.size()) line += std::string(width[c] - row[c].size() + 1, ' ');
+        }
+        out << line << '\n';
+    }
+    return out.str();
+}
+
+int write_reference(const CheckCommand& cmd) {
+    const FitReportFiles report = read_fit_report(cmd.report_dir);
+    const nlohmann::ordered_json reference = reference_from_report(report, cmd.rel);
+    write_file_atomically(cmd.write_reference, reference.dump(2) + "\n");
+    // Read back: what was written is a valid reference that this report passes.
+    const CheckResult result = check_report(report, read_reference(cmd.write_reference));
+    if (!cmd.quiet)
+        std::cout << "tvid check: wrote " << cmd.write_reference << " with " << result.rows.size() << " checks from "
+                  << cmd.report_dir << "\n  " << reference["description"].get<std::string>() << '\n';
+    return result.passed() ? 0 : 1;
+}
+
+}  // namespace
+
+int run_check_command(const CheckCommand& cmd) {
+    if (!cmd.write_reference.empty()) return write_reference(cmd);
+    if (cmd.reference.empty())
+        throw InputError("", 0, "tvid check", "give --reference REF.json, or --write-reference REF.json to make one");
+    const Reference reference = read_reference(cmd.reference);
+    const FitReportFiles report = read_fit_report(cmd.report_dir);
+    const CheckResult result = check_report(report, reference);
+    if (cmd.json) {
+        std::cout << check_result_json(result).dump(2) << std::endl;
+    } else {
+        if (!cmd.quiet) std::cout << table_text(result);
+        std::cout << final_line(result) << std::endl;
+    }
+    return result.passed() ? 0 : 1;
+}
+
+}  // namespace tvid::cli

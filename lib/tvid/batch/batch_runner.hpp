@@ -1,0 +1,23 @@
+#pragma once
+// Runs the pending jobs of a batch on a pool of threads, one job per thread at a time,
+// and hands each finished row to a callback (called by one thread at a time, in the
+// order the jobs finish).
+
+#include <cstddef>
+#include <functional>
+#include <vector>
+
+#include "tvid/batch/batch_job.hpp"
+
+namespace tvid {
+
+using BatchJobFinished = std::function<void(std::size_t job, const BatchRow& row)>;
+
+/// Runs jobs[i] for every i in `pending` on min(threads, pending) threads (threads <= 0:
+/// all cores). If the callback throws, no further job is started and the first such
+/// exception is rethrown once the running jobs are done.
+void run_batch_jobs(const BatchSettings& settings, const std::vector<BatchJob>& jobs,
+                    const std::vector<std::size_t>& pending, const BatchColumns& columns, int threads,
+                    const BatchJobFinished& on_finished);
+
+}  // namespace tvid

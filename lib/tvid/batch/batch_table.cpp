@@ -1,0 +1,167 @@
+#include "tvid/batch/batch_table.hpp"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+
+namespace tvid {
+
+namespace {
+
+constexpr const char* kMetrics[] = {"q", "fit", "max_residual_ratio"};
+constexpr const char* kSplits[] = {"estimation", "validation"};
+
+[[noreturn]] void fail(const std::filesystem::path& file, const char* what) {
+    throw std::runtime_error("cannot write " + file.string() + ": " + what + ": " + std::strerror(errno));
+}
+
+}  // namespace
+
+bool is_batch_status(const std::string& status) {
+    return status == kBatchOk || status == kBatchFailed || status == kBatchBadInput;
+}
+
+BatchColumns::BatchColumns(std::vector<std::string> parameters, std::vector<std::string> outputs)
+    : parameters_(std::move(parameters)), outputs_(std::move(outputs)) {
+    header_ = {"id", "status", "message"};
+    header_.insert(header_.end(), parameters_.begin(), parameters_.end());
+    header_.push_back("cost");
+    for (const char* split : kSplits)
+        for (const std::string& out : outputs_)
+            for (const char* m : kMetrics) header_.push_back(metric(m, split, out));
+    header_.push_back("evaluations");
+    header_.push_back("wall_seconds");
+}
+
+std::size_t BatchColumns::index(const std::string& name) const {
+    const auto it = std::find(header_.begin(), header_.end(), name);
+    if (it == header_.end()) throw std::out_of_range("batch.csv has no column " + name);
+    return static_cast<std::size_t>(it - header_.begin());
+}
+
+std::string BatchColumns::metric(const std::string& metric, const std::string& split, const std::string& output) const {
+    return metric + "_" + split + (outputs_.size() > 1 ? "_" + output : "");
+}
+
+BatchRow BatchColumns::row(const std::string& id, const std::string& status, const std::string& message) const {
+    BatchRow r(header_.size());
+    r[0] = id;
+    r[1] = status;
+    r[2] = message;
+    return r;
+}
+
+std::string batch_csv_line(const BatchRow& cells) {
+    std::string line;
+    for (std::size_t i = 0; i < cells.size(); ++i) {
+        if (i) line += ',';
+        const std::string& c = cells[i];
+        if (c.find_first_of(",\"\r\n") == std::string::npos) {
+            line += c;
+            continue;
+        }
+        line += '"';
+        for (char ch : c) line.append(ch == '"' ? "\"\"" : std::string(1, ch));
+        line += '"';
+    }
+    return line + '\n';
+}
+
+std::string batch_number(double value) {
+    if (std::isnan(value)) return "";
+    if (std::isinf(value)) return value > 0 ? "inf" : "-inf";
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.17g", value);
+    return buf;
+}
+
+double batch_cell_value(const std::string& cell) {
+    if (cell.empty()) return std::numeric_limits<double>::quiet_NaN();
+    char* end = nullptr;
+    const double v = std::strtod(cell.c_str(), &end);
+    return end == cell.c_str() + cell.size() ? v : std::numeric_limits<double>::quiet_NaN();
+}
+
+std::optional<BatchFile> read_batch_file(const std::filesystem::path& file) {
+    std::error_code ec;
+    if (!std::filesystem::exists(file, ec)) return std::nullopt;
+    std::ifstream in(file, std::ios::binary);
+    if (!in) throw std::runtime_error("cannot read " + file.string());
+    std::ostringstream buffer;
+    buffer << in.rdbuf();
+    const std::string text = buffer.str();
+
+    // RFC 4180 records: a record ends at a line break outside quotes.
+    BatchFile out;
+    BatchRow record(1);
+    bool quoted = false, header_done = false;
+    for (std::size_t i = 0; i < text.size(); ++i) {
+        const char c = text[i];
+        if (quoted) {
+            if (c == '"' && i + 1 < text.size() && text[i + 1] == '"') {
+                record.back() += '"';
+                ++i;
+            } else if (c == '"') {
+                quoted = false;
+            } else {
+                record.back() += c;
+            }
+        } else if (c == '"') {
+            quoted = true;
+        } else if (c == ',') {
+            record.emplace_back();
+        } else if (c == '\n') {
+            if (!record.empty() && !record.back().empty() && record.back().back() == '\r') record.back().pop_back();
+            if (!header_done) {
+                out.header = record;
+                header_done = true;
+            } else if (record.size() == out.header.size()) {
+                out.rows.push_back(record);
+            } else {
+                ++out.incomplete_rows;
+            }
+            record.assign(1, "");
+        } else {
+            record.back() += c;
+        }
+    }
+    if (record.size() > 1 || !record.front().empty()) ++out.incomplete_rows;  // no final line break: torn
+    return out;
+}
+
+BatchAppender::BatchAppender(const std::filesystem::path& file) : file_(file) {
+    fd_ = ::open(file.c_str(), O_WRONLY | O_APPEND | O_CREAT | O_CLOEXEC, 0644);
+    if (fd_ < 0) fail(file_, "open");
+}
+
+BatchAppender::~BatchAppender() {
+    if (fd_ >= 0) ::close(fd_);
+}
+
+void BatchAppender::append(const BatchRow& row) {
+    const std::string line = batch_csv_line(row);
+    const char* data = line.data();
+    std::size_t left = line.size();
+    while (left > 0) {
+        const ssize_t n = ::write(fd_, data, left);
+        if (n < 0) {
+            if (errno == EINTR) continue;
+            fail(file_, "write");
+        }
+        data += n;
+        left -= static_cast<std::size_t>(n);
+    }
+    if (::fsync(fd_) != 0) fail(file_, "flush");
+}
+
+}  // namespace tvid

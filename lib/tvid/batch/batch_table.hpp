@@ -1,0 +1,85 @@
+#pragma once
+// batch.csv: one row per job (id, status, message, the free parameters, cost, Q, fit %
+// and max residual ratio on estimation and validation, evaluations, wall time). Rows are
+// kept as text, so a row read back for --resume is written again unchanged.
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace tvid {
+
+/// Job statuses: the fit succeeded, the fit ran but did not succeed, the job's input is bad.
+inline constexpr const char* kBatchOk = "ok";
+inline constexpr const char* kBatchFailed = "failed";
+inline constexpr const char* kBatchBadInput = "bad_input";
+
+bool is_batch_status(const std::string& status);
+
+using BatchRow = std::vector<std::string>;  ///< one cell per column of the header
+
+/// The columns of batch.csv for these free parameters and compared outputs. With one
+/// output the metric columns are `q_estimation` …; with several, one set per output
+/// (`q_estimation_OUT` …).
+class BatchColumns {
+public:
+    BatchColumns(std::vector<std::string> parameters, std::vector<std::string> outputs);
+
+    const std::vector<std::string>& header() const { return header_; }
+    const std::vector<std::string>& parameters() const { return parameters_; }
+    std::size_t size() const { return header_.size(); }
+    /// Index of a column by name; throws std::out_of_range when absent.
+    std::size_t index(const std::string& name) const;
+    /// The metric column for a split ("estimation"/"validation"), a metric ("q", "fit",
+    /// "max_residual_ratio") and an output.
+    std::string metric(const std::string& metric, const std::string& split, const std::string& output) const;
+
+    /// A row with id, status and message and every other cell empty.
+    BatchRow row(const std::string& id, const std::string& status, const std::string& message) const;
+
+private:
+    std::vector<std::string> parameters_;
+    std::vector<std::string> outputs_;
+    std::vector<std::string> header_;
+};
+
+/// A row as one CSV line with its newline; cells holding a comma, quote or line break
+/// are quoted (RFC 4180).
+std::string batch_csv_line(const BatchRow& cells);
+
+/// A number with 17 significant digits (reads back exactly); NaN is an empty cell.
+std::string batch_number(double value);
+
+/// A cell as a number; NaN when empty or not a number.
+double batch_cell_value(const std::string& cell);
+
+struct BatchFile {
+    std::vector<std::string> header;
+    std::vector<BatchRow> rows;          ///< complete rows only
+    std::size_t incomplete_rows = 0;     ///< torn or malformed lines that were dropped
+};
+
+/// Reads batch.csv. A row is kept when it ends with a line break and has as many cells
+/// as the header; others (a line torn by an interruption) are counted and dropped.
+/// Returns nothing when the file does not exist; throws std::runtime_error when it
+/// cannot be read.
+std::optional<BatchFile> read_batch_file(const std::filesystem::path& file);
+
+/// Appends rows to batch.csv, each written, flushed and synced to disk before append()
+/// returns, so an interrupted batch keeps every finished job.
+class BatchAppender {
+public:
+    explicit BatchAppender(const std::filesystem::path& file);
+    ~BatchAppender();
+    BatchAppender(const BatchAppender&) = delete;
+    BatchAppender& operator=(const BatchAppender&) = delete;
+    /// Throws std::runtime_error naming the file when it cannot be written.
+    void append(const BatchRow& row);
+
+private:
+    std::filesystem::path file_;
+    int fd_ = -1;
+};
+
+}  // namespace tvid

@@ -1,0 +1,128 @@
+// Nothing lost: a report directory that already holds a run is not overwritten without
+// --force, an unusable report place is bad input before any work, and a fit killed with
+// SIGKILL at any moment leaves every report file either complete or absent.
+#include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+#include <map>
+#include <random>
+#include <thread>
+
+#include "support/run_tvid.hpp"
+#include "support/test_files.hpp"
+
+using namespace tvid::test;
+namespace fs = std::filesystem;
+
+namespace {
+
+// A quick fit: the CVT clearance model, three LM steps, one thread.
+std::vector<std::string> quick_fit(const fs::path& out) {
+    return {"fit", (source_dir() / "configs/cvt_tipin_clean.yaml").string(), "-o", out.string(), "--optimizer", "lm",
+            "--set", "estimation.cost=l2", "--set", "estimation.lm.max_iterations=3", "--threads", "1", "--quiet",
+            "--force"};
+}
+
+// Starts tvid, kills it with SIGKILL after `delay`, and waits for it.
+void run_and_kill(const std::vector<std::string>& args, std::chrono::microseconds delay) {
+    const pid_t pid = ::fork();
+    if (pid == 0) {
+        std::vector<std::string> copy = args;
+        std::string binary = TVID_BINARY;
+        std::vector<char*> argv{binary.data()};
+        for (auto& a : copy) argv.push_back(a.data());
+        argv.push_back(nullptr);
+        const int null = ::open("/dev/null", O_WRONLY);
+        ::dup2(null, 1);
+        ::dup2(null, 2);
+        ::execv(binary.c_str(), argv.data());
+        ::_exit(127);
+    }
+    std::this_thread::sleep_for(delay);
+    ::kill(pid, SIGKILL);
+    int status = 0;
+    ::waitpid(pid, &status, 0);
+}
+
+const char* const kReportFiles[] = {"params.json", "params.csv", "estimation.csv", "validation.csv", "history.csv",
+                                    "summary.json"};
+
+}  // namespace
+
+TEST_CASE("a report directory that holds a run is refused without --force", "[e2e][report]") {
+    TempDir tmp;
+    const fs::path out = tmp.path() / "run";
+    std::vector<std::string> args = quick_fit(out);
+    args.pop_back();  // without --force
+    REQUIRE(run_tvid(args).exit_code == 0);
+    const std::string before = read_text(out / "params.json");
+    const RunResult again = run_tvid(args);
+    CHECK(again.exit_code == 2);
+    CHECK(again.err.find(out.string()) != std::string::npos);
+    CHECK(again.err.find("already holds a fit report") != std::string::npos);
+    CHECK(again.err.find("--force") != std::string::npos);
+    CHECK(std::count(again.err.begin(), again.err.end(), '\n') == 1);  // one line
+    CHECK(read_text(out / "params.json") == before);
+    // With --force it is replaced, and temporary files a killed run left are swept away.
+    const fs::path leftover = out / "params.json.tmp.99999";
+    tmp.write("run/params.json.tmp.99999", "{ torn");
+    REQUIRE(run_tvid(quick_fit(out)).exit_code == 0);
+    CHECK_FALSE(fs::exists(leftover));
+}
+
+TEST_CASE("an unusable report place is bad input before the fit", "[e2e][report]") {
+    TempDir tmp;
+    const fs::path file = tmp.write("not-a-dir", "x");
+    const RunResult is_file = run_tvid(quick_fit(file));
+    CHECK(is_file.exit_code == 2);
+    CHECK(is_file.err.find("is a file") != std::string::npos);
+    const RunResult below_file = run_tvid(quick_fit(file / "report"));  // root or not, this cannot be created
+    CHECK(below_file.exit_code == 2);
+    CHECK(below_file.err.find("cannot create the report directory") != std::string::npos);
+}
+
+TEST_CASE("a fit killed with SIGKILL leaves each report file complete or absent", "[e2e][report]") {
+    TempDir tmp;
+    // The complete report, and how long a run takes.
+    const fs::path reference = tmp.path() / "reference";
+    const auto t0 = std::chrono::steady_clock::now();
+    REQUIRE(run_tvid(quick_fit(reference)).exit_code == 0);
+    const auto run_time = std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::steady_clock::now() - t0);
+    std::map<std::string, std::string> complete;
+    for (const char* name : kReportFiles) complete[name] = read_text(reference / name);
+
+    std::mt19937 random(20261123);
+    std::uniform_int_distribution<long long> moment(0, run_time.count() * 12 / 10);
+    int killed_with_files = 0;
+    for (int k = 0; k < 40; ++k) {
+        // Even runs write over a complete report, odd ones into an empty directory.
+        const fs::path out = tmp.path() / (k % 2 == 0 ? "over" : "fresh-" + std::to_string(k));
+        if (k % 2 == 0 && !fs::exists(out / "summary.json")) fs::copy(reference, out, fs::copy_options::overwrite_existing);
+        run_and_kill(quick_fit(out), std::chrono::microseconds(moment(random)));
+        INFO("run " << k);
+        bool any = false;
+        for (const char* name : kReportFiles) {
+            if (!fs::exists(out / name)) continue;
+            any = true;
+            INFO(name);
+            const std::string text = read_text(out / name);
+            if (std::string(name) == "summary.json") {
+                // Written last: its presence vouches for every other file.
+                const nlohmann::json s = nlohmann::json::parse(text);  // throws on a torn file
+                CHECK(s.contains("cost"));
+                for (const char* other : kReportFiles) CHECK(fs::exists(out / other));
+            } else {
+                CHECK(text == complete[name]);  // the same experiment gives the same bytes
+            }
+        }
+        killed_with_files += any ? 1 : 0;
+    }
+    CHECK(killed_with_files > 0);  // some kills did land while or after files were written
+}
