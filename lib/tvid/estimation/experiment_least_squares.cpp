@@ -27,9 +27,10 @@ std::size_t estimation_residual_count(const Experiment& experiment) {
     return n * experiment.outputs.size();
 }
 
-ExperimentLeastSquares::ExperimentLeastSquares(const IdentificationProblem& problem, int threads, JacobianKind kind)
+ExperimentLeastSquares::ExperimentLeastSquares(const IdentificationProblem& problem, int threads, JacobianKind kind,
+                                               const std::atomic<bool>* stop)
     : problem_(&problem), kind_(kind), sensitivity_(problem), threads_(resolve_thread_count(threads)),
-      residual_count_(estimation_residual_count(problem.experiment())) {
+      residual_count_(estimation_residual_count(problem.experiment())), stop_(stop) {
     for (int t = 0; t < threads_; ++t) {
         workspaces_.push_back(problem.make_workspace());
         if (kind_ == JacobianKind::sensitivity) sensitivity_workspaces_.push_back(sensitivity_.make_workspace());
@@ -41,6 +42,8 @@ ExperimentLeastSquares::ExperimentLeastSquares(const IdentificationProblem& prob
 }
 
 bool ExperimentLeastSquares::residuals(const double* x, double* r) {
+    stopped_ = stop_requested();
+    if (stopped_) return false;
     ++simulations_;
     if (!problem_->residuals(x, *workspaces_[0], buffer_) || buffer_.size() != residual_count_) return false;
     std::copy(buffer_.begin(), buffer_.end(), r);
@@ -49,7 +52,9 @@ bool ExperimentLeastSquares::residuals(const double* x, double* r) {
 
 bool ExperimentLeastSquares::jacobian(const double* x, double* r, Eigen::MatrixXd& J) {
     if (!residuals(x, r)) return false;
-    return kind_ == JacobianKind::sensitivity ? sensitivity_jacobian(x, J) : finite_difference_jacobian(x, r, J);
+    const bool ok = kind_ == JacobianKind::sensitivity ? sensitivity_jacobian(x, J) : finite_difference_jacobian(x, r, J);
+    stopped_ = !ok && stop_requested();
+    return ok;
 }
 
 bool ExperimentLeastSquares::sensitivity_jacobian(const double* x, Eigen::MatrixXd& J) {
@@ -64,6 +69,10 @@ bool ExperimentLeastSquares::sensitivity_jacobian(const double* x, Eigen::Matrix
     const auto count = static_cast<long long>(blocks);
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads_)
     for (long long b = 0; b < count; ++b) {
+        if (stop_requested()) {
+            ok[static_cast<std::size_t>(b)] = 0;
+            continue;
+        }
         SensitivityWorkspace& ws = *sensitivity_workspaces_[static_cast<std::size_t>(omp_get_thread_num())];
         const std::size_t j0 = static_cast<std::size_t>(b) * width, j1 = std::min(m, j0 + width);
         ok[static_cast<std::size_t>(b)] = j0 >= j1 || sensitivity_.jacobian_columns(x, j0, j1, ws, J) ? 1 : 0;
@@ -82,6 +91,10 @@ bool ExperimentLeastSquares::finite_difference_jacobian(const double* x, const d
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads_)
     for (long long jj = 0; jj < columns; ++jj) {
         const auto j = static_cast<std::size_t>(jj);
+        if (stop_requested()) {
+            ok[j] = 0;
+            continue;
+        }
         ProblemWorkspace& ws = *workspaces_[static_cast<std::size_t>(omp_get_thread_num())];
         std::vector<double> point(x, x + m);
         const double h = difference_step(x[j], lower[j], upper[j]);

@@ -6,8 +6,10 @@
 // in parallel) or by central finite differences (2M perturbed simulations in parallel).
 // Each column is computed from its own inputs, so the Jacobian is the same for any thread
 // count (with an adaptive integrator the sensitivity blocks are fixed, not per thread,
-// because the step control sees the whole block).
+// because the step control sees the whole block). Given a stop flag, an evaluation
+// started after it is set returns false at once and stopped() says why.
 
+#include <atomic>
 #include <memory>
 #include <vector>
 
@@ -19,12 +21,14 @@ namespace tvid {
 
 class ExperimentLeastSquares : public LeastSquaresProblem {
 public:
-    /// threads <= 0: all hardware threads.
-    ExperimentLeastSquares(const IdentificationProblem& problem, int threads, JacobianKind kind);
+    /// threads <= 0: all hardware threads. `stop` (may be null): give up evaluations once set.
+    ExperimentLeastSquares(const IdentificationProblem& problem, int threads, JacobianKind kind,
+                           const std::atomic<bool>* stop = nullptr);
 
     std::size_t residual_count() const override { return residual_count_; }
     bool residuals(const double* x, double* r) override;
     bool jacobian(const double* x, double* r, Eigen::MatrixXd& J) override;
+    bool stopped() const override { return stopped_; }
 
     int threads() const { return threads_; }
     JacobianKind jacobian_kind() const { return kind_; }
@@ -44,6 +48,9 @@ private:
     std::vector<std::vector<double>> plus_, minus_;  ///< residuals at x ± h e_j, per column
     std::vector<double> buffer_;
     long long simulations_ = 0;
+    const std::atomic<bool>* stop_ = nullptr;
+    bool stopped_ = false;
+    bool stop_requested() const { return stop_ && stop_->load(std::memory_order_relaxed); }
 };
 
 /// The number of residuals of the estimation windows (scored samples × outputs).

@@ -2,6 +2,7 @@
 
 #include <omp.h>
 
+#include <limits>
 #include <thread>
 
 namespace tvid {
@@ -12,18 +13,25 @@ int resolve_thread_count(int threads) {
     return hw > 0 ? static_cast<int>(hw) : 1;
 }
 
-ParallelEvaluator::ParallelEvaluator(const IdentificationProblem& problem, int threads)
-    : problem_(&problem), threads_(resolve_thread_count(threads)) {
+ParallelEvaluator::ParallelEvaluator(const IdentificationProblem& problem, int threads, const std::atomic<bool>* stop)
+    : problem_(&problem), threads_(resolve_thread_count(threads)), stop_(stop) {
     for (int t = 0; t < threads_; ++t) workspaces_.push_back(problem.make_workspace());
 }
 
 void ParallelEvaluator::evaluate(const double* candidates, std::size_t count, std::size_t dimension, double* costs) {
     const auto n = static_cast<long long>(count);
+    std::atomic<bool> skipped{false};
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads_)
     for (long long i = 0; i < n; ++i) {
+        if (stop_ && stop_->load(std::memory_order_relaxed)) {
+            costs[i] = std::numeric_limits<double>::infinity();
+            skipped.store(true, std::memory_order_relaxed);
+            continue;
+        }
         ProblemWorkspace& ws = *workspaces_[static_cast<std::size_t>(omp_get_thread_num())];
         costs[i] = problem_->cost(candidates + static_cast<std::size_t>(i) * dimension, ws);
     }
+    stopped_ = skipped.load();
 }
 
 }  // namespace tvid

@@ -1,7 +1,8 @@
 #pragma once
 // Scores batches of candidates of an IdentificationProblem on all cores. Each thread
 // owns a workspace built once; every candidate's cost is computed by one thread from
-// its own inputs only, so costs are identical for any thread count.
+// its own inputs only, so costs are identical for any thread count. Given a stop flag,
+// a batch stops within one simulation per thread once the flag is set (see stopped()).
 
 #include <atomic>
 #include <memory>
@@ -14,16 +15,19 @@ namespace tvid {
 
 class ParallelEvaluator : public CandidateEvaluator {
 public:
-    /// threads <= 0: all hardware threads.
-    ParallelEvaluator(const IdentificationProblem& problem, int threads);
+    /// threads <= 0: all hardware threads. `stop` (may be null): skip the rest of a batch once set.
+    ParallelEvaluator(const IdentificationProblem& problem, int threads, const std::atomic<bool>* stop = nullptr);
 
     void evaluate(const double* candidates, std::size_t count, std::size_t dimension, double* costs) override;
+    bool stopped() const override { return stopped_; }
 
     int threads() const { return threads_; }
 
 private:
     const IdentificationProblem* problem_;
     int threads_;
+    const std::atomic<bool>* stop_;
+    bool stopped_ = false;
     std::vector<std::unique_ptr<ProblemWorkspace>> workspaces_;
 };
 

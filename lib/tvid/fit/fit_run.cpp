@@ -10,13 +10,23 @@ namespace tvid {
 
 namespace {
 
+bool stop_requested(const FitOptions& options) { return options.stop && options.stop->load(std::memory_order_relaxed); }
+
+// The caller's progress callback, and false once a stop is requested.
+std::function<bool(const HistoryRow&)> stoppable_progress(const FitOptions& options) {
+    return [&options](const HistoryRow& row) {
+        const bool go_on = !options.progress || options.progress(row);
+        return go_on && !stop_requested(options);
+    };
+}
+
 OptimizerRun run_swarm(const IdentificationProblem& problem, const FitOptions& options, FitResult& r) {
     r.pso_settings = problem.experiment().estimation_settings.pso;
     if (options.seed) r.pso_settings.seed = *options.seed;
-    ParallelEvaluator evaluator(problem, options.threads);
+    ParallelEvaluator evaluator(problem, options.threads, options.stop);
     r.threads = evaluator.threads();
     const SearchBox box{problem.lower(), problem.upper(), problem.range_lower(), problem.range_upper()};
-    r.pso = run_pso(r.pso_settings, box, evaluator, options.progress);
+    r.pso = run_pso(r.pso_settings, box, evaluator, stoppable_progress(options));
     return OptimizerRun{"pso",
                         r.pso.best,
                         r.pso.best_cost,
@@ -31,7 +41,8 @@ OptimizerRun run_swarm(const IdentificationProblem& problem, const FitOptions& o
 // Seed 000: nonlinear least squares by Levenberg–Marquardt from the experiment's init.
 OptimizerRun run_least_squares(const IdentificationProblem& problem, const FitOptions& options, FitResult& r) {
     r.lm_settings = problem.experiment().estimation_settings.lm;
-    ExperimentLeastSquares least_squares(problem, options.threads, problem.experiment().estimation_settings.jacobian);
+    ExperimentLeastSquares least_squares(problem, options.threads, problem.experiment().estimation_settings.jacobian,
+                                         options.stop);
     r.threads = least_squares.threads();
     // The history counts simulations, as for the swarm.
     std::vector<HistoryRow> history;
@@ -39,7 +50,7 @@ OptimizerRun run_least_squares(const IdentificationProblem& problem, const FitOp
         HistoryRow sims = row;
         sims.evaluations = least_squares.simulations();
         history.push_back(sims);
-        return options.progress ? options.progress(sims) : true;
+        return (!options.progress || options.progress(sims)) && !stop_requested(options);
     };
     r.lm = run_levenberg_marquardt(r.lm_settings, problem.initial(), problem.lower(), problem.upper(), least_squares,
                                    progress);
@@ -64,12 +75,18 @@ FitResult run_fit(const IdentificationProblem& problem, const FitOptions& option
                 ? run_least_squares(problem, options, r)
                 : run_swarm(problem, options, r);
     r.optimizer_seconds = std::chrono::duration<double>(clock::now() - t0).count();
+    r.interrupted = stop_requested(options);
+    if (r.interrupted) {
+        r.run.termination = "interrupted";
+        r.run.converged = false;
+    }
 
     r.success = std::isfinite(r.run.best_cost);
     r.best_free = r.success ? r.run.best : problem.initial();
     r.best_params = problem.full_parameters(r.best_free);
     r.evaluation = evaluate_parameters(problem, r.best_params);
-    if (r.success) r.uncertainty = estimate_uncertainty(problem, r.best_free);
+    if (r.interrupted) r.uncertainty.problem = "skipped: interrupted";  // the user wants out: no extra Jacobian
+    else if (r.success) r.uncertainty = estimate_uncertainty(problem, r.best_free);
     r.wall_seconds = std::chrono::duration<double>(clock::now() - t0).count();
     return r;
 }

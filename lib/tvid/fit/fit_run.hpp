@@ -3,6 +3,7 @@
 // on every window and its uncertainty estimated. What `tvid fit` does between reading
 // the experiment and writing the report.
 
+#include <atomic>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -20,6 +21,10 @@ struct FitOptions {
     int threads = 0;                        ///< <= 0: all cores
     std::optional<std::uint64_t> seed;      ///< overrides the experiment's seed (particle swarm)
     std::function<bool(const HistoryRow&)> progress;  ///< called after every iteration; false stops
+    /// Stop request (e.g. &stop_request() for Ctrl-C), may be null: once set, the optimizer
+    /// stops within about one simulation per thread with the best fully evaluated point,
+    /// and the result is marked interrupted.
+    const std::atomic<bool>* stop = nullptr;
 };
 
 /// What every optimizer reports, whichever ran.
@@ -42,6 +47,7 @@ struct FitResult {
     LmSettings lm_settings;
     LmSummary lm;                           ///< when Levenberg–Marquardt ran
     bool success = false;                   ///< a finite cost was reached
+    bool interrupted = false;               ///< stopped by FitOptions::stop: best so far, no uncertainty
     std::vector<double> best_free;
     std::vector<double> best_params;        ///< full model parameter vector
     Evaluation evaluation;

@@ -13,6 +13,9 @@ public:
     /// `candidates` holds `count` vectors of `dimension` values, one after the other;
     /// costs[i] receives the cost of candidate i (+inf for a candidate that fails).
     virtual void evaluate(const double* candidates, std::size_t count, std::size_t dimension, double* costs) = 0;
+    /// True when a stop request (Ctrl-C) cut the last evaluate() short: some candidates
+    /// were skipped (cost +inf without a simulation), so the batch must be discarded.
+    virtual bool stopped() const { return false; }
 };
 
 }  // namespace tvid

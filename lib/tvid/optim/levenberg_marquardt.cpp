@@ -118,8 +118,12 @@ LmSummary run_levenberg_marquardt(const LmSettings& settings, std::vector<double
 
     ++s.jacobian_evaluations;
     if (!evaluate_jacobian(problem, x, r, J)) {
-        ++s.failed_evaluations;
         s.best_cost = s.initial_cost = inf;
+        if (problem.stopped()) {
+            finish("stopped", false);
+            return s;
+        }
+        ++s.failed_evaluations;
         s.history.push_back(HistoryRow{0, s.jacobian_evaluations, inf});
         finish("start failed", false);
         return s;
@@ -224,6 +228,11 @@ LmSummary run_levenberg_marquardt(const LmSettings& settings, std::vector<double
         if (step_finite && moves) {
             ++s.residual_evaluations;
             evaluable = problem.residuals(x_trial.data(), r_trial.data()) && r_trial.allFinite();
+            if (!evaluable && problem.stopped()) {  // drop this trial, stop at the last accepted point
+                --s.iterations;
+                finish("stopped", false);
+                break;
+            }
             if (evaluable) f_trial = 0.5 * r_trial.squaredNorm();
             evaluable = evaluable && std::isfinite(f_trial);
             if (!evaluable) ++s.failed_evaluations;
@@ -240,6 +249,10 @@ LmSummary run_levenberg_marquardt(const LmSettings& settings, std::vector<double
                 J.swap(J_trial);
                 f = 0.5 * r.squaredNorm();
                 fresh_jacobian = true;
+            } else if (problem.stopped()) {  // drop this trial, stop at the last accepted point
+                --s.iterations;
+                finish("stopped", false);
+                break;
             } else {  // the model ran but its Jacobian did not: a failed step
                 ++s.failed_evaluations;
                 accepted = evaluable = false;

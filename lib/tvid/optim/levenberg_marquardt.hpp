@@ -41,6 +41,10 @@ public:
     /// r and the N×M Jacobian J = ∂r/∂x (column-major) at x; false on failure. J arrives
     /// sized N×M. The r returned must be the one residuals() gives at the same x.
     virtual bool jacobian(const double* x, double* r, Eigen::MatrixXd& J) = 0;
+    /// True when the last residuals()/jacobian() returned false because a stop request
+    /// (Ctrl-C) cut it short, not because the model failed: the solver stops at its
+    /// current point instead of counting a failed step.
+    virtual bool stopped() const { return false; }
 };
 
 struct LmSummary {
@@ -57,7 +61,8 @@ struct LmSummary {
     /// counts residual + Jacobian evaluations; `best_cost` is Σ r², never increasing.
     std::vector<HistoryRow> history;
     /// "cost change below ftol", "step below xtol", "gradient below gtol" (converged),
-    /// "iteration limit", "stopped" (the progress callback returned false), "no progress"
+    /// "iteration limit", "stopped" (the progress callback returned false, or the problem
+    /// was stopped mid-evaluation), "no progress"
     /// (max_consecutive_rejections rejected steps in a row, or the only steps that evaluate
     /// are below xtol because the model fails just beyond the current point: stuck at the
     /// edge of a region where e.g. the simulation diverges), "start failed".

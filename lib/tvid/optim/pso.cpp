@@ -109,6 +109,12 @@ PsoSummary run_pso(const PsoSettings& options, const SearchBox& box, CandidateEv
             batch_index[count++] = i;
         }
         if (count > 0) evaluator.evaluate(batch.data(), count, m, batch_cost.data());
+        // A batch cut short by a stop request is discarded whole: the best stays the best
+        // of the last complete iteration, a fully evaluated point.
+        if (count > 0 && evaluator.stopped()) {
+            s.termination = "stopped";
+            break;
+        }
         s.evaluations += static_cast<long long>(count);
         for (std::size_t c = 0; c < count; ++c) {
             const double e = std::isfinite(batch_cost[c]) ? batch_cost[c] : inf;
@@ -163,7 +169,7 @@ PsoSummary run_pso(const PsoSettings& options, const SearchBox& box, CandidateEv
     }
     s.best = global;
     s.best_cost = global_cost;
-    if (!std::isfinite(global_cost)) s.termination = "all candidates failed";
+    if (!std::isfinite(global_cost) && s.termination != "stopped") s.termination = "all candidates failed";
     return s;
 }
 

@@ -38,7 +38,9 @@ struct PsoSummary {
     long long evaluations = 0;       ///< simulations run
     long long failed_evaluations = 0;///< candidates whose simulation failed (cost +inf)
     std::vector<HistoryRow> history; ///< one row per iteration, k = 0 … iterations
-    std::string termination;         ///< "iteration limit", "stopped", "all candidates failed"
+    /// "iteration limit", "stopped" (the progress callback returned false, or the evaluator
+    /// was stopped mid-batch: that iteration is dropped), "all candidates failed"
+    std::string termination;
 };
 
 /// Called after every iteration; return false to stop the swarm (e.g. on Ctrl-C).
