@@ -14,8 +14,6 @@ namespace {
 // Singular values of the scaled Jacobian below this fraction of the largest count as zero
 // (a condition number of JᵀJ above 1e12).
 constexpr double kRankTolerance = 1e-6;
-// A parameter whose component in a null direction exceeds this is undetermined.
-constexpr double kNullComponent = 0.05;
 }  // namespace
 
 ParameterUncertainty estimate_uncertainty(const IdentificationProblem& problem, const std::vector<double>& free_best) {
@@ -88,13 +86,15 @@ ParameterUncertainty estimate_uncertainty(const IdentificationProblem& problem, 
     std::vector<bool> in_null(m, false);
     for (Eigen::Index k = u.rank; k < sv.size(); ++k) {
         std::vector<double> dir(m);
-        Eigen::Index big = 0;
-        for (Eigen::Index j = 0; j < v.rows(); ++j)
-            if (std::abs(v(j, k)) > std::abs(v(big, k))) big = j;
-        const double sign = v(big, k) < 0 ? -1.0 : 1.0;
+        // Signed so that the first component of at least half the largest magnitude is
+        // positive: a choice that near-equal components (a scaling symmetry) do not flip.
+        const double largest = v.col(k).cwiseAbs().maxCoeff();
+        Eigen::Index lead = 0;
+        while (std::abs(v(lead, k)) < 0.5 * largest) ++lead;
+        const double sign = v(lead, k) < 0 ? -1.0 : 1.0;
         for (std::size_t j = 0; j < m; ++j) {
             dir[j] = sign * v(static_cast<Eigen::Index>(j), k);
-            if (std::abs(dir[j]) > kNullComponent) in_null[j] = true;
+            if (std::abs(dir[j]) > kNullDirectionComponent) in_null[j] = true;
         }
         u.null_directions.push_back(dir);
     }

@@ -13,6 +13,10 @@
 
 namespace tvid {
 
+/// A parameter whose component in a null direction (a unit vector) exceeds this is
+/// undetermined, and takes part in that direction's parameter combination.
+constexpr double kNullDirectionComponent = 0.05;
+
 struct ParameterUncertainty {
     bool available = false;           ///< false when the Jacobian could not be formed
     std::string problem;
@@ -23,7 +27,9 @@ struct ParameterUncertainty {
     std::vector<double> ci_low, ci_high;
     std::vector<bool> determined;
     std::vector<std::vector<double>> correlation;  ///< NaN rows/cols for undetermined parameters
-    std::vector<std::vector<double>> null_directions;  ///< unit vectors in relative parameter changes
+    /// Unit vectors in relative parameter changes δp_j/|p_j| (absolute when p_j = 0), signed
+    /// so that the first component of at least half the largest magnitude is positive.
+    std::vector<std::vector<double>> null_directions;
 };
 
 ParameterUncertainty estimate_uncertainty(const IdentificationProblem& problem, const std::vector<double>& free_best);

@@ -1,0 +1,176 @@
+#include "tvid/estimation/identifiability.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <limits>
+
+namespace tvid {
+
+namespace {
+
+constexpr int kMaxDenominator = 4;          // exponents read as n/1 … n/4
+constexpr double kFractionTolerance = 0.02;  // how close an exponent must be to n/d
+
+// n/d with d <= kMaxDenominator within kFractionTolerance of a, or d = 0 when none is.
+void nearby_fraction(double a, int& n, int& d) {
+    for (d = 1; d <= kMaxDenominator; ++d) {
+        n = static_cast<int>(std::lround(a * d));
+        if (std::abs(a - static_cast<double>(n) / d) <= kFractionTolerance) return;
+    }
+    d = 0;
+}
+
+double rounded_exponent(double a) {
+    int n = 0, d = 0;
+    nearby_fraction(a, n, d);
+    return d > 0 ? static_cast<double>(n) / d : a;
+}
+
+// The factor s^a as text: "s", "1/s", "s^2", "1/s^(1/2)", "s^0.37".
+std::string power_of_s(double a) {
+    const bool inverse = a < 0;
+    const double e = std::abs(a);
+    int n = 0, d = 0;
+    nearby_fraction(e, n, d);
+    char buf[32];
+    if (d == 1 && n == 1) std::snprintf(buf, sizeof buf, "s");
+    else if (d == 1) std::snprintf(buf, sizeof buf, "s^%d", n);
+    else if (d > 1) std::snprintf(buf, sizeof buf, "s^(%d/%d)", n, d);
+    else std::snprintf(buf, sizeof buf, "s^%.2g", e);
+    return (inverse ? "1/" : "") + std::string(buf);
+}
+
+// "a", "a and b", "a, b and c".
+std::string and_list(const std::vector<std::string>& words) {
+    std::string s;
+    for (std::size_t i = 0; i < words.size(); ++i) {
+        if (i > 0) s += i + 1 == words.size() ? " and " : ", ";
+        s += words[i];
+    }
+    return s;
+}
+
+std::string percent_text(double fraction) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.3g %%", 100.0 * fraction);
+    return buf;
+}
+
+}  // namespace
+
+const char* to_string(IdentifiabilityFlag flag) {
+    switch (flag) {
+        case IdentifiabilityFlag::ok: return "ok";
+        case IdentifiabilityFlag::weak: return "weak";
+        case IdentifiabilityFlag::undetermined: return "undetermined";
+    }
+    return "ok";
+}
+
+ParameterCombination describe_null_direction(const std::vector<double>& direction,
+                                             const std::vector<std::string>& names, const std::vector<double>& values) {
+    ParameterCombination c;
+    c.vector = direction;
+    c.exponents.assign(direction.size(), 0.0);
+    // The leading member (the component the sign convention makes positive) gets s^1.
+    double largest = 0.0;
+    for (double v : direction) largest = std::max(largest, std::abs(v));
+    std::size_t lead = 0;
+    while (lead < direction.size() && std::abs(direction[lead]) < 0.5 * largest) ++lead;
+    if (lead == direction.size()) return c;
+    std::vector<std::size_t> members;
+    for (std::size_t j = 0; j < direction.size(); ++j) {
+        if (std::abs(direction[j]) <= kNullDirectionComponent) continue;
+        members.push_back(j);
+        c.members.push_back(names[j]);
+        // Along the direction, ln p_j changes by t·v_j: p_j → p_j·s^(v_j/v_lead) with s = e^(t·v_lead).
+        c.exponents[j] = rounded_exponent(direction[j] / direction[lead]);
+        if (values[j] == 0.0) c.multiplicative = false;
+    }
+    if (members.size() == 1) {
+        c.text = names[members[0]] + " has no effect on the output";
+        return c;
+    }
+    if (!c.multiplicative) {
+        // A zero value has no relative change: give the proportions of the changes.
+        std::string parts;
+        for (std::size_t j : members) {
+            char buf[48];
+            std::snprintf(buf, sizeof buf, "%s%+.2g %s", parts.empty() ? "" : ", ", direction[j], names[j].c_str());
+            parts += buf;
+        }
+        c.text = "changing " + parts + " together (relative changes; absolute for a parameter at 0) leaves the output unchanged";
+        return c;
+    }
+    // Group the members by their power of s, in order of first appearance.
+    std::vector<std::pair<double, std::vector<std::string>>> groups;
+    for (std::size_t j : members) {
+        bool placed = false;
+        for (auto& g : groups)
+            if (std::abs(g.first - c.exponents[j]) <= 1e-12) {
+                g.second.push_back(names[j]);
+                placed = true;
+            }
+        if (!placed) groups.push_back({c.exponents[j], {names[j]}});
+    }
+    std::vector<std::string> phrases;
+    for (const auto& g : groups) phrases.push_back(and_list(g.second) + " by " + power_of_s(g.first));
+    std::string joined;
+    for (std::size_t i = 0; i < phrases.size(); ++i) {
+        if (i > 0) joined += i + 1 == phrases.size() ? " and " : ", ";
+        joined += phrases[i];
+    }
+    c.text = "scaling " + joined + " leaves the output unchanged";
+    return c;
+}
+
+IdentifiabilityReport assess_identifiability(const ParameterUncertainty& u, const std::vector<std::string>& names,
+                                             const std::vector<double>& values) {
+    IdentifiabilityReport r;
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    r.available = u.available;
+    r.problem = u.problem;
+    r.of = static_cast<int>(names.size());
+    r.rank = u.rank;
+    r.condition_number = u.condition_number;
+    if (!u.available) return r;
+    for (std::size_t j = 0; j < names.size(); ++j) {
+        ParameterIdentifiability p;
+        p.name = names[j];
+        p.value = values[j];
+        p.std_error = u.std_error[j];
+        p.relative_std_error = u.determined[j] && values[j] != 0.0 ? u.std_error[j] / std::abs(values[j]) : nan;
+        if (!u.determined[j]) p.flag = IdentifiabilityFlag::undetermined;
+        else if (p.relative_std_error > kWeakRelativeError) p.flag = IdentifiabilityFlag::weak;
+        r.parameters.push_back(p);
+    }
+    for (std::size_t a = 0; a < names.size(); ++a)
+        for (std::size_t b = a + 1; b < names.size(); ++b) {
+            const double c = u.correlation[a][b];
+            if (std::isfinite(c) && std::abs(c) > kStrongCorrelation) r.correlated_pairs.push_back({names[a], names[b], c});
+        }
+    for (const auto& dir : u.null_directions) r.null_directions.push_back(describe_null_direction(dir, names, values));
+    return r;
+}
+
+std::string IdentifiabilityReport::warning() const {
+    if (!available) return "";
+    std::string line;
+    if (rank < of) {
+        line = "the data determine only " + std::to_string(rank) + " of " + std::to_string(of) + " parameter directions: ";
+        for (std::size_t i = 0; i < null_directions.size(); ++i) line += (i ? "; " : "") + null_directions[i].text;
+        line += null_directions.size() == 1 ? " (fix one of these parameters)" : " (fix one parameter of each)";
+    }
+    std::vector<std::string> weak;
+    for (const ParameterIdentifiability& p : parameters)
+        if (p.flag == IdentifiabilityFlag::weak) weak.push_back(p.name + " " + percent_text(p.relative_std_error));
+    if (!weak.empty()) {
+        if (!line.empty()) line += "; ";
+        line += "weakly determined (relative std error > " + percent_text(kWeakRelativeError) + "): ";
+        for (std::size_t i = 0; i < weak.size(); ++i) line += (i ? ", " : "") + weak[i];
+    }
+    return line;
+}
+
+}  // namespace tvid

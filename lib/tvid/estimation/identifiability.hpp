@@ -1,0 +1,75 @@
+#pragma once
+// What the data determine, read from the uncertainty estimate at the optimum: the rank
+// and condition number of the scaled JᵀJ, each parameter's relative standard error with
+// a flag, strongly correlated pairs, and each near-null direction written as the
+// parameter combination an engineer can act on. For the CVT preset with all nine
+// parameters free (seed 001 eqs. 15–21) the null direction is the exact scaling
+//   ρ1 → sρ1, μ → sμ, k± → k±/s, c± → c±/s, σ → σ/s,
+// which leaves Tds unchanged, and is reported as
+//   "scaling rho1 and mu by s and k_minus, k_plus, c_minus, c_plus and sigma by 1/s
+//    leaves the output unchanged".
+
+#include <string>
+#include <vector>
+
+#include "tvid/estimation/uncertainty.hpp"
+
+namespace tvid {
+
+/// A parameter whose standard error exceeds this fraction of its value is weak.
+constexpr double kWeakRelativeError = 0.5;
+/// Pairs of parameters whose |correlation| exceeds this are reported.
+constexpr double kStrongCorrelation = 0.95;
+
+enum class IdentifiabilityFlag { ok, weak, undetermined };
+const char* to_string(IdentifiabilityFlag flag);
+
+struct ParameterIdentifiability {
+    std::string name;
+    double value = 0.0;
+    double std_error = 0.0;             ///< NaN when undetermined
+    double relative_std_error = 0.0;    ///< std_error / |value|; NaN when undetermined or value = 0
+    IdentifiabilityFlag flag = IdentifiabilityFlag::ok;
+};
+
+struct CorrelatedPair {
+    std::string first, second;          ///< in parameter order
+    double correlation = 0.0;
+};
+
+/// A direction of relative parameter changes that leaves the output unchanged.
+struct ParameterCombination {
+    std::vector<double> vector;         ///< the unit vector, one entry per free parameter
+    std::vector<std::string> members;   ///< the parameters taking part (component > kNullDirectionComponent)
+    /// Per free parameter, the power of s in p_j → p_j·s^a_j along the direction (0 for
+    /// non-members), relative to the leading member; rounded to a fraction with a
+    /// denominator up to 4 when within 0.02 of one.
+    std::vector<double> exponents;
+    bool multiplicative = true;         ///< false when a member's value is 0 (its change is absolute)
+    std::string text;                   ///< e.g. "scaling rho1 and mu by s and ... by 1/s leaves the output unchanged"
+};
+
+struct IdentifiabilityReport {
+    bool available = false;
+    std::string problem;                ///< why not available
+    int rank = 0;
+    int of = 0;                         ///< free parameters
+    double condition_number = 0.0;      ///< inf when rank < of
+    std::vector<ParameterIdentifiability> parameters;
+    std::vector<CorrelatedPair> correlated_pairs;
+    std::vector<ParameterCombination> null_directions;
+
+    /// One line for the terminal ("" when everything is determined well): rank deficiency
+    /// with the combinations, and the weak parameters.
+    std::string warning() const;
+};
+
+/// `names` and `values`: the free parameters at the optimum, in the order of `uncertainty`.
+IdentifiabilityReport assess_identifiability(const ParameterUncertainty& uncertainty,
+                                             const std::vector<std::string>& names, const std::vector<double>& values);
+
+/// The combination a null direction describes (members, exponents, text).
+ParameterCombination describe_null_direction(const std::vector<double>& direction,
+                                             const std::vector<std::string>& names, const std::vector<double>& values);
+
+}  // namespace tvid

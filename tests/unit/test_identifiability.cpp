@@ -1,0 +1,160 @@
+// Identifiability at the optimum: rank, relative standard errors and flags, correlated
+// pairs, and null directions written as parameter combinations. On the CVT preset the
+// nine parameters have the exact scaling symmetry of seed 001 eqs. 15–21 (θ → sθ with
+// ρ1 → sρ1, μ → sμ, k± → k±/s, c± → c±/s, σ → σ/s leaves Tds unchanged).
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <limits>
+#include <nlohmann/json.hpp>
+
+#include "support/test_files.hpp"
+#include "tvid/estimation/identifiability.hpp"
+#include "tvid/experiment/experiment.hpp"
+
+using namespace tvid;
+
+namespace {
+
+std::vector<double> unit(std::vector<double> v) {
+    double n = 0;
+    for (double x : v) n += x * x;
+    for (double& x : v) x /= std::sqrt(n);
+    return v;
+}
+
+// The CVT tip-in experiment on the noise-free recording with every parameter's init at
+// the truth; `overrides` fix some of them.
+Experiment cvt_at_truth(std::vector<Override> overrides = {}) {
+    const auto truth = nlohmann::json::parse(test::read_text(test::source_dir() / "data/cvt/truth.json"))["parameters"];
+    for (auto it = truth.begin(); it != truth.end(); ++it) {
+        char value[64];
+        std::snprintf(value, sizeof value, "%.17g", it.value().get<double>());
+        bool fixed = false;
+        for (const Override& o : overrides) fixed = fixed || o.key == "parameters." + it.key();
+        if (!fixed) overrides.push_back({"parameters." + it.key() + ".init", value});
+    }
+    return load_experiment(test::source_dir() / "configs/cvt_tipin_clean.yaml", overrides);
+}
+
+}  // namespace
+
+TEST_CASE("a null direction with equal and opposite components reads as a scaling by s and 1/s", "[identifiability]") {
+    const ParameterCombination c =
+        describe_null_direction(unit({1, -1, 0.001, -1}), {"a", "b", "c", "d"}, {2.0, 3.0, 4.0, 5.0});
+    CHECK(c.members == std::vector<std::string>{"a", "b", "d"});
+    CHECK(c.exponents == std::vector<double>{1, -1, 0, -1});
+    CHECK(c.multiplicative);
+    CHECK(c.text == "scaling a by s and b and d by 1/s leaves the output unchanged");
+}
+
+TEST_CASE("exponents near small fractions are rounded, others printed as numbers", "[identifiability]") {
+    // Relative to the leading component a: b moves half as much, c two thirds against it.
+    const auto c = describe_null_direction(unit({0.9, 0.45, -0.6}), {"a", "b", "c"}, {1.0, 1.0, 1.0});
+    CHECK(c.exponents[1] == 0.5);
+    CHECK(c.exponents[2] == Approx(-2.0 / 3.0).epsilon(1e-15));
+    CHECK(c.text == "scaling a by s, b by s^(1/2) and c by 1/s^(2/3) leaves the output unchanged");
+    // The leading component is the first of at least half the largest: here b, so a gets s^0.37.
+    const auto d = describe_null_direction(unit({0.37, 1.0, 2.0}), {"a", "b", "c"}, {1.0, 1.0, 1.0});
+    CHECK(d.exponents[0] == Approx(0.37));
+    CHECK(d.exponents[2] == 2.0);
+    CHECK(d.text == "scaling a by s^0.37, b by s and c by s^2 leaves the output unchanged");
+}
+
+TEST_CASE("a direction along one parameter says it has no effect; a zero value gives proportions", "[identifiability]") {
+    CHECK(describe_null_direction({0.0, 1.0, 0.01}, {"J1", "C1", "C2"}, {1, 1, 1}).text ==
+          "C1 has no effect on the output");
+    const auto c = describe_null_direction(unit({1, -1}), {"d_ds", "d_tm"}, {0.0, 3.0});
+    CHECK_FALSE(c.multiplicative);
+    CHECK(c.text.find("+0.71 d_ds, -0.71 d_tm") != std::string::npos);
+}
+
+TEST_CASE("relative standard errors, weak flags and strongly correlated pairs", "[identifiability]") {
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    ParameterUncertainty u;
+    u.available = true;
+    u.rank = 4;
+    u.condition_number = 1e7;
+    u.std_error = {0.1, 6.0, 0.5, 0.2};
+    u.determined = {true, true, true, true};
+    u.correlation = {{1, 0.2, -0.97, 0}, {0.2, 1, 0.1, 0.95}, {-0.97, 0.1, 1, 0}, {0, 0.95, 0, 1}};
+    const auto r = assess_identifiability(u, {"J1", "J2", "C1", "C2"}, {1.0, -10.0, 0.99, 0.0});
+    REQUIRE(r.parameters.size() == 4);
+    CHECK(r.parameters[0].relative_std_error == Approx(0.1));
+    CHECK(r.parameters[0].flag == IdentifiabilityFlag::ok);
+    CHECK(r.parameters[1].relative_std_error == Approx(0.6));  // |value|
+    CHECK(r.parameters[1].flag == IdentifiabilityFlag::weak);
+    CHECK(r.parameters[2].flag == IdentifiabilityFlag::weak);   // 50.5 %
+    CHECK(std::isnan(r.parameters[3].relative_std_error));     // value 0: no relative error
+    CHECK(r.parameters[3].flag == IdentifiabilityFlag::ok);
+    REQUIRE(r.correlated_pairs.size() == 1);  // 0.95 itself is not above the threshold
+    CHECK(r.correlated_pairs[0].first == "J1");
+    CHECK(r.correlated_pairs[0].second == "C1");
+    CHECK(r.correlated_pairs[0].correlation == -0.97);
+    CHECK(r.warning() == "weakly determined (relative std error > 50 %): J2 60 %, C1 50.5 %");
+
+    u.std_error = {0.1, 1.0, 0.1, 0.2};
+    CHECK(assess_identifiability(u, {"J1", "J2", "C1", "C2"}, {1.0, -10.0, 0.99, 0.0}).warning().empty());
+    u.std_error[1] = nan;
+    u.determined[1] = false;
+    u.rank = 3;
+    u.null_directions = {{0, 1, 0, 0}};
+    const auto d = assess_identifiability(u, {"J1", "J2", "C1", "C2"}, {1.0, -10.0, 0.99, 0.0});
+    CHECK(d.parameters[1].flag == IdentifiabilityFlag::undetermined);
+    CHECK(d.warning() == "the data determine only 3 of 4 parameter directions: J2 has no effect on the output "
+                         "(fix one of these parameters)");
+}
+
+TEST_CASE("CVT with all nine parameters free: rank 8 and the scaling symmetry named", "[identifiability][cvt]") {
+    const Experiment ex = cvt_at_truth();
+    const IdentificationProblem problem(ex);
+    REQUIRE(problem.dimension() == 9);
+    const std::vector<double> at = problem.initial();
+    const ParameterUncertainty u = estimate_uncertainty(problem, at);
+    REQUIRE(u.available);
+    const IdentifiabilityReport r = assess_identifiability(u, problem.free_names(), at);
+    CHECK(r.rank == 8);
+    CHECK(r.of == 9);
+    CHECK(std::isinf(r.condition_number));
+    REQUIRE(r.null_directions.size() == 1);
+    // rho1 k_minus k_plus c_minus c_plus mu sigma d_ds d_tm: ln ρ1 and ln μ rise with ln s,
+    // the stiffnesses, dampings and σ fall with it, the offsets do not take part.
+    const std::vector<double> expected = unit({1, -1, -1, -1, -1, 1, -1, 0, 0});
+    const auto& v = r.null_directions[0].vector;
+    for (std::size_t j = 0; j < 9; ++j) {
+        INFO(problem.free_names()[j]);
+        CHECK(v[j] == Approx(expected[j]).margin(1e-3));
+    }
+    CHECK(r.null_directions[0].exponents == std::vector<double>{1, -1, -1, -1, -1, 1, -1, 0, 0});
+    CHECK(r.null_directions[0].text ==
+          "scaling rho1 and mu by s and k_minus, k_plus, c_minus, c_plus and sigma by 1/s leaves the output unchanged");
+    for (const auto& p : r.parameters) {
+        INFO(p.name);
+        const bool offset = p.name == "d_ds" || p.name == "d_tm";
+        CHECK(p.flag == (offset ? IdentifiabilityFlag::ok : IdentifiabilityFlag::undetermined));
+    }
+    CHECK(r.warning().find("only 8 of 9") != std::string::npos);
+    CHECK(r.warning().find("rho1 and mu by s") != std::string::npos);
+}
+
+TEST_CASE("CVT with rho1 fixed: the other eight parameters are identifiable", "[identifiability][cvt]") {
+    const auto truth = nlohmann::json::parse(test::read_text(test::source_dir() / "data/cvt/truth.json"))["parameters"];
+    char rho1[64];
+    std::snprintf(rho1, sizeof rho1, "%.17g", truth["rho1"].get<double>());
+    const Experiment ex = cvt_at_truth({{"parameters.rho1", rho1}});
+    const IdentificationProblem problem(ex);
+    REQUIRE(problem.dimension() == 8);
+    const std::vector<double> at = problem.initial();
+    const IdentifiabilityReport r =
+        assess_identifiability(estimate_uncertainty(problem, at), problem.free_names(), at);
+    REQUIRE(r.available);
+    CHECK(r.rank == 8);
+    CHECK(r.of == 8);
+    CHECK(std::isfinite(r.condition_number));
+    CHECK(r.null_directions.empty());
+    for (const auto& p : r.parameters) {
+        INFO(p.name);
+        CHECK(p.flag != IdentifiabilityFlag::undetermined);
+        CHECK(std::isfinite(p.std_error));
+    }
+    CHECK(r.warning().find("parameter directions") == std::string::npos);
+}
