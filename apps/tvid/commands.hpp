@@ -1,6 +1,7 @@
 #pragma once
 // The subcommands of `tvid`. Each returns the process exit status:
-// 0 done, 1 ran but did not succeed (e.g. every candidate failed), 2 bad input.
+// 0 done, 1 ran but did not succeed (e.g. every candidate failed), 2 bad input,
+// 130 a fit interrupted by Ctrl-C or SIGTERM (its report holds the best so far).
 
 #include <cstdint>
 #include <optional>

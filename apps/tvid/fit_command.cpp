@@ -11,8 +11,13 @@
 #include "tvid/report/report_directory.hpp"
 #include "tvid/report/report_writer.hpp"
 #include "tvid/util/input_error.hpp"
+#include "tvid/util/stop_request.hpp"
 
 namespace tvid::cli {
+
+namespace {
+constexpr int kInterruptedExit = 130;  // 128 + SIGINT, what shells report for Ctrl-C
+}  // namespace
 
 std::vector<Override> parse_overrides(const std::vector<std::string>& texts) {
     std::vector<Override> out;
@@ -39,13 +44,16 @@ int run_fit_command(const FitCommand& cmd) {
     FitOptions options;
     options.threads = cmd.common.threads;
     options.seed = cmd.seed;
-    const int planned = ex.estimation_settings.optimizer == OptimizerKind::lm ? ex.estimation_settings.lm.max_iterations
-                                                                              : ex.estimation_settings.pso.iterations;
-    ProgressLine progress(!cmd.common.quiet && is_terminal(2), planned);
+    const bool least_squares = ex.estimation_settings.optimizer == OptimizerKind::lm;
+    const int planned = least_squares ? ex.estimation_settings.lm.max_iterations : ex.estimation_settings.pso.iterations;
+    ProgressLine progress(wants_progress_line(cmd.common.quiet, cmd.common.json), planned, least_squares);
     options.progress = [&progress](const HistoryRow& row) {
         progress.update(row);
         return true;
     };
+    // Ctrl-C / SIGTERM from here on: stop the optimizer, keep its best point, write the report.
+    install_stop_signal_handlers();
+    options.stop = &stop_request();
     const FitResult fit = run_fit(problem, options);
     progress.finish();
 
@@ -55,6 +63,12 @@ int run_fit_command(const FitCommand& cmd) {
         std::cout << fit_summary_json(problem, fit, context).dump(2) << std::endl;
     } else if (!cmd.common.quiet) {
         std::cout << fit_summary_text(problem, fit, dir.string()) << std::flush;
+    }
+    if (fit.interrupted || stop_requested()) {
+        if (!cmd.common.quiet)
+            std::cerr << "tvid: interrupted; the report in " << dir.string()
+                      << (fit.interrupted ? " holds the best parameters so far\n" : " is complete\n");
+        return kInterruptedExit;
     }
     if (!fit.success) {
         std::cerr << (fit.run.name == "lm" ? "tvid: the simulation at the start failed (every candidate failed); the report in "

@@ -1,7 +1,10 @@
 #include "terminal.hpp"
 
+#include "tvid/estimation/identifiability.hpp"
+
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
@@ -10,25 +13,56 @@ namespace tvid::cli {
 
 bool is_terminal(int fd) { return ::isatty(fd) == 1; }
 
-ProgressLine::ProgressLine(bool enabled, int total_iterations)
-    : enabled_(enabled), total_(total_iterations), start_(std::chrono::steady_clock::now()), last_draw_(start_) {}
+bool wants_progress_line(bool quiet, bool json) { return !quiet && !json && is_terminal(1) && is_terminal(2); }
+
+namespace {
+// "42 s", "3 min 05 s", "1 h 02 min".
+std::string duration_text(double seconds) {
+    char buf[32];
+    const long s = std::lround(std::max(0.0, seconds));
+    if (s < 60) std::snprintf(buf, sizeof buf, "%ld s", s);
+    else if (s < 3600) std::snprintf(buf, sizeof buf, "%ld min %02ld s", s / 60, s % 60);
+    else std::snprintf(buf, sizeof buf, "%ld h %02ld min", s / 3600, (s % 3600) / 60);
+    return buf;
+}
+}  // namespace
+
+std::string progress_text(const HistoryRow& row, int planned, bool at_most, double elapsed) {
+    const double rate = elapsed > 0 ? static_cast<double>(row.evaluations) / elapsed : 0.0;
+    char line[256];
+    int n = std::snprintf(line, sizeof line, "iteration %d/%d  best cost %.6g  %.0f sim/s  %s elapsed", row.iteration,
+                          planned, row.best_cost, rate, duration_text(elapsed).c_str());
+    // The remaining time from the mean time per iteration so far.
+    if (row.iteration > 0 && planned > row.iteration && n > 0 && static_cast<std::size_t>(n) < sizeof line) {
+        const double left = elapsed * (planned - row.iteration) / row.iteration;
+        std::snprintf(line + n, sizeof line - static_cast<std::size_t>(n), ", %s%s left", at_most ? "at most " : "",
+                      duration_text(left).c_str());
+    }
+    return line;
+}
+
+ProgressLine::ProgressLine(bool enabled, int planned, bool at_most)
+    : enabled_(enabled), planned_(planned), at_most_(at_most), start_(std::chrono::steady_clock::now()),
+      last_draw_(start_) {}
 
 void ProgressLine::update(const HistoryRow& row) {
     if (!enabled_) return;
     const auto now = std::chrono::steady_clock::now();
-    if (drawn_ && now - last_draw_ < std::chrono::milliseconds(200) && row.iteration < total_) return;
+    if (drawn_ && now - last_draw_ < std::chrono::milliseconds(200) && row.iteration < planned_) return;
     last_draw_ = now;
     drawn_ = true;
     const double elapsed = std::chrono::duration<double>(now - start_).count();
-    const double rate = elapsed > 0 ? static_cast<double>(row.evaluations) / elapsed : 0.0;
-    const double eta = row.iteration > 0 ? elapsed * (total_ - row.iteration) / row.iteration : 0.0;
-    std::fprintf(stderr, "\r  iteration %d/%d  best cost %.6g  %.0f sim/s  %.1f s elapsed, %.1f s left   ",
-                 row.iteration, total_, row.best_cost, rate, elapsed, eta);
+    // \r back to the start of the line, ESC[K clears what a longer earlier line left.
+    std::fprintf(stderr, "\r  %s\033[K", progress_text(row, planned_, at_most_, elapsed).c_str());
     std::fflush(stderr);
 }
 
 void ProgressLine::finish() {
-    if (enabled_ && drawn_) std::fprintf(stderr, "\r%100s\r", "");
+    if (enabled_ && drawn_) {
+        std::fputs("\r\033[K", stderr);
+        std::fflush(stderr);
+    }
+    drawn_ = false;
 }
 
 namespace {
@@ -51,7 +85,12 @@ std::string fit_summary_text(const IdentificationProblem& problem, const FitResu
                   ex.name.c_str(), method.c_str(), fit.run.iterations, fit.run.evaluations, fit.run.failed_evaluations,
                   fit.wall_seconds, fit.threads, fit.threads == 1 ? "" : "s");
     out << line;
-    if (!fit.success) {
+    if (fit.interrupted && fit.success)
+        out << "  interrupted: the report holds the best parameters after iteration " << fit.run.iterations
+            << " (no uncertainty estimate)\n";
+    if (fit.interrupted && !fit.success) {
+        out << "  interrupted before a candidate was evaluated: no parameters were identified\n";
+    } else if (!fit.success) {
         out << (fit.run.name == "lm" ? "  the simulation at the start failed: no parameters were identified\n"
                                      : "  every candidate failed to simulate: no parameters were identified\n");
     } else {
@@ -71,26 +110,36 @@ std::string fit_summary_text(const IdentificationProblem& problem, const FitResu
     };
     split_line(fit.evaluation.estimation);
     split_line(fit.evaluation.validation);
-    out << "  parameter        value            std error\n";
+    const IdentifiabilityReport identifiability =
+        assess_identifiability(fit.uncertainty, problem.free_names(), fit.best_free);
+    out << "  parameter        value            std error    relative\n";
     for (std::size_t i = 0; i < ex.parameters.size(); ++i) {
         const ParameterSetting& p = ex.parameters[i];
-        std::string se = p.fixed ? "fixed" : "";
-        for (std::size_t j = 0; j < problem.free_indices().size(); ++j) {
-            if (problem.free_indices()[j] != i || !fit.uncertainty.available) continue;
-            if (!fit.uncertainty.determined[j]) {
+        std::string se = p.fixed ? "fixed" : "", relative;
+        for (std::size_t j = 0; j < problem.free_indices().size() && j < identifiability.parameters.size(); ++j) {
+            if (problem.free_indices()[j] != i) continue;
+            const ParameterIdentifiability& q = identifiability.parameters[j];
+            if (q.flag == IdentifiabilityFlag::undetermined) {
                 se = "undetermined";
-            } else {
-                char buf[32];
-                std::snprintf(buf, sizeof buf, "%.3g", fit.uncertainty.std_error[j]);
-                se = buf;
+                continue;
+            }
+            char buf[48];
+            std::snprintf(buf, sizeof buf, "%.3g", q.std_error);
+            se = buf;
+            if (std::isfinite(q.relative_std_error)) {
+                std::snprintf(buf, sizeof buf, "%.3g %%%s", 100 * q.relative_std_error,
+                              q.flag == IdentifiabilityFlag::weak ? "  weak" : "");
+                relative = buf;
             }
         }
-        std::snprintf(line, sizeof line, "  %-14s %-16.8g %s\n", p.name.c_str(), fit.best_params[i], se.c_str());
-        out << line;
+        std::snprintf(line, sizeof line, "  %-14s %-16.8g %-12s %s", p.name.c_str(), fit.best_params[i], se.c_str(),
+                      relative.c_str());
+        std::string row = line;
+        row.erase(row.find_last_not_of(' ') + 1);
+        out << row << '\n';
     }
-    if (fit.uncertainty.available && fit.uncertainty.rank < static_cast<int>(problem.dimension()))
-        out << "  warning: the data determine only " << fit.uncertainty.rank << " of " << problem.dimension()
-            << " parameter directions (see identifiability in summary.json)\n";
+    const std::string warning = identifiability.warning();
+    if (!warning.empty()) out << "  warning: " << warning << "\n";
     out << "  report: " << report_dir << "\n";
     return out.str();
 }

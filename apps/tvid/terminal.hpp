@@ -1,5 +1,5 @@
 #pragma once
-// Terminal output: a live progress line when stderr is a terminal, and the summary.
+// Terminal output: a live progress line for a person watching a terminal, and the summary.
 
 #include <chrono>
 #include <string>
@@ -12,19 +12,32 @@ namespace tvid::cli {
 /// True when stream (1 = stdout, 2 = stderr) is a terminal.
 bool is_terminal(int fd);
 
-/// A single status line redrawn in place at most a few times a second.
+/// Whether to draw a live progress line: only for a person at a terminal, i.e. stdout and
+/// stderr both terminals (nothing when either is piped or redirected, e.g. `| tee`), and
+/// never with --quiet or --json.
+bool wants_progress_line(bool quiet, bool json);
+
+/// A single status line on stderr, redrawn in place at most five times a second:
+/// iteration/planned, best cost, simulations per second, elapsed and remaining time.
 class ProgressLine {
 public:
-    ProgressLine(bool enabled, int total_iterations);
+    /// `planned`: the iterations the optimizer may take; `at_most`: it may stop earlier
+    /// (a tolerance), so the remaining time is an upper bound.
+    ProgressLine(bool enabled, int planned, bool at_most);
     void update(const HistoryRow& row);
+    /// Clears the line, so the summary starts on a clean line.
     void finish();
 
 private:
     bool enabled_;
-    int total_;
+    int planned_;
+    bool at_most_;
     std::chrono::steady_clock::time_point start_, last_draw_;
     bool drawn_ = false;
 };
+
+/// The progress line's text (without the carriage return).
+std::string progress_text(const HistoryRow& row, int planned, bool at_most, double elapsed_seconds);
 
 /// The short human summary of a fit: cost, Q, parameters, time, report folder.
 std::string fit_summary_text(const IdentificationProblem& problem, const FitResult& fit, const std::string& report_dir);

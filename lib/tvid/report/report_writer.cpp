@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "tvid/estimation/fit_metrics.hpp"
+#include "tvid/estimation/identifiability.hpp"
 #include "tvid/io/atomic_file.hpp"
 #include "tvid/io/sha256.hpp"
 
@@ -105,22 +106,47 @@ json parameters_json(const IdentificationProblem& problem, const FitResult& fit)
                 {"correlation", correlation}};
 }
 
+json identifiability_json(const IdentifiabilityReport& report) {
+    json parameters = json::array();
+    std::vector<std::string> undetermined;
+    for (const ParameterIdentifiability& p : report.parameters) {
+        parameters.push_back(json{{"name", p.name},
+                                  {"std_error", number(p.std_error)},
+                                  {"relative_std_error", number(p.relative_std_error)},
+                                  {"flag", to_string(p.flag)}});
+        if (p.flag == IdentifiabilityFlag::undetermined) undetermined.push_back(p.name);
+    }
+    json pairs = json::array();
+    for (const CorrelatedPair& c : report.correlated_pairs)
+        pairs.push_back(json{{"parameters", {c.first, c.second}}, {"correlation", c.correlation}});
+    json directions = json::array();
+    for (const ParameterCombination& c : report.null_directions) {
+        json vector = json::object(), exponents = json::object();
+        for (std::size_t j = 0; j < c.vector.size(); ++j) vector[report.parameters[j].name] = c.vector[j];
+        for (std::size_t j = 0; j < c.exponents.size(); ++j)
+            if (c.exponents[j] != 0.0) exponents[report.parameters[j].name] = c.exponents[j];
+        directions.push_back(json{{"combination", c.text},
+                                  {"parameters", c.members},
+                                  {"exponents", c.multiplicative ? exponents : json(nullptr)},
+                                  {"vector", vector}});
+    }
+    return json{{"available", report.available},
+                {"problem", report.problem},
+                {"rank", report.rank},
+                {"of", report.of},
+                {"free_parameters", report.of},
+                {"condition_number", number(report.condition_number)},
+                {"parameters", parameters},
+                {"undetermined", undetermined},
+                {"correlated_pairs", pairs},
+                {"null_directions", directions},
+                {"warning", report.warning()}};
+}
+
 json fit_summary_json(const IdentificationProblem& problem, const FitResult& fit, const RunContext& context) {
     const Experiment& ex = problem.experiment();
-    json identifiability{{"available", fit.uncertainty.available},
-                         {"problem", fit.uncertainty.problem},
-                         {"rank", fit.uncertainty.rank},
-                         {"free_parameters", problem.dimension()},
-                         {"condition_number", number(fit.uncertainty.condition_number)},
-                         {"undetermined", json::array()},
-                         {"null_directions", json::array()}};
-    for (std::size_t j = 0; j < fit.uncertainty.determined.size(); ++j)
-        if (!fit.uncertainty.determined[j]) identifiability["undetermined"].push_back(problem.free_names()[j]);
-    for (const auto& dir : fit.uncertainty.null_directions) {
-        json d = json::object();
-        for (std::size_t j = 0; j < dir.size(); ++j) d[problem.free_names()[j]] = dir[j];
-        identifiability["null_directions"].push_back(d);
-    }
+    const json identifiability =
+        identifiability_json(assess_identifiability(fit.uncertainty, problem.free_names(), fit.best_free));
     const double evals_per_s =
         fit.optimizer_seconds > 0 ? static_cast<double>(fit.run.evaluations) / fit.optimizer_seconds : 0.0;
     json optimizer{{"name", fit.run.name},
@@ -151,7 +177,7 @@ json fit_summary_json(const IdentificationProblem& problem, const FitResult& fit
            {"command", context.command_line},
            {"experiment", ex.name},
            {"status", fit.success ? "ok" : "failed"},
-           {"interrupted", false},
+           {"interrupted", fit.interrupted},
            {"config", ex.file.string()},
            {"config_sha256", file_digest(ex.file)},
            {"data", ex.data_file.string()},

@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "tvid/estimation/identifiability.hpp"
 #include "tvid/fit/fit_run.hpp"
 
 namespace tvid {
@@ -24,6 +25,9 @@ void write_fit_report(const std::filesystem::path& dir, const IdentificationProb
 
 /// summary.json's content (also printed by `--json`).
 nlohmann::json fit_summary_json(const IdentificationProblem& problem, const FitResult& fit, const RunContext& context);
+
+/// summary.json's `identifiability` block.
+nlohmann::json identifiability_json(const IdentifiabilityReport& report);
 
 /// params.json's content.
 nlohmann::json parameters_json(const IdentificationProblem& problem, const FitResult& fit);

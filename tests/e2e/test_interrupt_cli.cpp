@@ -1,0 +1,138 @@
+// Ctrl-C (SIGINT) or SIGTERM during `tvid fit`: the binary stops within about a second,
+// writes a complete report with the best parameters so far marked interrupted, and exits
+// with 130.
+#include <catch2/catch.hpp>
+#include <signal.h>
+
+#include <chrono>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <thread>
+
+#include "support/run_tvid.hpp"
+#include "support/test_files.hpp"
+
+using namespace tvid::test;
+using nlohmann::json;
+
+namespace {
+
+using clock_type = std::chrono::steady_clock;
+
+std::vector<std::vector<std::string>> csv_rows(const std::string& text) {
+    std::vector<std::vector<std::string>> rows;
+    std::istringstream in(text);
+    for (std::string line; std::getline(in, line);) {
+        std::vector<std::string> cells;
+        std::istringstream row(line);
+        for (std::string cell; std::getline(row, cell, ',');) cells.push_back(cell);
+        rows.push_back(cells);
+    }
+    return rows;
+}
+
+// Starts the fit, lets it run `run_seconds`, sends `signal` and returns the seconds from
+// the signal to the exit (the process result in `fit`).
+double interrupt_after(TvidProcess& fit, double run_seconds, int signal) {
+    std::this_thread::sleep_for(std::chrono::duration<double>(run_seconds));
+    REQUIRE_FALSE(fit.wait(0));  // still fitting
+    const auto sent = clock_type::now();
+    fit.send(signal);
+    REQUIRE(fit.wait(60));
+    return std::chrono::duration<double>(clock_type::now() - sent).count();
+}
+
+// Every file of the report is there and parses; the summary says interrupted and its
+// cost is the history's last best cost, which `tvid validate` reproduces from params.json.
+void check_interrupted_report(const std::filesystem::path& out, const std::string& config, int planned) {
+    for (const char* f : {"params.json", "params.csv", "summary.json", "estimation.csv", "validation.csv", "history.csv"})
+        REQUIRE(std::filesystem::is_regular_file(out / f));
+    for (const auto& entry : std::filesystem::directory_iterator(out))
+        CHECK(entry.path().filename().string().find(".tmp") == std::string::npos);
+
+    const json s = json::parse(read_text(out / "summary.json"));
+    CHECK(s["interrupted"] == true);
+    CHECK(s["status"] == "ok");
+    CHECK(s["optimizer"]["termination"] == "interrupted");
+    CHECK(s["optimizer"]["converged"] == false);
+    const int iterations = s["optimizer"]["iterations"].get<int>();
+    CHECK(iterations >= 1);
+    CHECK(iterations < planned);
+    CHECK(s["identifiability"]["available"] == false);
+    CHECK(s["identifiability"]["problem"] == "skipped: interrupted");
+    const double cost = s["cost"]["value"].get<double>();
+
+    const auto history = csv_rows(read_text(out / "history.csv"));
+    REQUIRE(history.size() == static_cast<std::size_t>(iterations) + 2);  // header + k = 0 … iterations
+    CHECK(history[0] == std::vector<std::string>{"iteration", "evaluations", "best_cost"});
+    for (std::size_t k = 2; k < history.size(); ++k) CHECK(std::stod(history[k][2]) <= std::stod(history[k - 1][2]));
+    CHECK(std::stod(history.back()[0]) == iterations);
+    CHECK(std::stod(history.back()[2]) == Approx(cost).epsilon(1e-9));
+
+    const json params = json::parse(read_text(out / "params.json"));
+    CHECK(params["parameters"].size() >= 1);
+    CHECK(csv_rows(read_text(out / "params.csv")).size() == params["parameters"].size() + 1);
+    CHECK(csv_rows(read_text(out / "estimation.csv")).size() > 1);
+    CHECK(csv_rows(read_text(out / "validation.csv")).size() > 1);
+
+    // The parameters written are the point whose cost the history reports.
+    const RunResult v = run_tvid({"validate", config, "--params", (out / "params.json").string()});
+    REQUIRE(v.exit_code == 0);
+    CHECK(json::parse(v.out)["cost"].get<double>() == Approx(cost).epsilon(1e-9));
+}
+
+}  // namespace
+
+TEST_CASE("Ctrl-C during the paper's swarm writes the best so far, marked interrupted, exit 130",
+          "[e2e][interrupt]") {
+    TempDir tmp;
+    const auto out = tmp.path() / "report";
+    const std::string config = (source_dir() / "configs/cvt_tipin.yaml").string();
+    TvidProcess fit({"fit", config, "-o", out.string(), "--threads", "2"});
+    const double seconds = interrupt_after(fit, 1.5, SIGINT);
+    const RunResult& r = fit.result();
+    INFO(r.err);
+    CHECK(r.exit_code == 130);
+    CHECK(seconds < 2.0);  // stopped within a second, then the report (measured on 2 busy cores)
+    CHECK(r.out.find("interrupted: the report holds the best parameters after iteration") != std::string::npos);
+    CHECK(r.err.find("tvid: interrupted; the report in") != std::string::npos);
+    check_interrupted_report(out, config, 250);
+}
+
+TEST_CASE("SIGTERM during a Levenberg-Marquardt fit writes the best so far, marked interrupted, exit 130",
+          "[e2e][interrupt]") {
+    TempDir tmp;
+    const auto out = tmp.path() / "report";
+    const std::string config = (source_dir() / "configs/engine_idle.yaml").string();
+    // One engine LM iteration with the sensitivity Jacobian takes ~0.5 s; the windows of
+    // the report (one estimation, six validation cycles) take ~1 s more.
+    TvidProcess fit({"fit", config, "-o", out.string(), "--threads", "2"});
+    const double seconds = interrupt_after(fit, 3.0, SIGTERM);
+    const RunResult& r = fit.result();
+    INFO(r.err);
+    CHECK(r.exit_code == 130);
+    CHECK(seconds < 4.0);
+    check_interrupted_report(out, config, 100);
+    const json s = json::parse(read_text(out / "summary.json"));
+    CHECK(s["optimizer"]["name"] == "lm");
+}
+
+TEST_CASE("a second Ctrl-C exits at once with 130 and leaves no torn file", "[e2e][interrupt]") {
+    TempDir tmp;
+    const auto out = tmp.path() / "report";
+    TvidProcess fit({"fit", (source_dir() / "configs/cvt_tipin.yaml").string(), "-o", out.string()});
+    std::this_thread::sleep_for(std::chrono::milliseconds(1000));
+    REQUIRE_FALSE(fit.wait(0));
+    fit.send(SIGINT);
+    fit.send(SIGINT);
+    REQUIRE(fit.wait(10));
+    CHECK(fit.result().exit_code == 130);
+    // Whatever was written is whole: each report file present parses.
+    if (std::filesystem::exists(out))
+        for (const auto& entry : std::filesystem::directory_iterator(out)) {
+            const std::string name = entry.path().filename().string();
+            INFO(name);
+            if (name.size() > 5 && name.substr(name.size() - 5) == ".json")
+                CHECK_NOTHROW(json::parse(read_text(entry.path())));
+        }
+}
