@@ -13,6 +13,7 @@ packages=(
   nlohmann-json3-dev     # nlohmann-json 3.11: report files
   libssl-dev             # OpenSSL: SHA-256 of config and data in the report
   python3                # data generation and test helpers (standard library only)
+  python3-matplotlib     # scripts/plot_report.py: figures of a report directory
   clang libclang-rt-14-dev libomp-dev  # libFuzzer targets (scripts/fuzz.sh) with ASan/UBSan
 )
 
