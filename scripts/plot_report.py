@@ -14,7 +14,7 @@ From REPORT_DIR (written by `tvid fit`, see docs/report-format.md):
 From SENS_DIR (written by `tvid sensitivity`, see docs/report-format.md; default
 REPORT_DIR/sensitivity when it holds a sensitivity.json):
   sensitivity_OUTPUT.png  p*dy/dp over time, one panel per free parameter
-                          (seed 000 Figs. 4-5)
+                          (seed 000 Figs. 4-5); dy/dp for a parameter at 0
 
 The figures go to OUT_DIR (default: REPORT_DIR/plots). Uses Debian's python3-matplotlib
 with the Agg backend (no display needed). Exit status: 0 done, 2 bad input (a missing or
@@ -39,6 +39,7 @@ try:
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    from matplotlib import ticker
 except ImportError:
     fail("matplotlib is not installed (Debian: apt-get install python3-matplotlib; run with /usr/bin/python3)", 3)
 
@@ -187,6 +188,12 @@ def plot_cost_history(report_dir, summary, out_dir, dpi):
     for ax, index, xlabel in ((axes[0], 0, "iteration"), (axes[1], 1, "simulations")):
         ax.plot([p[index] for p in points], [p[2] for p in points], color="tab:green", lw=1.2, marker=".", ms=3)
         ax.set_yscale("log")
+        costs = [p[2] for p in points]
+        if costs and max(costs) < 100 * min(costs):  # under two decades: label 2, 3, 5 × 10^k too
+            ax.yaxis.set_minor_locator(ticker.LogLocator(subs=(2.0, 3.0, 5.0)))
+            plain = ticker.FuncFormatter(lambda v, _: f"{v:.3g}")
+            ax.yaxis.set_major_formatter(plain)
+            ax.yaxis.set_minor_formatter(plain)
         ax.set_xlabel(xlabel)
         ax.set_ylabel(f"best cost ({kind})" if kind else "best cost")
         ax.grid(alpha=0.3, which="both")
@@ -200,8 +207,10 @@ def plot_sensitivity(sens_dir, out_dir, dpi):
     path = os.path.join(sens_dir, "sensitivity.csv")
     header, rows = read_csv(path)
     free = info.get("free_parameters", [])
-    for p in free:
-        column(header, f"s_{p}", path)
+    value_of = {q["name"]: q["value"] for q in info.get("parameters", [])}
+    # p·∂y/∂p is 0 for a parameter at 0: show its ∂y/∂p instead.
+    raw = {p: value_of.get(p) == 0 for p in free}
+    source = {p: column(header, ("d_" if raw[p] else "s_") + p, path) for p in free}
     w_col, t_col, o_col = (column(header, n, path) for n in ("window", "time", "output"))
     values = {p: {} for p in free}
     for line, row in enumerate(rows, start=2):
@@ -211,10 +220,9 @@ def plot_sensitivity(sens_dir, out_dir, dpi):
             series = values[p].setdefault(row[o_col], {}).setdefault(row[w_col], ([], []))
             try:
                 series[0].append(number(row[t_col]))
-                series[1].append(number(row[header.index(f"s_{p}")]))
+                series[1].append(number(row[source[p]]))
             except ValueError:
                 fail(f"{path}:{line}: a cell is not a number")
-    value_of = {q["name"]: q["value"] for q in info.get("parameters", [])}
     if not free:
         fail(f"{path}: no free parameters")
     for out in info.get("outputs", []):
@@ -226,7 +234,7 @@ def plot_sensitivity(sens_dir, out_dir, dpi):
             for t, s in values[p].get(out, {}).values():  # one line per window
                 ax.plot(t, s, color="tab:purple", lw=0.9)
             ax.set_title(f"{p} = {value_of.get(p, math.nan):.4g}", fontsize=9)
-            ax.set_ylabel(f"{p}·∂{out}/∂{p}", fontsize=8)
+            ax.set_ylabel(f"∂{out}/∂{p} (at {p} = 0)" if raw[p] else f"{p}·∂{out}/∂{p}", fontsize=8)
             ax.grid(alpha=0.3)
         for j in range(len(free), n_rows * cols):
             axes[j // cols][j % cols].set_visible(False)
