@@ -110,7 +110,11 @@ def traces(report_dir):
     for split in ("estimation", "validation"):
         path = os.path.join(report_dir, f"{split}.csv")
         header, rows = read_csv(path)
+        column(header, "t", path)
         outputs = outputs_of(header) or outputs
+        for out in outputs:
+            for suffix in ("_measured", "_simulated", "_residual", "_residual_ratio"):
+                column(header, out + suffix, path)
         for label, table in windows_of(header, rows, path).items():
             panels.append((split, label, table))
     return panels, outputs
