@@ -39,8 +39,7 @@ int run_fit_command(const FitCommand& cmd) {
     FitOptions options;
     options.threads = cmd.common.threads;
     options.seed = cmd.seed;
-    const int planned = ex.estimation_settings.optimizer == OptimizerKind::lm ? ex.estimation_settings.lm.max_iterations
-                                                                              : ex.estimation_settings.pso.iterations;
+    const int planned = planned_iterations(ex.estimation_settings);
     ProgressLine progress(!cmd.common.quiet && is_terminal(2), planned);
     options.progress = [&progress](const HistoryRow& row) {
         progress.update(row);

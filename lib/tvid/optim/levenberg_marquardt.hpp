@@ -41,6 +41,9 @@ public:
     /// r and the N×M Jacobian J = ∂r/∂x (column-major) at x; false on failure. J arrives
     /// sized N×M. The r returned must be the one residuals() gives at the same x.
     virtual bool jacobian(const double* x, double* r, Eigen::MatrixXd& J) = 0;
+    /// Model simulations run so far when the problem counts them (a Jacobian may take
+    /// several); -1 when it does not (drivers then count residual and Jacobian calls).
+    virtual long long simulations() const { return -1; }
 };
 
 struct LmSummary {
