@@ -76,6 +76,7 @@ TEST_CASE("pso+lm: a stop during the polish ends it", "[hybrid]") {
                                             [&](const HistoryRow& row) { return row.iteration < swarm.iterations + 3; });
     REQUIRE(h.polished);
     CHECK(h.lm.termination == "stopped");
+    CHECK(h.termination == "stopped");
     CHECK(h.history.back().iteration == swarm.iterations + 3);
     CHECK_FALSE(h.success);
 }

@@ -41,7 +41,8 @@ HybridSummary run_pso_then_lm(const PsoSettings& pso, const LmSettings& lm, cons
     s.evaluations = swarm_evaluations + (simulations_before >= 0 ? residuals.simulations() - simulations_before : lm_calls);
     s.failed_evaluations += s.lm.failed_evaluations;
     s.iterations = first_row + s.lm.iterations;
-    s.termination = "swarm: " + s.pso.termination + "; lm: " + s.lm.termination;
+    // A stop (the progress callback) reads the same whichever phase it came in.
+    s.termination = s.lm.termination == "stopped" ? "stopped" : "swarm: " + s.pso.termination + "; lm: " + s.lm.termination;
     s.success = s.lm.success;
     // LM never rises above its start; a start that failed to evaluate keeps the swarm's best.
     if (std::isfinite(s.lm.best_cost) && s.lm.best_cost <= s.pso.best_cost) {

@@ -29,7 +29,8 @@ struct HybridSummary {
     long long evaluations = 0;           ///< swarm candidates + LM simulations (or LM calls when not counted)
     long long failed_evaluations = 0;
     std::vector<HistoryRow> history;
-    /// "swarm: <reason>; lm: <reason>", or the swarm's reason when LM did not run.
+    /// "swarm: <reason>; lm: <reason>", the swarm's reason when LM did not run, or "stopped"
+    /// when the progress callback stopped either phase.
     std::string termination;
     bool success = false;                ///< the polish converged (an LM tolerance was met)
 };
