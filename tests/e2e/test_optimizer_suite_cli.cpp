@@ -121,6 +121,12 @@ TEST_CASE("tvid fit --optimizer multistart reports every start in starts.csv", "
               return row.size() > 5 && row.substr(row.size() - 5) == ",true";
           }) == 1);
     check_history(out / "history.csv", o["evaluations"].get<long long>(), cost);
+
+    // Another optimizer's report in the same directory leaves no stale starts.csv behind.
+    const RunResult again = run_tvid({"fit", kCvt, "-o", out.string(), "--force", "--quiet", "--set",
+                                      "estimation.pso={ start: latin_hypercube, particles: 4, iterations: 1 }"});
+    REQUIRE(again.exit_code == 0);
+    CHECK_FALSE(std::filesystem::exists(out / "starts.csv"));
 }
 
 TEST_CASE("bad optimizer settings exit 2 with one line naming the key", "[e2e][nlopt][errors]") {

@@ -214,6 +214,7 @@ void write_fit_report(const std::filesystem::path& dir, const IdentificationProb
     write_file_atomically(dir / "history.csv", hist.str());
     const std::string starts = starts_csv(problem, fit);
     if (!starts.empty()) write_file_atomically(dir / "starts.csv", starts);
+    else std::filesystem::remove(dir / "starts.csv", ec);  // a replaced multistart report's, no longer true
 
     // summary.json last: its presence marks a complete report.
     write_file_atomically(dir / "summary.json", fit_summary_json(problem, fit, context).dump(2) + "\n");
