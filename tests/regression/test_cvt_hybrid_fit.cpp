@@ -94,7 +94,7 @@ TEST_CASE("noise-free CVT data of the fit's own simulation: pso+lm reaches the f
     REQUIRE(fit.success);
     CHECK(fit.run.name == "pso+lm");
     CHECK(fit.pso.iterations == 30);
-    INFO("swarm cost " << fit.pso.best_cost << ", polished " << fit.evaluation.cost << ", truth " << truth_cost
+    INFO("swarm cost " << fit.pso.best_cost << ", LM steps " << fit.lm.iterations << ", polished " << fit.evaluation.cost << ", truth " << truth_cost
                        << ", signal " << signal);
     CHECK(fit.pso.best_cost > 1e-6 * signal);          // the cut swarm alone is far from the floor
     CHECK(fit.evaluation.cost <= 1e-16 * signal);      // the polish reaches it
