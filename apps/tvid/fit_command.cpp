@@ -44,9 +44,10 @@ int run_fit_command(const FitCommand& cmd) {
     FitOptions options;
     options.threads = cmd.common.threads;
     options.seed = cmd.seed;
-    const bool least_squares = ex.estimation_settings.optimizer == OptimizerKind::lm;
-    const int planned = least_squares ? ex.estimation_settings.lm.max_iterations : ex.estimation_settings.pso.iterations;
-    ProgressLine progress(wants_progress_line(cmd.common.quiet, cmd.common.json), planned, least_squares);
+    const int planned = planned_iterations(ex.estimation_settings);
+    // Every optimizer but the swarm may stop before its planned iterations.
+    const bool planned_is_cap = ex.estimation_settings.optimizer != OptimizerKind::pso;
+    ProgressLine progress(wants_progress_line(cmd.common.quiet, cmd.common.json), planned, planned_is_cap);
     options.progress = [&progress](const HistoryRow& row) {
         progress.update(row);
         return true;

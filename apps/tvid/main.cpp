@@ -40,7 +40,7 @@ int main(int argc, char** argv) {
     add_common(fit_cmd, fit.common);
     fit_cmd->add_option("-o,--output", fit.output_dir, "report directory (default: report.dir or results/NAME)");
     fit_cmd->add_option("--seed", fit.seed, "random seed of the optimizer");
-    fit_cmd->add_option("--optimizer", fit.optimizer, "pso or lm (overrides estimation.optimizer)");
+    fit_cmd->add_option("--optimizer", fit.optimizer, "pso, lm, nlopt, pso+lm or multistart (overrides estimation.optimizer)");
     fit_cmd->add_flag("--force", fit.force, "replace a report already in the report directory");
 
     EvaluateCommand simulate;

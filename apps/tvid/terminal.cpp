@@ -79,7 +79,7 @@ std::string fit_summary_text(const IdentificationProblem& problem, const FitResu
     std::ostringstream out;
     char line[512];
     const std::string method =
-        fit.run.name == "pso" ? "pso, " + std::to_string(fit.pso.particles) + " particles" : "lm (" + fit.run.termination + ")";
+        fit.run.name == "pso" ? "pso, " + std::to_string(fit.pso.particles) + " particles" : fit.run.name + " (" + fit.run.termination + ")";
     std::snprintf(line, sizeof line,
                   "tvid fit %s: %s, %d iterations, %lld simulations (%lld failed), %.2f s on %d thread%s\n",
                   ex.name.c_str(), method.c_str(), fit.run.iterations, fit.run.evaluations, fit.run.failed_evaluations,

@@ -32,7 +32,7 @@ public:
 
     int threads() const { return threads_; }
     JacobianKind jacobian_kind() const { return kind_; }
-    long long simulations() const { return simulations_; }  ///< simulations run so far
+    long long simulations() const override { return simulations_; }  ///< simulations run so far
 
 private:
     bool finite_difference_jacobian(const double* x, const double* r, Eigen::MatrixXd& J);

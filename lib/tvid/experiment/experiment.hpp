@@ -15,6 +15,8 @@
 #include "tvid/model/network_spec.hpp"
 #include "tvid/model/presets.hpp"
 #include "tvid/optim/lm_options.hpp"
+#include "tvid/optim/multistart_options.hpp"
+#include "tvid/optim/nlopt_options.hpp"
 #include "tvid/optim/pso_options.hpp"
 
 namespace tvid {
@@ -60,7 +62,22 @@ struct Window {
 enum class InitialStateKind { equilibrium, rest, measured };
 enum class IntegrationMethod { rk4, dopri5, rosenbrock4 };
 enum class CostKind { l1, l2 };
-enum class OptimizerKind { pso, lm };
+/// pso: particle swarm (seed 001); lm: Levenberg–Marquardt (seed 000); nlopt: any NLopt
+/// algorithm; pso_lm: the swarm, then LM from its best particle; multistart: LM from
+/// Latin-hypercube starts of the range box.
+enum class OptimizerKind { pso, lm, nlopt, pso_lm, multistart };
+
+/// The optimizer's name in experiment files, on the command line and in reports.
+constexpr const char* optimizer_name(OptimizerKind kind) {
+    switch (kind) {
+        case OptimizerKind::pso: return "pso";
+        case OptimizerKind::lm: return "lm";
+        case OptimizerKind::nlopt: return "nlopt";
+        case OptimizerKind::pso_lm: return "pso+lm";
+        case OptimizerKind::multistart: return "multistart";
+    }
+    return "pso";
+}
 /// How the Jacobian of the residuals is formed (LM steps, standard errors): forward
 /// sensitivities (seed 000 eq. 9) or central finite differences.
 enum class JacobianKind { sensitivity, fd };
@@ -79,6 +96,8 @@ struct EstimationSettings {
     OptimizerKind optimizer = OptimizerKind::pso;
     PsoSettings pso;
     LmSettings lm;
+    NloptSettings nlopt;                 ///< `nlopt: { algorithm, local_algorithm, ... }`
+    MultistartSettings multistart;       ///< `multistart: { starts, seed, max_iterations }`
     JacobianKind jacobian = JacobianKind::sensitivity;  ///< `lm: { jacobian: sensitivity | fd }`
 };
 

@@ -9,6 +9,7 @@
 #include "tvid/experiment/channel_reader.hpp"
 #include "tvid/experiment/experiment.hpp"
 #include "tvid/experiment/model_reader.hpp"
+#include "tvid/experiment/optimizer_settings_reader.hpp"
 #include "tvid/experiment/overrides.hpp"
 #include "tvid/experiment/parameter_reader.hpp"
 #include "tvid/experiment/window_reader.hpp"
@@ -177,21 +178,26 @@ LmSettings read_lm(const YamlMap& m) {
 }
 
 EstimationSettings read_estimation(const YamlMap& m) {
-    m.allow_only({"cost", "optimizer", "pso", "lm"});
+    m.allow_only({"cost", "optimizer", "pso", "lm", "nlopt", "multistart"});
     EstimationSettings s;
     if (m.has("cost")) s.cost = m.choice("cost", {"l1", "l2"}) == "l1" ? CostKind::l1 : CostKind::l2;
-    if (m.has("optimizer"))
-        s.optimizer = m.choice("optimizer", {"pso", "lm"}) == "lm" ? OptimizerKind::lm : OptimizerKind::pso;
+    if (m.has("optimizer")) s.optimizer = read_optimizer_kind(m);
     if (m.has("pso")) s.pso = read_pso(m.map("pso"));
+    if (m.has("nlopt")) s.nlopt = read_nlopt(m.map("nlopt"));
+    if (m.has("multistart")) s.multistart = read_multistart(m.map("multistart"));
     if (m.has("lm")) {
         const YamlMap lm = m.map("lm");
         s.lm = read_lm(lm);
         if (lm.has("jacobian"))
             s.jacobian = lm.choice("jacobian", {"sensitivity", "fd"}) == "fd" ? JacobianKind::fd : JacobianKind::sensitivity;
     }
-    // Levenberg–Marquardt minimizes a sum of squares (seed 000 eq. 7).
-    if (s.optimizer == OptimizerKind::lm && s.cost != CostKind::l2)
-        m.fail(m.has("cost") ? "cost" : "optimizer", "the lm optimizer minimizes a sum of squares: set cost: l2");
+    // Levenberg–Marquardt minimizes a sum of squares (seed 000 eq. 7), also as the polish
+    // of pso+lm and in every start of multistart.
+    const bool least_squares = s.optimizer == OptimizerKind::lm || s.optimizer == OptimizerKind::pso_lm ||
+                               s.optimizer == OptimizerKind::multistart;
+    if (least_squares && s.cost != CostKind::l2)
+        m.fail(m.has("cost") ? "cost" : "optimizer", std::string("the ") + optimizer_name(s.optimizer) +
+                                                         " optimizer minimizes a sum of squares: set cost: l2");
     return s;
 }
 
@@ -275,13 +281,16 @@ Experiment load_experiment(const std::filesystem::path& file, const std::vector<
     ex.outputs = std::move(outputs.channels);
     ex.output_indices = std::move(outputs.indices);
     if (top.has("estimation")) ex.estimation_settings = read_estimation(top.map("estimation"));
-    ex.parameters = read_parameters(parameters, ex.network, ex.estimation_settings.optimizer == OptimizerKind::pso);
+    const bool swarm = ex.estimation_settings.optimizer == OptimizerKind::pso ||
+                       ex.estimation_settings.optimizer == OptimizerKind::pso_lm;
+    ex.parameters = read_parameters(parameters, ex.network, swarm);
+    check_search_box(parameters, ex.parameters, ex.estimation_settings);
 
     // A grid start places grid^M particles: refuse swarms that could never be evaluated.
     const PsoSettings& pso = ex.estimation_settings.pso;
     std::size_t free_count = 0;
     for (const ParameterSetting& p : ex.parameters) free_count += p.fixed ? 0 : 1;
-    if (ex.estimation_settings.optimizer == OptimizerKind::pso && pso.start == PsoStart::grid && std::pow(static_cast<double>(pso.grid), static_cast<double>(free_count)) > kMaxParticles) {
+    if (swarm && pso.start == PsoStart::grid && std::pow(static_cast<double>(pso.grid), static_cast<double>(free_count)) > kMaxParticles) {
         const std::string problem = "a grid of " + std::to_string(pso.grid) + " points on " + std::to_string(free_count) +
                                     " free parameters is more than 1e6 particles; use start: latin_hypercube with particles: N";
         // Name the setting that asked for the grid (it may come from --set), or, when the

@@ -1,10 +1,12 @@
 #include "tvid/fit/fit_run.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 
 #include "tvid/estimation/experiment_least_squares.hpp"
 #include "tvid/estimation/parallel_evaluator.hpp"
+#include "tvid/fit/optimizer_runs.hpp"
 
 namespace tvid {
 
@@ -71,9 +73,16 @@ FitResult run_fit(const IdentificationProblem& problem, const FitOptions& option
     using clock = std::chrono::steady_clock;
     const auto t0 = clock::now();
     FitResult r;
-    r.run = problem.experiment().estimation_settings.optimizer == OptimizerKind::lm
-                ? run_least_squares(problem, options, r)
-                : run_swarm(problem, options, r);
+    // Every optimizer sees a progress callback that also says stop once a stop is requested.
+    FitOptions stoppable = options;
+    stoppable.progress = stoppable_progress(options);
+    switch (problem.experiment().estimation_settings.optimizer) {
+        case OptimizerKind::pso: r.run = run_swarm(problem, options, r); break;
+        case OptimizerKind::lm: r.run = run_least_squares(problem, options, r); break;
+        case OptimizerKind::nlopt: r.run = run_nlopt_fit(problem, stoppable, r); break;
+        case OptimizerKind::pso_lm: r.run = run_hybrid_fit(problem, stoppable, r); break;
+        case OptimizerKind::multistart: r.run = run_multistart_fit(problem, stoppable, r); break;
+    }
     r.optimizer_seconds = std::chrono::duration<double>(clock::now() - t0).count();
     r.interrupted = stop_requested(options);
     if (r.interrupted) {
@@ -89,6 +98,21 @@ FitResult run_fit(const IdentificationProblem& problem, const FitOptions& option
     else if (r.success) r.uncertainty = estimate_uncertainty(problem, r.best_free);
     r.wall_seconds = std::chrono::duration<double>(clock::now() - t0).count();
     return r;
+}
+
+int planned_iterations(const EstimationSettings& settings) {
+    switch (settings.optimizer) {
+        case OptimizerKind::pso: return settings.pso.iterations;
+        case OptimizerKind::lm: return settings.lm.max_iterations;
+        case OptimizerKind::nlopt: return static_cast<int>(std::min<long long>(settings.nlopt.max_evaluations, 1 << 30));
+        case OptimizerKind::pso_lm: return settings.pso.iterations + 1 + settings.lm.max_iterations;
+        case OptimizerKind::multistart: {
+            const int per_start =
+                settings.multistart.max_iterations > 0 ? settings.multistart.max_iterations : settings.lm.max_iterations;
+            return settings.multistart.starts * per_start;
+        }
+    }
+    return 0;
 }
 
 }  // namespace tvid

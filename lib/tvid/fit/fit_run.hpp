@@ -13,13 +13,15 @@
 #include "tvid/estimation/identification_problem.hpp"
 #include "tvid/estimation/uncertainty.hpp"
 #include "tvid/optim/levenberg_marquardt.hpp"
+#include "tvid/optim/multistart.hpp"
+#include "tvid/optim/nlopt_minimizer.hpp"
 #include "tvid/optim/pso.hpp"
 
 namespace tvid {
 
 struct FitOptions {
     int threads = 0;                        ///< <= 0: all cores
-    std::optional<std::uint64_t> seed;      ///< overrides the experiment's seed (particle swarm)
+    std::optional<std::uint64_t> seed;      ///< overrides the experiment's seed (swarm, NLopt, multistart)
     std::function<bool(const HistoryRow&)> progress;  ///< called after every iteration; false stops
     /// Stop request (e.g. &stop_request() for Ctrl-C), may be null: once set, the optimizer
     /// stops within about one simulation per thread with the best fully evaluated point,
@@ -29,7 +31,7 @@ struct FitOptions {
 
 /// What every optimizer reports, whichever ran.
 struct OptimizerRun {
-    std::string name;                       ///< "pso" or "lm"
+    std::string name;                       ///< "pso", "lm", "nlopt", "pso+lm" or "multistart"
     std::vector<double> best;               ///< free parameters
     double best_cost = 0.0;                 ///< the estimation cost (l1 or l2 as configured)
     int iterations = 0;
@@ -37,7 +39,9 @@ struct OptimizerRun {
     long long failed_evaluations = 0;       ///< candidates whose simulation failed
     std::vector<HistoryRow> history;        ///< iteration, simulations so far, best cost
     std::string termination;
-    bool converged = false;                 ///< lm: a tolerance was met; pso: the iteration budget ran out
+    /// lm, multistart (its best start), pso+lm (its polish): an LM tolerance was met; pso: the
+    /// iteration budget ran out; nlopt: a tolerance was met, or a global algorithm used its budget
+    bool converged = false;
 };
 
 struct FitResult {
@@ -45,7 +49,11 @@ struct FitResult {
     PsoSettings pso_settings;               ///< as run (seed resolved), when the swarm ran
     PsoSummary pso;                         ///< the swarm's own summary (particles …), when it ran
     LmSettings lm_settings;
-    LmSummary lm;                           ///< when Levenberg–Marquardt ran
+    LmSummary lm;                           ///< when Levenberg–Marquardt ran (lm, the polish of pso+lm)
+    NloptSettings nlopt_settings;           ///< as run (seed resolved), when NLopt ran
+    NloptSummary nlopt;
+    MultistartSettings multistart_settings; ///< as run (seed resolved), when multistart ran
+    MultistartSummary multistart;
     bool success = false;                   ///< a finite cost was reached
     bool interrupted = false;               ///< stopped by FitOptions::stop: best so far, no uncertainty
     std::vector<double> best_free;
@@ -58,5 +66,9 @@ struct FitResult {
 };
 
 FitResult run_fit(const IdentificationProblem& problem, const FitOptions& options);
+
+/// The iterations the configured optimizer plans (for a progress line): swarm updates, LM
+/// steps (over every start of multistart), NLopt evaluations.
+int planned_iterations(const EstimationSettings& settings);
 
 }  // namespace tvid

@@ -45,6 +45,9 @@ public:
     /// (Ctrl-C) cut it short, not because the model failed: the solver stops at its
     /// current point instead of counting a failed step.
     virtual bool stopped() const { return false; }
+    /// Model simulations run so far when the problem counts them (a Jacobian may take
+    /// several); -1 when it does not (drivers then count residual and Jacobian calls).
+    virtual long long simulations() const { return -1; }
 };
 
 struct LmSummary {

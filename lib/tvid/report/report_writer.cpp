@@ -8,6 +8,7 @@
 #include "tvid/estimation/identifiability.hpp"
 #include "tvid/io/atomic_file.hpp"
 #include "tvid/io/sha256.hpp"
+#include "tvid/report/optimizer_report.hpp"
 
 namespace tvid {
 
@@ -155,23 +156,7 @@ json fit_summary_json(const IdentificationProblem& problem, const FitResult& fit
                    {"failed_evaluations", fit.run.failed_evaluations},
                    {"termination", fit.run.termination},
                    {"converged", fit.run.converged}};
-    if (fit.run.name == "pso") {
-        const PsoSettings& ps = fit.pso_settings;
-        optimizer["particles"] = fit.pso.particles;
-        optimizer["seed"] = ps.seed;
-        optimizer["w"] = ps.w;
-        optimizer["c1"] = ps.c1;
-        optimizer["c2"] = ps.c2;
-    } else {
-        const LmSettings& ls = fit.lm_settings;
-        optimizer["jacobian"] =
-            ex.estimation_settings.jacobian == JacobianKind::fd ? "fd" : "sensitivity";
-        optimizer["initial_cost"] = number(fit.lm.initial_cost);
-        optimizer["ftol"] = ls.ftol;
-        optimizer["xtol"] = ls.xtol;
-        optimizer["gtol"] = ls.gtol;
-        optimizer["max_iterations"] = ls.max_iterations;
-    }
+    optimizer.update(optimizer_details_json(ex, fit));
     json s{{"tool", "tvid"},
            {"version", context.version},
            {"command", context.command_line},
@@ -253,6 +238,9 @@ void write_fit_report(const std::filesystem::path& dir, const IdentificationProb
     for (const HistoryRow& h : fit.run.history)
         hist << h.iteration << ',' << h.evaluations << ',' << fmt(h.best_cost, "%.17g") << '\n';
     write_file_atomically(dir / "history.csv", hist.str());
+    const std::string starts = starts_csv(problem, fit);
+    if (!starts.empty()) write_file_atomically(dir / "starts.csv", starts);
+    else std::filesystem::remove(dir / "starts.csv", ec);  // a replaced multistart report's, no longer true
 
     // summary.json last: its presence marks a complete report.
     write_file_atomically(dir / "summary.json", fit_summary_json(problem, fit, context).dump(2) + "\n");

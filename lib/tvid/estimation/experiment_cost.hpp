@@ -1,0 +1,43 @@
+#pragma once
+// The estimation cost of an IdentificationProblem as a DifferentiableCost for general
+// minimizers (NLopt), with its gradient from the residuals' Jacobian (forward
+// sensitivities, seed 000 eq. 9, or finite differences, as `lm.jacobian` says):
+//   l2: E = Σ e²                     ∇E = 2 Jᵀ e                          (seed 000 eq. 7)
+//   l1: E = Σ_windows mean_i Σ_k |e|  ∇E = Σ_windows (1/n_w) Σ sign(e) ∂e/∂p  (seed 001 eq. 19)
+// where n_w is the number of scored samples of window w (the cost sums its outputs over
+// a sample before dividing, as IdentificationProblem::cost does). |e| has no derivative
+// at e = 0: sign(0) = 0 gives the subgradient of least norm there.
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "tvid/estimation/experiment_least_squares.hpp"
+#include "tvid/optim/differentiable_cost.hpp"
+
+namespace tvid {
+
+class ExperimentCost : public DifferentiableCost {
+public:
+    /// threads <= 0: all hardware threads (the Jacobian's simulations run in parallel).
+    ExperimentCost(const IdentificationProblem& problem, int threads);
+
+    double value(const double* x) override;
+    double value_and_gradient(const double* x, double* gradient) override;
+    long long simulations() const override { return least_squares_.simulations(); }
+
+    int threads() const { return least_squares_.threads(); }
+
+    /// The cost of residuals laid out as IdentificationProblem::residuals gives them.
+    double cost_of_residuals(const double* r) const;
+
+private:
+    const IdentificationProblem* problem_;
+    ExperimentLeastSquares least_squares_;
+    bool l1_;
+    std::vector<std::size_t> window_residuals_;  ///< residuals per estimation window (samples × outputs)
+    std::size_t outputs_;
+    std::vector<double> r_;
+    Eigen::MatrixXd J_;
+};
+
+}  // namespace tvid

@@ -1,0 +1,45 @@
+#pragma once
+// The hybrid `pso+lm`: the particle swarm (pso.hpp) explores the range box, then
+// Levenberg–Marquardt (levenberg_marquardt.hpp) polishes its best particle. The swarm
+// finds the basin of the global minimum without a good start; LM then converges in a few
+// steps to the bottom of that basin, which the swarm approaches only slowly.
+//
+// Both phases must minimize the same cost: the swarm's candidate cost is Σ r² of the
+// least-squares problem (the caller's duty; an experiment's `pso+lm` needs `cost: l2`).
+// The history runs on: swarm rows 0 … K, then the LM start at the best particle as row
+// K + 1 and LM step k as row K + 1 + k, with cumulative evaluations and the best cost so far.
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "tvid/optim/candidate_evaluator.hpp"
+#include "tvid/optim/levenberg_marquardt.hpp"
+#include "tvid/optim/pso.hpp"
+
+namespace tvid {
+
+struct HybridSummary {
+    PsoSummary pso;                      ///< the swarm phase
+    LmSummary lm;                        ///< the polish (empty when it did not run)
+    bool polished = false;               ///< LM ran (the swarm found a finite cost and was not stopped)
+    std::vector<double> best;
+    double best_cost = 0.0;              ///< Σ r² at `best`
+    int iterations = 0;                  ///< swarm updates + LM steps
+    long long evaluations = 0;           ///< swarm candidates + LM simulations (or LM calls when not counted)
+    long long failed_evaluations = 0;
+    std::vector<HistoryRow> history;
+    /// "swarm: <reason>; lm: <reason>", the swarm's reason when LM did not run, or "stopped"
+    /// when the progress callback stopped either phase.
+    std::string termination;
+    bool success = false;                ///< the polish converged (an LM tolerance was met)
+};
+
+/// Called after every swarm update and LM step with the continued row; false stops.
+using HybridProgress = std::function<bool(const HistoryRow&)>;
+
+HybridSummary run_pso_then_lm(const PsoSettings& pso, const LmSettings& lm, const SearchBox& box,
+                              CandidateEvaluator& swarm_cost, LeastSquaresProblem& residuals,
+                              const HybridProgress& progress = {});
+
+}  // namespace tvid

@@ -1,0 +1,70 @@
+#pragma once
+// Multistart least squares: Levenberg–Marquardt from N points of a seeded Latin-hypercube
+// sample of the range box, the lowest cost kept. A single LM run from a poor start can stop
+// in a local minimum of a nonlinear model (the engine block from a corner of its box);
+// spread starts reach the basin of the global one.
+//
+// The starts run in parallel, each on its own least-squares problem (one per start, from a
+// factory) on a share of the threads. A start's result depends on its start point only, the
+// best is the lowest cost (the lower start number on a tie), and the history is laid out in
+// start order — so a seed gives the same result for any thread count.
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "tvid/optim/levenberg_marquardt.hpp"
+#include "tvid/optim/multistart_options.hpp"
+#include "tvid/optim/pso.hpp"  // SearchBox, HistoryRow
+
+namespace tvid {
+
+struct StartResult {
+    int start = 0;                   ///< 1-based
+    std::vector<double> initial;     ///< the Latin-hypercube point
+    std::vector<double> best;        ///< where its LM stopped
+    double initial_cost = 0.0;       ///< Σ r² at the start
+    double best_cost = 0.0;          ///< Σ r² at `best` (+inf when the start failed)
+    int iterations = 0;
+    long long evaluations = 0;       ///< simulations (or residual + Jacobian calls when not counted)
+    long long failed_evaluations = 0;
+    std::string termination;         ///< LM's reason, or "not run" when the run was stopped before it
+    bool success = false;            ///< an LM tolerance was met
+    std::vector<HistoryRow> history; ///< its own LM history
+};
+
+struct MultistartSummary {
+    std::vector<StartResult> starts;  ///< in start order
+    int best_start = 0;               ///< 1-based; 0 when every start failed
+    std::vector<double> best;
+    double best_cost = 0.0;
+    int iterations = 0;               ///< LM steps over all starts
+    long long evaluations = 0;
+    long long failed_evaluations = 0;
+    /// The starts' histories one after the other in start order: iterations numbered on,
+    /// evaluations cumulative, best cost the lowest so far over the starts before.
+    std::vector<HistoryRow> history;
+    std::string termination;          ///< "best of N starts: <best start's reason>", "stopped", ...
+    bool success = false;             ///< the best start converged
+    int threads = 1;                  ///< starts run at once
+    int threads_per_start = 1;
+};
+
+/// A fresh least-squares problem for one start, running on `threads` threads.
+using LeastSquaresFactory = std::function<std::unique_ptr<LeastSquaresProblem>(int threads)>;
+
+/// Called (serialized) after every LM step of any start with running totals (iteration =
+/// steps so far over all starts, evaluations so far, lowest cost so far); false stops every start.
+using MultistartProgress = std::function<bool(const HistoryRow&)>;
+
+/// The N start points (start-major, M values each) of the range box: a Latin hypercube.
+std::vector<double> multistart_points(const MultistartSettings& settings, const SearchBox& box);
+
+/// threads <= 0: all hardware threads. Throws std::invalid_argument when starts < 1.
+MultistartSummary run_multistart(const MultistartSettings& settings, const LmSettings& lm, const SearchBox& box,
+                                 int threads, const LeastSquaresFactory& make_problem,
+                                 const MultistartProgress& progress = {});
+
+}  // namespace tvid

@@ -1,0 +1,123 @@
+// Multistart LM on a problem with many local minima: a Latin-hypercube sample of starts,
+// the best kept, every start reported, the same result for any thread count.
+#include <catch2/catch.hpp>
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <set>
+
+#include "support/sinusoid_fit.hpp"
+#include "tvid/optim/multistart.hpp"
+
+using namespace tvid;
+using tvid::test::SinusoidFit;
+
+namespace {
+
+// ω's range [1, 5] in 20 slices of 0.2: the start in the slice of the truth lies in its
+// basin (half-width about π/10 s ≈ 0.3 rad/s); most others do not.
+const SearchBox kBox{{0.0, 0.1}, {10.0, 10.0}, {0.5, 1.0}, {3.0, 5.0}};
+
+LeastSquaresFactory sinusoid_factory() {
+    return [](int) { return std::make_unique<SinusoidFit>(); };
+}
+
+MultistartSettings starts(int n, std::uint64_t seed = 5) {
+    MultistartSettings s;
+    s.starts = n;
+    s.seed = seed;
+    return s;
+}
+
+}  // namespace
+
+TEST_CASE("multistart points are a seeded Latin hypercube of the range box", "[multistart]") {
+    const auto p = multistart_points(starts(10), kBox);
+    REQUIRE(p.size() == 20);
+    for (std::size_t j = 0; j < 2; ++j) {
+        std::set<int> strata;  // one point in each of the 10 slices of every parameter's range
+        for (std::size_t i = 0; i < 10; ++i) {
+            const double u = (p[i * 2 + j] - kBox.range_lower[j]) / (kBox.range_upper[j] - kBox.range_lower[j]);
+            CHECK(u >= 0.0);
+            CHECK(u < 1.0);
+            strata.insert(static_cast<int>(u * 10));
+        }
+        CHECK(strata.size() == 10);
+    }
+    CHECK(multistart_points(starts(10), kBox) == p);
+    CHECK(multistart_points(starts(10, 6), kBox) != p);
+}
+
+TEST_CASE("multistart finds the global minimum where single starts stop in local ones", "[multistart]") {
+    const MultistartSummary s = run_multistart(starts(20), LmSettings{}, kBox, 2, sinusoid_factory());
+    REQUIRE(s.starts.size() == 20);
+    REQUIRE(s.best_start >= 1);
+    CHECK(s.best[0] == Approx(SinusoidFit::kAmplitude).epsilon(1e-9));
+    CHECK(s.best[1] == Approx(SinusoidFit::kFrequency).epsilon(1e-9));
+    CHECK(s.best_cost < 1e-18);
+    CHECK(s.success);
+    CHECK(s.termination.rfind("best of 20 starts: ", 0) == 0);
+    int stuck = 0;
+    long long evaluations = 0;
+    int iterations = 0;
+    const auto points = multistart_points(starts(20), kBox);
+    for (const StartResult& r : s.starts) {
+        CHECK(r.initial == std::vector<double>(points.begin() + (r.start - 1) * 2, points.begin() + r.start * 2));
+        CHECK(r.best_cost >= s.best_cost);
+        CHECK(r.best_cost <= r.initial_cost);
+        CHECK(r.termination != "not run");
+        stuck += r.best_cost > 1.0 ? 1 : 0;
+        evaluations += r.evaluations;
+        iterations += r.iterations;
+    }
+    CHECK(stuck > 0);  // some starts end in a local minimum: the problem needs the spread
+    CHECK(s.best_cost == s.starts[static_cast<std::size_t>(s.best_start - 1)].best_cost);
+    CHECK(s.evaluations == evaluations);
+    CHECK(s.iterations == iterations);
+    // History: the starts one after the other, numbered on, best so far.
+    std::size_t rows = 0;
+    for (const StartResult& r : s.starts) rows += r.history.size();
+    REQUIRE(s.history.size() == rows);
+    for (std::size_t k = 1; k < s.history.size(); ++k) {
+        CHECK(s.history[k].iteration == static_cast<int>(k));
+        CHECK(s.history[k].evaluations >= s.history[k - 1].evaluations);
+        CHECK(s.history[k].best_cost <= s.history[k - 1].best_cost);
+    }
+    CHECK(s.history.back().evaluations == s.evaluations);
+    CHECK(s.history.back().best_cost == s.best_cost);
+}
+
+TEST_CASE("multistart gives the same result for any thread count", "[multistart]") {
+    const MultistartSummary one = run_multistart(starts(7), LmSettings{}, kBox, 1, sinusoid_factory());
+    const MultistartSummary three = run_multistart(starts(7), LmSettings{}, kBox, 3, sinusoid_factory());
+    CHECK(one.threads == 1);
+    CHECK(three.threads == 3);
+    CHECK(one.best == three.best);
+    CHECK(one.best_start == three.best_start);
+    CHECK(one.best_cost == three.best_cost);
+    REQUIRE(one.history.size() == three.history.size());
+    for (std::size_t k = 0; k < one.history.size(); ++k) {
+        CHECK(one.history[k].best_cost == three.history[k].best_cost);
+        CHECK(one.history[k].evaluations == three.history[k].evaluations);
+    }
+    for (std::size_t i = 0; i < one.starts.size(); ++i) {
+        CHECK(one.starts[i].best == three.starts[i].best);
+        CHECK(one.starts[i].iterations == three.starts[i].iterations);
+    }
+}
+
+TEST_CASE("multistart: per-start iteration cap, stop, and bad settings", "[multistart]") {
+    MultistartSettings capped = starts(4);
+    capped.max_iterations = 2;
+    const MultistartSummary s = run_multistart(capped, LmSettings{}, kBox, 2, sinusoid_factory());
+    for (const StartResult& r : s.starts) CHECK(r.iterations <= 2);
+
+    int calls = 0;
+    const MultistartSummary stopped = run_multistart(starts(6), LmSettings{}, kBox, 1, sinusoid_factory(),
+                                                     [&](const HistoryRow&) { return ++calls < 3; });
+    CHECK(stopped.termination == "stopped");
+    CHECK_FALSE(stopped.success);
+    CHECK(std::count_if(stopped.starts.begin(), stopped.starts.end(),
+                        [](const StartResult& r) { return r.termination == "not run"; }) >= 4);
+    CHECK_THROWS_AS(run_multistart(starts(0), LmSettings{}, kBox, 1, sinusoid_factory()), std::invalid_argument);
+}
