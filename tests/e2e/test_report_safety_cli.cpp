@@ -107,6 +107,22 @@ TEST_CASE("an unusable report place is bad input before the fit", "[e2e][report]
     const RunResult below_file = run_tvid(quick_fit(file / "report"));  // root or not, this cannot be created
     CHECK(below_file.exit_code == 2);
     CHECK(below_file.err.find("cannot create the report directory") != std::string::npos);
+    // A directory nobody may write in, not even root: /proc.
+    const RunResult unwritable = run_tvid(quick_fit("/proc"));
+    CHECK(unwritable.exit_code == 2);
+    CHECK(unwritable.err.rfind("/proc: the report directory is not writable: ", 0) == 0);
+    CHECK(std::count(unwritable.err.begin(), unwritable.err.end(), '\n') == 1);
+    // The same for a batch directory.
+    const RunResult batch_below_file =
+        run_tvid({"batch", (source_dir() / "configs/cvt_tipin_clean.yaml").string(), "--data",
+                  (source_dir() / "data/cvt/tipin_clean.csv").string(), "-o", (file / "batch").string()});
+    CHECK(batch_below_file.exit_code == 2);
+    CHECK(batch_below_file.err.rfind((file / "batch").string() + ": cannot create the batch directory: ", 0) == 0);
+    const RunResult batch_unwritable = run_tvid({"batch", (source_dir() / "configs/cvt_tipin_clean.yaml").string(),
+                                                 "--data", (source_dir() / "data/cvt/tipin_clean.csv").string(), "-o",
+                                                 "/proc"});
+    CHECK(batch_unwritable.exit_code == 2);
+    CHECK(batch_unwritable.err.rfind("/proc: the batch directory is not writable: ", 0) == 0);
 }
 
 TEST_CASE("a fit killed with SIGKILL leaves each report file complete or absent", "[e2e][report]") {
