@@ -20,6 +20,24 @@ std::vector<double> chosen_parameters(const EvaluateCommand& cmd, const Experime
     return cmd.params_file.empty() ? initial_parameters(ex) : read_parameter_file(cmd.params_file, ex);
 }
 
+// Exit status 1 with one line on stderr naming the first window whose simulation failed
+// (diverged, not finite, step budget exceeded); 0 when every window simulated.
+int report_failed_windows(const Evaluation& ev) {
+    std::string first;
+    int failed = 0;
+    for (const SplitEvaluation* split : {&ev.estimation, &ev.validation})
+        for (const WindowEvaluation& w : split->windows) {
+            if (w.trace.status == SimulationStatus::ok) continue;
+            if (failed++ == 0)
+                first = split->split + " window " + w.trace.window->label + " failed: " +
+                        (w.trace.problem.empty() ? to_string(w.trace.status) : w.trace.problem);
+        }
+    if (failed == 0) return 0;
+    std::cerr << "tvid: the simulation of " << first
+              << (failed > 1 ? " (and " + std::to_string(failed - 1) + " more window(s))" : "") << '\n';
+    return 1;
+}
+
 }  // namespace
 
 int run_simulate_command(const EvaluateCommand& cmd) {
@@ -36,7 +54,7 @@ int run_simulate_command(const EvaluateCommand& cmd) {
     } else {
         write_file_atomically(cmd.output, csv);
     }
-    return ev.estimation.ok && ev.validation.ok ? 0 : 1;
+    return report_failed_windows(ev);
 }
 
 int run_validate_command(const EvaluateCommand& cmd) {
@@ -49,7 +67,7 @@ int run_validate_command(const EvaluateCommand& cmd) {
                      {"validation", split_json(ex, ev.validation)}};
     if (!cmd.output.empty()) write_file_atomically(cmd.output, j.dump(2) + "\n");
     if (cmd.common.json || cmd.output.empty()) std::cout << j.dump(2) << std::endl;
-    return ev.estimation.ok && ev.validation.ok ? 0 : 1;
+    return report_failed_windows(ev);
 }
 
 }  // namespace tvid::cli
