@@ -28,7 +28,9 @@ void prepare_output_directory(const std::filesystem::path& dir, const std::strin
     if (ec) throw InputError(where, 0, "", "cannot create the " + what + ": " + ec.message());
     const fs::path probe = dir / (".tvid-write-test." + std::to_string(::getpid()));
     const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-    if (fd < 0) throw InputError(where, 0, "", "the " + what + " is not writable: " + std::strerror(errno));
+    if (fd < 0)
+        throw InputError(where, 0, "",
+                         "the " + what + " is not writable: cannot create a file in it (" + std::strerror(errno) + ")");
     ::close(fd);
     ::unlink(probe.c_str());
     for (const fs::directory_entry& e : fs::directory_iterator(dir, ec))
