@@ -53,11 +53,13 @@ void run_and_kill(const std::vector<std::string>& args, std::chrono::microsecond
     ::waitpid(pid, &status, 0);
 }
 
-// A small batch: the CVT clean experiment on four copies of its recording, a two-iteration
-// swarm per job, one thread (jobs finish one after the other, each adding a row).
+// A small batch: the CVT clean experiment on four copies of its recording, a swarm of 64
+// particles for two iterations per job, one thread (jobs finish one after the other, each
+// adding a row).
 std::vector<std::string> quick_batch(const fs::path& recordings, const fs::path& out, const std::string& mode) {
     return {"batch", (source_dir() / "configs/cvt_tipin_clean.yaml").string(), "--data", (recordings / "*.csv").string(),
-            "-o", out.string(), "--set", "estimation.pso.iterations=2", "--threads", "1", "--quiet", mode};
+            "-o", out.string(), "--set", "estimation.pso.start=latin_hypercube", "--set", "estimation.pso.particles=64",
+            "--set", "estimation.pso.iterations=2", "--threads", "1", "--quiet", mode};
 }
 
 // The rows of batch.csv by job id, wall time blanked (the only cell that differs between runs).
