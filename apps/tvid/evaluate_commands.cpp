@@ -23,18 +23,10 @@ std::vector<double> chosen_parameters(const EvaluateCommand& cmd, const Experime
 // Exit status 1 with one line on stderr naming the first window whose simulation failed
 // (diverged, not finite, step budget exceeded); 0 when every window simulated.
 int report_failed_windows(const Evaluation& ev) {
-    std::string first;
-    int failed = 0;
-    for (const SplitEvaluation* split : {&ev.estimation, &ev.validation})
-        for (const WindowEvaluation& w : split->windows) {
-            if (w.trace.status == SimulationStatus::ok) continue;
-            if (failed++ == 0)
-                first = split->split + " window " + w.trace.window->label + " failed: " +
-                        (w.trace.problem.empty() ? to_string(w.trace.status) : w.trace.problem);
-        }
+    const int failed = failed_window_count(ev);
     if (failed == 0) return 0;
-    std::cerr << "tvid: the simulation of " << first
-              << (failed > 1 ? " (and " + std::to_string(failed - 1) + " more window(s))" : "") << '\n';
+    std::cerr << "tvid: the simulation failed in " << first_failed_window(ev)
+              << (failed > 1 ? " (and in " + std::to_string(failed - 1) + " more window(s))" : "") << '\n';
     return 1;
 }
 

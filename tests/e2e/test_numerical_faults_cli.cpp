@@ -26,7 +26,7 @@ std::vector<std::string> starved(const std::string& command, std::vector<std::st
 TEST_CASE("tvid simulate and validate exit 1 naming the window whose simulation failed", "[e2e][faults]") {
     TempDir tmp;
     const std::string expected_line =
-        "tvid: the simulation of estimation window time 1.5 to 3 failed: simulation step budget exceeded (and 2 more "
+        "tvid: the simulation failed in estimation window time 1.5 to 3: step budget exceeded (and in 2 more "
         "window(s))\n";
     SECTION("simulate") {
         const RunResult r = run_tvid(starved("simulate", {"-o", (tmp.path() / "sim.csv").string()}));

@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "support/test_files.hpp"
+#include "tvid/estimation/evaluation.hpp"
 #include "tvid/estimation/identification_problem.hpp"
 #include "tvid/estimation/parallel_evaluator.hpp"
 #include "tvid/experiment/experiment.hpp"
@@ -162,4 +163,21 @@ TEST_CASE("the particle swarm counts every candidate whose simulation failed", "
     CHECK(summary.failed_evaluations < summary.evaluations);
     CHECK(std::isfinite(summary.best_cost));
     CHECK(summary.termination != "all candidates failed");
+}
+
+TEST_CASE("an evaluation says which window failed first and how many did", "[faults]") {
+    const Experiment healthy = load_experiment(kCvt);
+    const IdentificationProblem problem(healthy);
+    const Evaluation ok = evaluate_parameters(problem, problem.full_parameters(candidate()));
+    CHECK(first_failed_window(ok).empty());
+    CHECK(failed_window_count(ok) == 0);
+    // Contact stiffness RK4 cannot follow: the windows that cross the tip-in (from 1.54 s)
+    // diverge; the quiet window before it, [1, 1.5] s, stays out of contact.
+    const Evaluation stiff =
+        evaluate_parameters(problem, problem.full_parameters(candidate({{0, 100.0}, {1, 1e6}, {2, 1e6}})));
+    CHECK(first_failed_window(stiff) == "estimation window time 1.5 to 3: diverged");
+    CHECK(failed_window_count(stiff) == 2);
+    REQUIRE(stiff.validation.windows.size() == 2);
+    CHECK(stiff.validation.windows[0].trace.status == SimulationStatus::ok);
+    CHECK(stiff.validation.windows[1].trace.status == SimulationStatus::diverged);
 }
