@@ -137,8 +137,7 @@ BatchAppender::BatchAppender(const std::filesystem::path& file, std::string cont
 }
 
 void BatchAppender::append(const BatchRow& row) {
-    write_file_atomically(file_, content_ + batch_csv_line(row));
-    content_ += batch_csv_line(row);
+    rewrite(content_ + batch_csv_line(row));
 }
 
 void BatchAppender::rewrite(std::string content) {
