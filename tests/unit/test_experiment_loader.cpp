@@ -1038,6 +1038,8 @@ TEST_CASE("custom network errors name the line and the key", "[experiment][netwo
                      10, "model.elements[1].c", "cannot be negative");
         expect_error(with(kCustom, 13, "    - { type: gear_mesh, name: stage, between: [motor, load], ratio: 3, k: -5000, c: 1, mu: 0.01, sigma: sig }"),
                      13, "model.elements[4].k", "cannot be negative");
+        expect_error(with(kCustom, 13, "    - { type: gear_mesh, name: stage, between: [motor, load], ratio: 3, k: 5000, c: 1, mu: 0.01, sigma: 0 }"),
+                     13, "model.elements[4].sigma", "must be positive");
     }
     SECTION("a gear ratio and an offset may be negative") {
         Scratch s;
