@@ -17,6 +17,7 @@
 #include "tvid/estimation/identification_problem.hpp"
 #include "tvid/estimation/parallel_evaluator.hpp"
 #include "tvid/io/atomic_file.hpp"
+#include "tvid/io/output_directory.hpp"
 #include "tvid/util/input_error.hpp"
 
 namespace tvid::cli {
@@ -175,17 +176,15 @@ int run_batch_command(const BatchCommand& cmd) {
     const std::filesystem::path dir = batch_directory(ex, cmd.output_dir);
     const std::filesystem::path table = dir / "batch.csv", summary_file = dir / "batch_summary.json";
     std::error_code ec;
-    std::filesystem::create_directories(dir, ec);
-    if (ec) throw std::runtime_error("cannot create " + dir.string() + ": " + ec.message());
     if (!cmd.resume && !cmd.force && std::filesystem::exists(table))
         throw InputError(table.string(), 0, "",
                          "a batch is already here: use --resume to continue it or --force to start over");
+    prepare_output_directory(dir, "batch directory");
     std::map<std::size_t, BatchRow> rows = cmd.resume ? resumed_rows(table, columns, jobs, cmd.common.quiet)
                                                       : std::map<std::size_t, BatchRow>{};
     std::filesystem::remove(summary_file, ec);  // its presence marks a complete batch
     std::string kept = header_line(columns);
     for (const auto& [job, row] : rows) kept += batch_csv_line(row);
-    write_file_atomically(table, kept);
 
     std::vector<std::size_t> pending;
     for (std::size_t j = 0; j < jobs.size(); ++j)
@@ -193,8 +192,9 @@ int run_batch_command(const BatchCommand& cmd) {
     const int threads = std::max(1, std::min(resolve_thread_count(cmd.common.threads),
                                              static_cast<int>(std::max<std::size_t>(1, pending.size()))));
 
-    // Every finished row is on disk before the next one is reported.
-    BatchAppender appender(table);
+    // Every finished row is on disk before the next one is reported; batch.csv is
+    // rewritten atomically each time, so a kill never leaves it torn.
+    BatchAppender appender(table, kept);
     std::size_t done = 0;
     run_batch_jobs(settings, jobs, pending, columns, threads, [&](std::size_t job, const BatchRow& row) {
         appender.append(row);
@@ -211,7 +211,7 @@ int run_batch_command(const BatchCommand& cmd) {
         ordered.push_back(row);
         text += batch_csv_line(row);
     }
-    write_file_atomically(table, text);
+    appender.rewrite(text);
     const double seconds = std::chrono::duration<double>(clock::now() - start).count();
     const BatchSummary summary = summarize_batch(columns, ordered, pending.size(), seconds, threads);
     const BatchRunContext context{TVID_VERSION, cmd.common.command_line, cmd.common.experiment, ex.name, dir.string()};

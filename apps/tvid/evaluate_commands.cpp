@@ -20,6 +20,16 @@ std::vector<double> chosen_parameters(const EvaluateCommand& cmd, const Experime
     return cmd.params_file.empty() ? initial_parameters(ex) : read_parameter_file(cmd.params_file, ex);
 }
 
+// Exit status 1 with one line on stderr naming the first window whose simulation failed
+// (diverged, not finite, step budget exceeded); 0 when every window simulated.
+int report_failed_windows(const Evaluation& ev) {
+    const int failed = failed_window_count(ev);
+    if (failed == 0) return 0;
+    std::cerr << "tvid: the simulation failed in " << first_failed_window(ev)
+              << (failed > 1 ? " (and in " + std::to_string(failed - 1) + " more window(s))" : "") << '\n';
+    return 1;
+}
+
 }  // namespace
 
 int run_simulate_command(const EvaluateCommand& cmd) {
@@ -36,7 +46,7 @@ int run_simulate_command(const EvaluateCommand& cmd) {
     } else {
         write_file_atomically(cmd.output, csv);
     }
-    return ev.estimation.ok && ev.validation.ok ? 0 : 1;
+    return report_failed_windows(ev);
 }
 
 int run_validate_command(const EvaluateCommand& cmd) {
@@ -49,7 +59,7 @@ int run_validate_command(const EvaluateCommand& cmd) {
                      {"validation", split_json(ex, ev.validation)}};
     if (!cmd.output.empty()) write_file_atomically(cmd.output, j.dump(2) + "\n");
     if (cmd.common.json || cmd.output.empty()) std::cout << j.dump(2) << std::endl;
-    return ev.estimation.ok && ev.validation.ok ? 0 : 1;
+    return report_failed_windows(ev);
 }
 
 }  // namespace tvid::cli

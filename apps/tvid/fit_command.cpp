@@ -72,9 +72,13 @@ int run_fit_command(const FitCommand& cmd) {
         return kInterruptedExit;
     }
     if (!fit.success) {
-        std::cerr << (fit.run.name == "lm" ? "tvid: the simulation at the start failed (every candidate failed); the report in "
-                                           : "tvid: every candidate's simulation failed; the report in ")
-                  << dir.string() << " says so\n";
+        // Why, where it shows at the init values (the parameters the report holds).
+        const std::string at_init = first_failed_window(fit.evaluation);
+        const std::string why = at_init.empty() ? "" : "at the init values, in " + at_init;
+        std::cerr << (fit.run.name == "lm"
+                          ? "tvid: the simulation at the start failed (every candidate failed" + (why.empty() ? "" : "; " + why) + ")"
+                          : "tvid: every candidate's simulation failed" + (why.empty() ? "" : " (" + why + ")"))
+                  << "; the report in " << dir.string() << " says so\n";
         return 1;
     }
     return 0;

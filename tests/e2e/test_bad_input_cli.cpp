@@ -3,6 +3,7 @@
 // at fault (the experiment or the CSV), and no report directory left behind.
 #include <catch2/catch.hpp>
 #include <algorithm>
+#include <cmath>
 #include <sstream>
 
 #include "support/run_tvid.hpp"
@@ -65,15 +66,72 @@ struct Run {
     std::filesystem::path exp, csv, out;
     RunResult result;
 
-    Run(const std::string& experiment_text, const std::string& csv_text, std::vector<std::string> extra = {}) {
+    Run(const std::string& experiment_text, const std::string& csv_text, std::vector<std::string> extra = {},
+        const std::string& command = "fit") {
         csv = tmp.write("rec.csv", csv_text);
         exp = tmp.write("exp.yaml", experiment_text);
         out = tmp.path() / "out";
-        std::vector<std::string> args{"fit", exp.string(), "-o", out.string()};
+        std::vector<std::string> args{command, exp.string(), "-o", out.string()};
+        if (command == "batch") args.insert(args.end(), {"--data", csv.string()});
         args.insert(args.end(), extra.begin(), extra.end());
         result = run_tvid(args);
     }
 };
+
+// A four-cylinder engine-block experiment over rec.csv: one engine cycle at 130 rad/s
+// sampled every 5 deg of crank angle, pressures in bar (lines: index + 1).
+const std::vector<std::string> kEngineExperiment = {
+    "tvid: 1",                                                             // 1
+    "name: engine-bad-input",                                              // 2
+    "data: { file: rec.csv, time: t, angle: crank_deg }",                  // 3
+    "model:",                                                              // 4
+    "  preset: engine_block",                                              // 5
+    "  bore: 0.079",                                                       // 6
+    "  crank_radius: 0.0405",                                              // 7
+    "  rod_length: 0.129",                                                 // 8
+    "  K21: 8.0e4",                                                        // 9
+    "  Kxx: 3.0e5",                                                        // 10
+    "  K32: 2.0e5",                                                        // 11
+    "inputs:",                                                             // 12
+    "  p_cyl1: { column: p1, unit: bar }",                                 // 13
+    "  p_cyl2: { column: p2, unit: bar }",                                 // 14
+    "  p_cyl3: { column: p3, unit: bar }",                                 // 15
+    "  p_cyl4: { column: p4, unit: bar }",                                 // 16
+    "outputs: { omega_dw: omega }",                                        // 17
+    "parameters:",                                                         // 18
+    "  J1:  { init: 0.0054,  min: 1.0e-4, max: 0.05 }",                    // 19
+    "  J2:  { init: 0.00096, min: 1.0e-4, max: 0.01 }",                    // 20
+    "  J3:  { init: 0.144,   min: 0.01,   max: 1.0 }",                     // 21
+    "  m:   { init: 0.36,    min: 0,      max: 2.0 }",                     // 22
+    "  C1:  { init: 0.012,   min: 0,      max: 1.0 }",                     // 23
+    "  C2:  { init: 0.016,   min: 0,      max: 1.0 }",                     // 24
+    "  C3:  { init: 0.030,   min: 0,      max: 1.0 }",                     // 25
+    "  C21: { init: 3.0,     min: 0,      max: 50 }",                      // 26
+    "  C32: { init: 3.2,     min: 0,      max: 50 }",                      // 27
+    "  Cxx: { init: 1.8,     min: 0,      max: 50 }",                      // 28
+    "windows: { estimation: [ { cycle: 0 } ] }",                           // 29
+    "simulation: { method: rk4, step: 1.0e-5 }",                           // 30
+    "estimation: { cost: l2, optimizer: lm, lm: { max_iterations: 1 } }",  // 31
+};
+
+// One 720 deg cycle; each cylinder's pressure peaks near 30 bar at its firing TDC. The
+// sample at `stuck_row` (data row, 0-based) repeats the previous crank angle when >= 0.
+std::string engine_recording(int stuck_row = -1) {
+    std::ostringstream s;
+    s << "t,crank_deg,p1,p2,p3,p4,omega\n";
+    const double deg_per_s = 130.0 * 180.0 / 3.14159265358979;
+    for (int i = 0; i <= 144; ++i) {
+        const double deg = 5.0 * i;
+        s << deg / deg_per_s << ',' << (i == stuck_row ? deg - 5.0 : deg);
+        for (int k : {0, 2, 3, 1}) {  // firing order 1-3-4-2: cylinder k fires at its slot × 180 deg
+            const double from_tdc = std::fmod(deg - 180.0 * k + 720.0, 720.0);
+            const double d = std::min(from_tdc, 720.0 - from_tdc);
+            s << ',' << 1.0 + 29.0 * std::exp(-d * d / 800.0);
+        }
+        s << ",130\n";
+    }
+    return s.str();
+}
 
 // Exit 2, one line on stderr starting "FILE:LINE: ", naming `what`; no report directory.
 void check_one_line_error(const Run& r, const std::filesystem::path& file, int line,
@@ -168,6 +226,114 @@ TEST_CASE("bad CSV data exit 2 naming the data file, line and column", "[e2e][er
     SECTION("a data file that does not exist") {
         const Run r(join(with(kExperiment, 4, "  file: recording_missing.csv")), recording());
         check_one_line_error(r, r.exp, 4, {"data.file", "recording_missing.csv"});
+    }
+}
+
+TEST_CASE("broken CSV files exit 2 naming the data file and the line", "[e2e][errors]") {
+    SECTION("an empty data file") {
+        const Run r(join(kExperiment), "");
+        check_one_line_error(r, r.csv, 1, {"file is empty"});
+    }
+    SECTION("a data file of comments only") {
+        const Run r(join(kExperiment), "# channels: t, Ttm, Tds\n\n");
+        check_one_line_error(r, r.csv, 1, {"no header row"});
+    }
+    SECTION("binary data in the recording") {
+        const Run r(join(kExperiment), recording() + std::string("0.011,\0\x01\x02,3\n", 12));
+        check_one_line_error(r, r.csv, 13, {"not text"});
+    }
+    SECTION("inf in a channel") {
+        const Run r(join(kExperiment), "t,Ttm,Tds\n0,10,-5\n0.001,11,-4\n0.002,12,inf\n0.003,13,-2\n");
+        check_one_line_error(r, r.csv, 4, {"column Tds", "not finite"});
+    }
+    SECTION("-inf in the time column") {
+        const Run r(join(kExperiment), "t,Ttm,Tds\n0,10,-5\n-inf,11,-4\n0.002,12,-3\n");
+        check_one_line_error(r, r.csv, 3, {"column t", "not finite"});
+    }
+    SECTION("a time column the experiment names but the file lacks") {
+        const Run r(join(with(kExperiment, 5, "  time: time_s")), recording());
+        check_one_line_error(r, r.exp, 5, {"data.time", "no column 'time_s'"});
+    }
+}
+
+TEST_CASE("bad engine recordings exit 2 naming the line and the column or key", "[e2e][errors]") {
+    SECTION("the experiment and recording are good") {  // so that each case below fails for its one reason
+        const Run r(join(kEngineExperiment), engine_recording(), {}, "simulate");
+        INFO(r.result.err);
+        CHECK(r.result.exit_code == 0);
+        CHECK(r.result.err.empty());
+    }
+    SECTION("a crank angle that does not advance") {
+        const Run r(join(kEngineExperiment), engine_recording(40));  // data row 40 is line 42
+        check_one_line_error(r, r.csv, 42, {"column crank_deg", "does not advance", "195 deg after 195 deg"});
+    }
+    SECTION("a pressure recorded in bar read as pascal") {
+        const Run r(join(with(kEngineExperiment, 14, "  p_cyl2: p2")), engine_recording());
+        check_one_line_error(r, r.exp, 14, {"inputs.p_cyl2", "not an absolute cylinder pressure", "set unit: bar"});
+    }
+    SECTION("a pressure recorded in bar read as kPa") {
+        const Run r(join(with(kEngineExperiment, 16, "  p_cyl4: { column: p4, unit: kPa }")), engine_recording());
+        check_one_line_error(r, r.exp, 16, {"inputs.p_cyl4", "not an absolute cylinder pressure", "set unit: bar"});
+    }
+    SECTION("a negative reciprocating mass") {
+        const Run r(join(with(kEngineExperiment, 22, "  m:   { init: 0.36,    min: -1,     max: 2.0 }")),
+                    engine_recording());
+        check_one_line_error(r, r.exp, 22, {"parameters.m.min", "cannot be negative", "reciprocating mass"});
+    }
+    SECTION("a zero inertia") {
+        const Run r(join(with(kEngineExperiment, 21, "  J3: 0")), engine_recording());
+        check_one_line_error(r, r.exp, 21, {"parameters.J3", "must be positive", "an inertia"});
+    }
+    SECTION("a cycle window outside the recording") {
+        const Run r(join(with(kEngineExperiment, 29, "windows: { estimation: [ { cycle: 1 } ] }")), engine_recording());
+        check_one_line_error(r, r.exp, 29, {"windows.estimation[0].cycle"});
+    }
+}
+
+TEST_CASE("simulate, validate, sensitivity and batch refuse bad input as fit does", "[e2e][errors]") {
+    const std::string min_above_max = join(with(kExperiment, 14, "  c_minus: { init: 4, min: 50, max: 10 }"));
+    const std::string inf_recording = "t,Ttm,Tds\n0,10,-5\n0.001,inf,-4\n0.002,12,-3\n";
+    for (const char* command : {"simulate", "sensitivity", "batch"}) {
+        SECTION(std::string(command) + ": min > max") {
+            const Run r(min_above_max, recording(), {}, command);
+            check_one_line_error(r, r.exp, 14, {"parameters.c_minus.min", "greater than max"});
+        }
+        SECTION(std::string(command) + ": an unknown key") {
+            const Run r(join(with(kExperiment, 5, "  tiem: t")), recording(), {}, command);
+            check_one_line_error(r, r.exp, 5, {"data.tiem", "did you mean 'time'"});
+        }
+    }
+    for (const char* command : {"simulate", "sensitivity"}) {
+        SECTION(std::string(command) + ": inf in a channel") {
+            const Run r(join(kExperiment), inf_recording, {}, command);
+            check_one_line_error(r, r.csv, 3, {"column Ttm", "not finite"});
+        }
+    }
+    SECTION("validate: a window outside the data") {
+        TempDir tmp;
+        tmp.write("rec.csv", recording());
+        const auto exp = tmp.write("exp.yaml", join(with(kExperiment, 21, "  estimation: [ { time: [0.002, 0.5] } ]")));
+        const auto params = tmp.write("p.json", "{ \"rho1\": 1.5 }");
+        const RunResult r = run_tvid({"validate", exp.string(), "--params", params.string()});
+        INFO(r.err);
+        CHECK(r.exit_code == 2);
+        CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+        CHECK(r.err.rfind(exp.string() + ":21: windows.estimation[0].time: ", 0) == 0);
+        CHECK(r.out.empty());
+    }
+    SECTION("batch: a bad recording among good ones is that job's bad input, with the file, line and column") {
+        TempDir tmp;
+        const auto good = tmp.write("rec.csv", recording());
+        const auto bad = tmp.write("rec_inf.csv", inf_recording);
+        const auto exp = tmp.write("exp.yaml", join(kExperiment));
+        const auto out = tmp.path() / "out";
+        const RunResult r = run_tvid({"batch", exp.string(), "--data", good.string(), "--data", bad.string(), "-o",
+                                      out.string(), "--quiet", "--threads", "1"});
+        INFO(r.err);
+        CHECK(r.exit_code == 1);  // it ran; one job did not succeed
+        const std::string table = read_text(out / "batch.csv");
+        CHECK(contains(table, "rec_inf,bad_input," + bad.string() + ":3: column Ttm: value is not finite (inf)"));
+        CHECK(contains(table, "\nrec,ok,"));
     }
 }
 

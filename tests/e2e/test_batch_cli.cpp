@@ -200,3 +200,20 @@ TEST_CASE("tvid batch refuses to overwrite a batch without --resume or --force",
     CHECK(run_tvid(cvt_batch({"--cycles", "3-x", "-o", out.string()})).exit_code == 2);
     CHECK(run_tvid(cvt_batch({"-o", out.string()})).exit_code == 2);  // nothing to batch
 }
+
+TEST_CASE("tvid batch: a job whose every candidate fails is a failed row, and the batch exits 1", "[e2e][batch]") {
+    TempDir tmp;
+    const fs::path out = tmp.path() / "out";
+    const RunResult r = run_tvid(cvt_batch({"--data", (source_dir() / "data/cvt/tipin_clean.csv").string(), "-o",
+                                            out.string(), "--set", "simulation.method=dopri5", "--set",
+                                            "simulation.max_steps=1", "--threads", "1", "--json"}));
+    INFO(r.err);
+    CHECK(r.exit_code == 1);
+    const tvid::BatchFile t = read_table(out / "batch.csv");
+    REQUIRE(t.rows.size() == 1);
+    CHECK(t.rows[0][1] == "failed");
+    CHECK(t.rows[0][column(t, "rho1")].empty());  // no parameters were identified
+    const json s = json::parse(read_text(out / "batch_summary.json"));
+    CHECK(s["failed"] == 1);
+    CHECK(s["ok"] == 0);
+}

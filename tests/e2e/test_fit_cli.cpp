@@ -181,10 +181,29 @@ TEST_CASE("a fit whose every candidate fails exits 1 with a report that says so"
     const RunResult r = run_tvid(args);
     CHECK(r.exit_code == 1);
     CHECK(r.err.find("every candidate") != std::string::npos);
+    CHECK(r.err.find("(at the init values, in estimation window time 1.5 to 3: step budget exceeded)") !=
+          std::string::npos);  // why
     const json s = read_json(tmp.path() / "r" / "summary.json");
     CHECK(s["status"] == "failed");
     CHECK(s["optimizer"]["termination"] == "all candidates failed");
     CHECK(s["optimizer"]["failed_evaluations"] == s["optimizer"]["evaluations"]);
+}
+
+TEST_CASE("an lm fit whose start cannot be simulated exits 1 with a report that says so", "[e2e][fit]") {
+    TempDir tmp;
+    const RunResult r = run_tvid({"fit", (source_dir() / "configs/cvt_tipin.yaml").string(), "-o",
+                                  (tmp.path() / "r").string(), "--optimizer", "lm", "--quiet", "--set",
+                                  "estimation.cost=l2", "--set", "simulation.method=rosenbrock4", "--set",
+                                  "simulation.max_steps=1"});
+    CHECK(r.exit_code == 1);
+    CHECK(r.err == "tvid: the simulation at the start failed (every candidate failed; at the init values, in "
+                   "estimation window time 1.5 to 3: step budget exceeded); the report in " +
+                       (tmp.path() / "r").string() + " says so\n");
+    const json s = read_json(tmp.path() / "r" / "summary.json");
+    CHECK(s["status"] == "failed");
+    CHECK(s["optimizer"]["termination"] == "start failed");
+    CHECK(s["optimizer"]["failed_evaluations"] == 1);
+    CHECK(s["optimizer"]["initial_cost"].is_null());
 }
 
 TEST_CASE("tvid models lists the preset with its parameters, inputs and outputs", "[e2e][models]") {

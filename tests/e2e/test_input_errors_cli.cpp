@@ -67,10 +67,19 @@ TEST_CASE("every experiment error exits 2 naming the file, the line and the key"
         {"misspelt key", 4, "  tyme: t", "did you mean 'time'"},
         {"min > max", 13, "  c_minus: { init: 4, min: 50, max: 10 }", "parameters.c_minus"},
         {"init outside bounds", 14, "  c_plus:  { init: 190, min: 0, max: 100 }", "parameters.c_plus"},
+        {"min = max on a free parameter", 13, "  c_minus: { init: 4, min: 4, max: 4 }", "parameters.c_minus.max"},
         {"window outside the data", 20, "  estimation: [ { time: [0.002, 5.0] } ]", "windows.estimation"},
         {"column not in the CSV", 8, "outputs: { Tds: Tq }", "outputs.Tds"},
         {"unknown preset", 6, "  preset: cvt_clearence", "model.preset"},
         {"wrong format version", 0, "tvid: 2", "tvid"},
+        {"wrong type for a list", 20, "  estimation: { time: [0.002, 0.008] }", "windows.estimation"},
+        {"wrong type for a number", 22, "  pso: { start: latin_hypercube, particles: [4], iterations: 1 }",
+         "estimation.pso.particles"},
+        {"missing parameter", 15, "", "parameters.mu"},
+        {"negative inverse inertia", 10, "  rho1:    { init: -1.5, min: -10, max: 10 }", "parameters.rho1.init"},
+        {"negative damping", 13, "  c_minus: { value: -4 }", "parameters.c_minus.value"},
+        {"window the wrong way round", 20, "  estimation: [ { time: [0.008, 0.002] } ]", "windows.estimation[0].time"},
+        {"samples outside the data", 20, "  estimation: [ { samples: [2, 50] } ]", "windows.estimation[0].samples"},
     };
     for (const Case& c : cases) {
         SECTION(c.what) {
@@ -89,6 +98,8 @@ TEST_CASE("every experiment error exits 2 naming the file, the line and the key"
             const int line = std::atoi(r.err.c_str() + prefix.size());
             if (std::string(c.what) == "missing key") {
                 CHECK((line == 3 || line == 4));  // the data map
+            } else if (std::string(c.what) == "missing parameter") {
+                CHECK((line == 10 || line == 11));  // the parameters map
             } else {
                 CHECK(line == static_cast<int>(c.line) + 1);
             }

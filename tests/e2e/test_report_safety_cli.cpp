@@ -1,6 +1,7 @@
 // Nothing lost: a report directory that already holds a run is not overwritten without
-// --force, an unusable report place is bad input before any work, and a fit killed with
-// SIGKILL at any moment leaves every report file either complete or absent.
+// --force, an unusable report place is bad input before any work, and a fit or a batch
+// killed with SIGKILL at any moment leaves every report and batch file either complete or
+// absent (and --resume then completes the batch).
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
 #include <fcntl.h>
@@ -17,6 +18,7 @@
 
 #include "support/run_tvid.hpp"
 #include "support/test_files.hpp"
+#include "tvid/batch/batch_table.hpp"
 
 using namespace tvid::test;
 namespace fs = std::filesystem;
@@ -49,6 +51,27 @@ void run_and_kill(const std::vector<std::string>& args, std::chrono::microsecond
     ::kill(pid, SIGKILL);
     int status = 0;
     ::waitpid(pid, &status, 0);
+}
+
+// A small batch: the CVT clean experiment on four copies of its recording, a swarm of 64
+// particles for two iterations per job, one thread (jobs finish one after the other, each
+// adding a row).
+std::vector<std::string> quick_batch(const fs::path& recordings, const fs::path& out, const std::string& mode) {
+    return {"batch", (source_dir() / "configs/cvt_tipin_clean.yaml").string(), "--data", (recordings / "*.csv").string(),
+            "-o", out.string(), "--set", "estimation.pso.start=latin_hypercube", "--set", "estimation.pso.particles=64",
+            "--set", "estimation.pso.iterations=2", "--threads", "1", "--quiet", mode};
+}
+
+// The rows of batch.csv by job id, wall time blanked (the only cell that differs between runs).
+std::map<std::string, tvid::BatchRow> rows_by_id(const tvid::BatchFile& table) {
+    const auto wall = static_cast<std::size_t>(std::find(table.header.begin(), table.header.end(), "wall_seconds") -
+                                               table.header.begin());
+    std::map<std::string, tvid::BatchRow> out;
+    for (tvid::BatchRow row : table.rows) {
+        row.at(wall).clear();
+        out[row[0]] = row;
+    }
+    return out;
 }
 
 const char* const kReportFiles[] = {"params.json", "params.csv", "estimation.csv", "validation.csv", "history.csv",
@@ -86,6 +109,22 @@ TEST_CASE("an unusable report place is bad input before the fit", "[e2e][report]
     const RunResult below_file = run_tvid(quick_fit(file / "report"));  // root or not, this cannot be created
     CHECK(below_file.exit_code == 2);
     CHECK(below_file.err.find("cannot create the report directory") != std::string::npos);
+    // A directory nobody may write in, not even root: /proc.
+    const RunResult unwritable = run_tvid(quick_fit("/proc"));
+    CHECK(unwritable.exit_code == 2);
+    CHECK(unwritable.err.rfind("/proc: the report directory is not writable: ", 0) == 0);
+    CHECK(std::count(unwritable.err.begin(), unwritable.err.end(), '\n') == 1);
+    // The same for a batch directory.
+    const RunResult batch_below_file =
+        run_tvid({"batch", (source_dir() / "configs/cvt_tipin_clean.yaml").string(), "--data",
+                  (source_dir() / "data/cvt/tipin_clean.csv").string(), "-o", (file / "batch").string()});
+    CHECK(batch_below_file.exit_code == 2);
+    CHECK(batch_below_file.err.rfind((file / "batch").string() + ": cannot create the batch directory: ", 0) == 0);
+    const RunResult batch_unwritable = run_tvid({"batch", (source_dir() / "configs/cvt_tipin_clean.yaml").string(),
+                                                 "--data", (source_dir() / "data/cvt/tipin_clean.csv").string(), "-o",
+                                                 "/proc"});
+    CHECK(batch_unwritable.exit_code == 2);
+    CHECK(batch_unwritable.err.rfind("/proc: the batch directory is not writable: ", 0) == 0);
 }
 
 TEST_CASE("a fit killed with SIGKILL leaves each report file complete or absent", "[e2e][report]") {
@@ -125,4 +164,73 @@ TEST_CASE("a fit killed with SIGKILL leaves each report file complete or absent"
         killed_with_files += any ? 1 : 0;
     }
     CHECK(killed_with_files > 0);  // some kills did land while or after files were written
+}
+
+TEST_CASE("a batch killed with SIGKILL leaves batch files complete or absent, and --resume finishes it",
+          "[e2e][report][batch]") {
+    TempDir tmp;
+    const fs::path recordings = tmp.path() / "recordings";
+    fs::create_directories(recordings);
+    for (const char* name : {"run1.csv", "run2.csv", "run3.csv", "run4.csv"})
+        fs::copy_file(source_dir() / "data/cvt/tipin_clean.csv", recordings / name);
+
+    // The complete batch, and how long it takes.
+    const fs::path reference = tmp.path() / "reference";
+    const auto t0 = std::chrono::steady_clock::now();
+    const RunResult whole = run_tvid(quick_batch(recordings, reference, "--force"));
+    INFO(whole.err);
+    REQUIRE(whole.exit_code == 0);
+    const auto run_time = std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::steady_clock::now() - t0);
+    const auto complete_table = tvid::read_batch_file(reference / "batch.csv");
+    REQUIRE(complete_table);
+    REQUIRE(complete_table->rows.size() == 4);
+    const std::map<std::string, tvid::BatchRow> complete = rows_by_id(*complete_table);
+
+    std::mt19937 random(20261124);
+    std::uniform_int_distribution<long long> moment(0, run_time.count() * 12 / 10);
+    int partial = 0, resumed = 0;
+    for (int k = 0; k < 24; ++k) {
+        // Even runs start over a complete batch (--force), odd ones in an empty directory.
+        const fs::path out = tmp.path() / (k % 2 == 0 ? "over" : "fresh-" + std::to_string(k));
+        if (k % 2 == 0 && !fs::exists(out / "batch_summary.json"))
+            fs::copy(reference, out, fs::copy_options::overwrite_existing);
+        run_and_kill(quick_batch(recordings, out, "--force"), std::chrono::microseconds(moment(random)));
+        INFO("run " << k);
+        std::size_t rows = 0;
+        if (fs::exists(out / "batch.csv")) {
+            const auto table = tvid::read_batch_file(out / "batch.csv");
+            REQUIRE(table);
+            CHECK(table->header == complete_table->header);
+            CHECK(table->incomplete_rows == 0);  // never a torn line
+            for (const auto& [id, row] : rows_by_id(*table)) {
+                REQUIRE(complete.count(id) == 1);
+                CHECK(row == complete.at(id));  // each row whole and as in the uninterrupted batch
+            }
+            rows = table->rows.size();
+        }
+        if (fs::exists(out / "batch_summary.json")) {
+            // Written last: its presence vouches for a complete batch.csv.
+            const nlohmann::json s = nlohmann::json::parse(read_text(out / "batch_summary.json"));  // throws if torn
+            CHECK(s["jobs"] == 4);
+            CHECK(s["ok"] == 4);
+            CHECK(rows == 4);
+        } else if (fs::exists(out / "batch.csv")) {
+            ++partial;
+            // An interrupted batch: --resume runs the missing jobs and gives the uninterrupted table.
+            if (resumed < 3) {
+                ++resumed;
+                const RunResult r = run_tvid(quick_batch(recordings, out, "--resume"));
+                INFO(r.err);
+                CHECK(r.exit_code == 0);
+                const auto table = tvid::read_batch_file(out / "batch.csv");
+                REQUIRE(table);
+                CHECK(rows_by_id(*table) == complete);
+                CHECK(fs::exists(out / "batch_summary.json"));
+                for (const fs::directory_entry& e : fs::directory_iterator(out))
+                    CHECK(e.path().filename().string().find(".tmp.") == std::string::npos);  // swept away
+            }
+        }
+    }
+    CHECK(partial > 0);  // some kills did land while the batch was writing its rows
+    CHECK(resumed > 0);
 }

@@ -1,5 +1,5 @@
 // Unit tests of the batch library: the job plan (cycle lists, recording ids, overrides),
-// batch.csv rows (quoting, reading back, torn lines) and the summary statistics.
+// batch.csv rows (quoting, reading back, torn lines, atomic rewrites) and the summary statistics.
 
 #include <catch2/catch.hpp>
 
@@ -13,6 +13,7 @@
 #include "tvid/util/input_error.hpp"
 
 using namespace tvid;
+using tvid::test::read_text;
 using tvid::test::TempDir;
 using Catch::Matchers::Contains;
 
@@ -130,8 +131,7 @@ TEST_CASE("rows are quoted where needed and read back unchanged; a torn last lin
     ok[columns.index("p")] = batch_number(0.1);
     const auto file = tmp.path() / "batch.csv";
     {
-        std::ofstream(file) << batch_csv_line(columns.header());
-        BatchAppender out(file);
+        BatchAppender out(file, batch_csv_line(columns.header()));
         out.append(bad);
         out.append(ok);
     }
@@ -146,6 +146,33 @@ TEST_CASE("rows are quoted where needed and read back unchanged; a torn last lin
     CHECK(batch_cell_value(read->rows[1][columns.index("p")]) == 0.1);  // 17 digits read back exactly
     CHECK(read->incomplete_rows == 1);
     CHECK_FALSE(read_batch_file(tmp.path() / "absent.csv"));
+}
+
+TEST_CASE("batch.csv is rewritten whole at every row, with no temporary file left", "[batch]") {
+    TempDir tmp;
+    const BatchColumns columns({"p"}, {"y"});
+    const auto file = tmp.path() / "batch.csv";
+    const std::string header = batch_csv_line(columns.header());
+    BatchAppender out(file, header);
+    CHECK(read_text(file) == header);
+    std::string expected = header;
+    for (const char* id : {"a", "b", "c"}) {
+        BatchRow row = columns.row(id, kBatchOk, "converged");
+        row[columns.index("p")] = batch_number(1.5);
+        out.append(row);
+        expected += batch_csv_line(row);
+        CHECK(read_text(file) == expected);  // the file holds every row so far, each complete
+    }
+    // Someone else's bytes appended behind its back are not kept: the file is the appender's.
+    std::ofstream(file, std::ios::app) << "torn,o";
+    BatchRow last = columns.row("d", kBatchFailed, "every candidate failed");
+    out.append(last);
+    CHECK(read_text(file) == expected + batch_csv_line(last));
+    out.rewrite(header);
+    CHECK(read_text(file) == header);
+    std::size_t entries = 0;
+    for ([[maybe_unused]] const auto& e : std::filesystem::directory_iterator(tmp.path())) ++entries;
+    CHECK(entries == 1);  // batch.csv only: every temporary file was renamed
 }
 
 TEST_CASE("the summary spreads the successful rows only", "[batch]") {

@@ -298,19 +298,19 @@ TEST_CASE("CsvTable reports a missing or unreadable file", "[csv][error]") {
 TEST_CASE("CsvTable rejects an empty file or one without a header", "[csv][error]") {
     SECTION("zero bytes") {
         const InputError e = error_for("");
-        CHECK(e.line() == 0);
+        CHECK(e.line() == 1);
         CHECK(e.key().empty());
-        CHECK(e.problem() == "file is empty");
+        CHECK_THAT(e.problem(), Contains("file is empty"));
     }
     SECTION("only a BOM") {
-        CHECK(error_for("\xEF\xBB\xBF").problem() == "file is empty");
+        CHECK_THAT(error_for("\xEF\xBB\xBF").problem(), Contains("file is empty"));
     }
     SECTION("only blank lines") {
-        CHECK(error_for("\n  \n\t\r\n").problem() == "file is empty");
+        CHECK_THAT(error_for("\n  \n\t\r\n").problem(), Contains("file is empty"));
     }
     SECTION("only comments") {
         const InputError e = error_for("# a\n\n  # b\n");
-        CHECK(e.line() == 0);
+        CHECK(e.line() == 1);
         CHECK(e.key().empty());
         CHECK_THAT(e.problem(), Contains("no header row"));
     }

@@ -106,6 +106,35 @@ TEST_CASE("engine loading errors name the line and the key", "[engine][loader]")
         CHECK(e.key() == "inputs.p_cyl2");
         CHECK(std::string(e.what()).find("set unit") != std::string::npos);
     }
+    SECTION("a pressure in kPa read as bar, or in bar read as MPa") {
+        const auto file = engine_yaml(tmp, engine_csv(1.0, false));
+        const InputError kpa = load_error(file, {{"inputs.p_cyl3.unit", "MPa"}});  // 1 bar read as 1 MPa
+        CHECK(kpa.key() == "inputs.p_cyl3");
+        CHECK(kpa.line() == 25);
+        CHECK(std::string(kpa.what()).find("set unit: bar") != std::string::npos);
+        TempDir high;
+        const InputError e = load_error(engine_yaml(high, engine_csv(1.0, false, 100.0)));  // 100 kPa as bar
+        CHECK(e.key() == "inputs.p_cyl1");
+        CHECK(std::string(e.what()).find("10000000 … 10000000 Pa") != std::string::npos);
+        CHECK(std::string(e.what()).find("the numbers fit kPa") != std::string::npos);
+    }
+    SECTION("a negative pressure is not absolute") {
+        const InputError e = load_error(engine_yaml(tmp, engine_csv(1.0, false, -0.5)));
+        CHECK(e.key() == "inputs.p_cyl1");
+        CHECK(std::string(e.what()).find("not an absolute cylinder pressure") != std::string::npos);
+        CHECK(std::string(e.what()).find("check the column") != std::string::npos);  // no unit makes it fit
+    }
+    SECTION("a negative reciprocating mass or friction") {
+        const auto file = engine_yaml(tmp, engine_csv(1.0, false));
+        const InputError m = load_error(file, {{"parameters.m.min", "-1"}});
+        CHECK(m.key() == "parameters.m.min");
+        CHECK(std::string(m.what()).find("cannot be negative: m is a reciprocating mass") != std::string::npos);
+        const InputError c = load_error(file, {{"parameters.C2", "-0.01"}});
+        CHECK(c.key() == "parameters.C2");
+        CHECK(std::string(c.what()).find("C2 is a friction coefficient") != std::string::npos);
+        // Zero is a valid mass and damping (the bounds of the shipped experiment start there).
+        CHECK_NOTHROW(load_experiment(file, {{"parameters.m", "0"}, {"parameters.C21", "0"}}));
+    }
     SECTION("an engine cannot start from a static equilibrium") {
         std::string yaml = tvid::test::read_text(engine_yaml(tmp, engine_csv(1.0, false)));
         yaml = std::regex_replace(yaml, std::regex("initial_state: measured"), "initial_state: equilibrium");

@@ -1028,6 +1028,25 @@ TEST_CASE("custom network errors name the line and the key", "[experiment][netwo
                      "must be positive");
         expect_error(with(kCustom, 21, "  J_m:  { value: 0 }"), 21, "parameters.J_m.value", "must be positive");
     }
+    SECTION("stiffness, damping and backlash cannot be negative") {
+        expect_error(with(kCustom, 23, "  k_s:  { init: 1000, min: -10, max: 1.0e5 }"), 23, "parameters.k_s.min",
+                     "cannot be negative: k_s is a stiffness");
+        expect_error(with(kCustom, 25, "  c_f:  { init: 0.1, range: [-1, 1] }"), 25,
+                     "parameters.c_f.range", "must not reach below 0");
+        expect_error(with(kCustom, 24, "  mu_c: -0.002"), 24, "parameters.mu_c", "mu_c is a half backlash");
+        expect_error(with(kCustom, 10, "    - { type: spring_damper, name: shaft, between: [motor, load], k: k_s, c: -0.5 }"),
+                     10, "model.elements[1].c", "cannot be negative");
+        expect_error(with(kCustom, 13, "    - { type: gear_mesh, name: stage, between: [motor, load], ratio: 3, k: -5000, c: 1, mu: 0.01, sigma: sig }"),
+                     13, "model.elements[4].k", "cannot be negative");
+        expect_error(with(kCustom, 13, "    - { type: gear_mesh, name: stage, between: [motor, load], ratio: 3, k: 5000, c: 1, mu: 0.01, sigma: 0 }"),
+                     13, "model.elements[4].sigma", "must be positive");
+    }
+    SECTION("a gear ratio and an offset may be negative") {
+        Scratch s;
+        const Experiment ex = s.load(with(with(kCustom, 13, "    - { type: gear_mesh, name: stage, between: [motor, load], ratio: -3, k: 5000, c: 1, mu: 0.01, sigma: sig }"),
+                                          22, "  d_in: { value: -0.5 }"));
+        CHECK(ex.network.gear_meshes[0].ratio.constant == -3.0);
+    }
     SECTION("the gear mesh's sigma parameter must be positive") {
         expect_error(with(kCustom, 26, "  sig:  { value: -2000 }"), 26, "parameters.sig.value", "positive");
     }

@@ -1,18 +1,15 @@
 #include "tvid/batch/batch_table.hpp"
 
-#include <fcntl.h>
-#include <unistd.h>
-
 #include <algorithm>
-#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <cstring>
 #include <fstream>
 #include <limits>
 #include <sstream>
 #include <stdexcept>
+
+#include "tvid/io/atomic_file.hpp"
 
 namespace tvid {
 
@@ -20,10 +17,6 @@ namespace {
 
 constexpr const char* kMetrics[] = {"q", "fit", "max_residual_ratio"};
 constexpr const char* kSplits[] = {"estimation", "validation"};
-
-[[noreturn]] void fail(const std::filesystem::path& file, const char* what) {
-    throw std::runtime_error("cannot write " + file.string() + ": " + what + ": " + std::strerror(errno));
-}
 
 }  // namespace
 
@@ -139,29 +132,17 @@ std::optional<BatchFile> read_batch_file(const std::filesystem::path& file) {
     return out;
 }
 
-BatchAppender::BatchAppender(const std::filesystem::path& file) : file_(file) {
-    fd_ = ::open(file.c_str(), O_WRONLY | O_APPEND | O_CREAT | O_CLOEXEC, 0644);
-    if (fd_ < 0) fail(file_, "open");
-}
-
-BatchAppender::~BatchAppender() {
-    if (fd_ >= 0) ::close(fd_);
+BatchAppender::BatchAppender(const std::filesystem::path& file, std::string content) : file_(file) {
+    rewrite(std::move(content));
 }
 
 void BatchAppender::append(const BatchRow& row) {
-    const std::string line = batch_csv_line(row);
-    const char* data = line.data();
-    std::size_t left = line.size();
-    while (left > 0) {
-        const ssize_t n = ::write(fd_, data, left);
-        if (n < 0) {
-            if (errno == EINTR) continue;
-            fail(file_, "write");
-        }
-        data += n;
-        left -= static_cast<std::size_t>(n);
-    }
-    if (::fsync(fd_) != 0) fail(file_, "flush");
+    rewrite(content_ + batch_csv_line(row));
+}
+
+void BatchAppender::rewrite(std::string content) {
+    write_file_atomically(file_, content);
+    content_ = std::move(content);
 }
 
 }  // namespace tvid

@@ -66,20 +66,25 @@ struct BatchFile {
 /// cannot be read.
 std::optional<BatchFile> read_batch_file(const std::filesystem::path& file);
 
-/// Appends rows to batch.csv, each written, flushed and synced to disk before append()
-/// returns, so an interrupted batch keeps every finished job.
+/// Keeps batch.csv on disk as rows are added: every change rewrites the whole file
+/// through write_file_atomically (a temporary file, synced, renamed over batch.csv), so a
+/// batch killed at any moment leaves the file as it was before or after a row, never torn,
+/// and keeps every job that had finished. (Rows are few; rewriting them costs nothing next
+/// to a fit.)
 class BatchAppender {
 public:
-    explicit BatchAppender(const std::filesystem::path& file);
-    ~BatchAppender();
+    /// Writes `content` (the header line and any rows kept by --resume) as the file.
+    BatchAppender(const std::filesystem::path& file, std::string content);
     BatchAppender(const BatchAppender&) = delete;
     BatchAppender& operator=(const BatchAppender&) = delete;
-    /// Throws std::runtime_error naming the file when it cannot be written.
+    /// Adds a row. Throws std::runtime_error naming the file when it cannot be written.
     void append(const BatchRow& row);
+    /// Replaces the whole file (e.g. the rows in job order once the batch is done).
+    void rewrite(std::string content);
 
 private:
     std::filesystem::path file_;
-    int fd_ = -1;
+    std::string content_;
 };
 
 }  // namespace tvid

@@ -46,4 +46,22 @@ Evaluation evaluate_parameters(const IdentificationProblem& problem, const std::
     return ev;
 }
 
+std::string first_failed_window(const Evaluation& ev) {
+    for (const SplitEvaluation* split : {&ev.estimation, &ev.validation})
+        for (const WindowEvaluation& w : split->windows) {
+            if (w.trace.status == SimulationStatus::ok) continue;
+            std::string why = w.trace.problem.empty() ? to_string(w.trace.status) : w.trace.problem;
+            if (why.rfind("simulation ", 0) == 0) why.erase(0, 11);  // "simulation diverged" -> "diverged"
+            return split->split + " window " + w.trace.window->label + ": " + why;
+        }
+    return "";
+}
+
+int failed_window_count(const Evaluation& ev) {
+    int failed = 0;
+    for (const SplitEvaluation* split : {&ev.estimation, &ev.validation})
+        for (const WindowEvaluation& w : split->windows) failed += w.trace.status == SimulationStatus::ok ? 0 : 1;
+    return failed;
+}
+
 }  // namespace tvid

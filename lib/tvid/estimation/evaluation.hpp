@@ -32,4 +32,12 @@ struct Evaluation {
 
 Evaluation evaluate_parameters(const IdentificationProblem& problem, const std::vector<double>& params);
 
+/// Where and why the evaluation is incomplete: "estimation window W: step budget exceeded"
+/// for the first window whose simulation failed (diverged, not finite, ...); empty when
+/// every window simulated.
+std::string first_failed_window(const Evaluation& ev);
+
+/// The number of windows (estimation and validation) whose simulation failed.
+int failed_window_count(const Evaluation& ev);
+
 }  // namespace tvid

@@ -2,6 +2,7 @@
 
 #include "tvid/util/text.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -112,7 +113,40 @@ OutputSpec read_custom_output(const YamlMap& section, const std::string& name, c
     return o;
 }
 
+// Absolute cylinder pressure [Pa]: never below vacuum, at its lowest (intake, exhaust)
+// near atmospheric even with boost, at its peak (compression, firing) above atmospheric
+// and below what any engine withstands.
+constexpr double kLowestPressureAtMost = 5e5;   // 5 bar
+constexpr double kPeakPressureAtLeast = 0.8e5;  // 0.8 bar
+constexpr double kPeakPressureAtMost = 5e7;     // 500 bar
+
+bool plausible_cylinder_pressure(double lowest, double peak) {
+    return lowest >= 0 && lowest <= kLowestPressureAtMost && peak >= kPeakPressureAtLeast && peak <= kPeakPressureAtMost;
+}
+
 }  // namespace
+
+void check_cylinder_pressures(const YamlMap& inputs, const std::vector<ChannelBinding>& bindings,
+                              const CsvTable& data) {
+    for (const ChannelBinding& in : bindings) {
+        if (!in.by_angle) continue;
+        const std::vector<double>& p = data.column(in.column);
+        const auto [lo, hi] = std::minmax_element(p.begin(), p.end());
+        if (plausible_cylinder_pressure(*lo * in.scale, *hi * in.scale)) continue;
+        std::string fits;
+        for (const char* unit : {"Pa", "kPa", "bar", "MPa"})
+            if (plausible_cylinder_pressure(*lo * unit_to_si(unit), *hi * unit_to_si(unit)))
+                fits.append(fits.empty() ? "" : " or ").append(unit);
+        const std::string hint = fits.empty() ? "; check the column, or set its unit (Pa, kPa, bar or MPa)"
+                                              : "; the numbers fit " + fits + ": set unit: " + fits.substr(0, fits.find(' '));
+        inputs.fail(in.model_name,
+                    "column '" + in.column + "' reads " + number_text(*lo * in.scale) + " … " +
+                        number_text(*hi * in.scale) + " Pa" +
+                        (in.scale == 1.0 ? "" : " (values × " + number_text(in.scale) + ")") +
+                        ": not an absolute cylinder pressure (expected a lowest value of 0 … 5 bar and a peak of "
+                        "0.8 … 500 bar)" + hint);
+    }
+}
 
 double unit_to_si(const std::string& unit) {
     for (const UnitFactor& u : kUnits)

@@ -24,6 +24,14 @@ struct OutputBindings {
 /// `offset`) and is appended to `network.outputs`.
 OutputBindings read_outputs(const YamlMap& outputs, NetworkSpec& network, const CsvTable& data);
 
+/// Refuses a cylinder pressure channel (an input read by crank angle) whose values, in Pa
+/// after the unit conversion, cannot be an absolute cylinder pressure: negative, a peak
+/// below 0.8 bar or above 500 bar, or never below 5 bar (the gas exchange strokes are near
+/// atmospheric). This catches a unit off by a factor of 100 or more (bar read as Pa, kPa
+/// as bar, ...); the message names the units the numbers fit.
+void check_cylinder_pressures(const YamlMap& inputs, const std::vector<ChannelBinding>& bindings,
+                              const CsvTable& data);
+
 /// The factor that converts a value in `unit` to SI; 0 for an unknown unit.
 double unit_to_si(const std::string& unit);
 

@@ -265,18 +265,7 @@ Experiment load_experiment(const std::filesystem::path& file, const std::vector<
     }
     if (!ex.network.angle_input_names.empty() && ex.angle_column.empty())
         data.fail_missing("angle", "(the model reads cylinder pressures by crank angle: name the crank-angle column)");
-    for (const ChannelBinding& in : ex.inputs) {
-        if (!in.by_angle) continue;
-        // A cylinder pressure in Pa lies between vacuum and a few hundred bar; a channel
-        // recorded in bar but read as Pa would stay below 1000.
-        const std::vector<double>& p = ex.data.column(in.column);
-        const auto [lo, hi] = std::minmax_element(p.begin(), p.end());
-        const double low = *lo * in.scale, high = *hi * in.scale;
-        if (low < 0 || high > 1e8 || high < 1e3)
-            top.map("inputs").fail(in.model_name, "column '" + in.column + "' holds " + number_text(low) + " … " +
-                                                      number_text(high) +
-                                                      " Pa: not an absolute cylinder pressure (set unit: bar, kPa, MPa or Pa)");
-    }
+    check_cylinder_pressures(top.map("inputs"), ex.inputs, ex.data);
     OutputBindings outputs = read_outputs(top.map("outputs"), ex.network, ex.data);
     ex.outputs = std::move(outputs.channels);
     ex.output_indices = std::move(outputs.indices);

@@ -58,7 +58,18 @@ public:
 private:
     Field field(const YamlMap& m, const std::string& key) const {
         if (!m.has(key)) m.fail_missing(key);
-        return read_field(src_, m.get(key), m.key_path(key), net_.parameter_names);
+        const Field f = read_field(src_, m.get(key), m.key_path(key), net_.parameter_names);
+        // Stiffness, damping and backlash cannot be negative; a clearance's steepness σ (φ1
+        // divides by it) and the atmospheric pressure must be positive (parameters:
+        // parameter_reader).
+        static const std::set<std::string> non_negative{"k", "c", "k_minus", "k_plus", "c_minus", "c_plus", "mu"};
+        static const std::set<std::string> positive{"sigma", "p_atm"};
+        if (!f.is_parameter() && non_negative.count(key) && !(f.constant >= 0))
+            m.fail(key, "cannot be negative: a stiffness, damping coefficient or backlash (got " +
+                            number_text(f.constant) + ")");
+        if (!f.is_parameter() && positive.count(key) && !(f.constant > 0))
+            m.fail(key, "must be positive (got " + number_text(f.constant) + ")");
+        return f;
     }
     Field field_or(const YamlMap& m, const std::string& key, const Field& fallback) const {
         return m.has(key) ? field(m, key) : fallback;

@@ -10,22 +10,61 @@ namespace tvid {
 
 namespace {
 
-// Parameters whose value must be positive whatever the data say: inertias (and inverse
-// inertias) of nodes, and the smoothing steepness σ of a clearance (φ1 divides by σ).
-std::vector<const char*> positivity_roles(const NetworkSpec& n) {
-    std::vector<const char*> role(n.parameter_names.size(), nullptr);
-    auto set = [&](const Field& f, const char* what) {
-        if (f.is_parameter()) role[static_cast<std::size_t>(f.parameter)] = what;
+// What a parameter is physically, where that limits its sign: inertias (and inverse
+// inertias), the smoothing steepness σ of a clearance (φ1 divides by σ) and cylinder
+// dimensions must be positive; stiffnesses, damping and friction coefficients, a
+// clearance's half backlash μ and a reciprocating mass cannot be negative (a negative
+// damping feeds energy in, a negative inertia or stiffness turns an oscillation into
+// exponential growth). Parameters with no such meaning (offsets, ratios) have no role.
+struct PhysicalRole {
+    const char* what = nullptr;  ///< e.g. "an inertia"; nullptr: any sign
+    bool zero_allowed = false;
+};
+
+std::vector<PhysicalRole> physical_roles(const NetworkSpec& n) {
+    std::vector<PhysicalRole> role(n.parameter_names.size());
+    auto set = [&](const Field& f, const char* what, bool zero_allowed) {
+        if (!f.is_parameter()) return;
+        PhysicalRole& r = role[static_cast<std::size_t>(f.parameter)];
+        if (r.what != nullptr && !r.zero_allowed) return;  // a parameter that must be positive stays so
+        r = PhysicalRole{what, zero_allowed};
     };
-    for (const NodeSpec& node : n.nodes) set(node.inertia, node.inverse ? "an inverse inertia" : "an inertia");
-    for (const ClearanceSpec& c : n.clearances)
-        if (c.smooth) set(c.sigma, "the smoothing steepness sigma");
-    for (const GearMeshSpec& g : n.gear_meshes)
-        if (g.has_clearance && g.smooth) set(g.sigma, "the smoothing steepness sigma");
+    auto clearance = [&](const Field& k_minus, const Field& k_plus, const Field& c_minus, const Field& c_plus,
+                         const Field& mu, const Field& sigma, bool smooth) {
+        for (const Field* k : {&k_minus, &k_plus}) set(*k, "a contact stiffness", true);
+        for (const Field* c : {&c_minus, &c_plus}) set(*c, "a contact damping coefficient", true);
+        set(mu, "a half backlash", true);
+        if (smooth) set(sigma, "the smoothing steepness sigma", false);
+    };
+    for (const NodeSpec& node : n.nodes) set(node.inertia, node.inverse ? "an inverse inertia" : "an inertia", false);
+    for (const SpringDamperSpec& e : n.spring_dampers) {
+        set(e.k, "a stiffness", true);
+        set(e.c, "a damping coefficient", true);
+    }
+    for (const ClearanceSpec& c : n.clearances) clearance(c.k_minus, c.k_plus, c.c_minus, c.c_plus, c.mu, c.sigma, c.smooth);
+    for (const FrictionSpec& f : n.frictions) set(f.c, "a friction coefficient", true);
+    for (const GearMeshSpec& g : n.gear_meshes) {
+        set(g.k, "a mesh stiffness", true);
+        set(g.c, "a mesh damping coefficient", true);
+        if (g.has_clearance) clearance(g.k_minus, g.k_plus, g.c_minus, g.c_plus, g.mu, g.sigma, g.smooth);
+    }
+    for (const CylinderSpec& c : n.cylinders) {
+        for (const Field* f : {&c.bore, &c.crank_radius, &c.rod_length}) set(*f, "a cylinder dimension", false);
+        set(c.mass, "a reciprocating mass", true);
+        set(c.p_atm, "an atmospheric pressure", false);
+    }
     return role;
 }
 
-ParameterSetting read_one(const YamlMap& m, const std::string& name, const char* positive_role,
+// "must be positive" or "cannot be negative", as the role asks.
+bool violates(const PhysicalRole& role, double v) { return role.zero_allowed ? !(v >= 0) : !(v > 0); }
+
+std::string role_problem(const PhysicalRole& role, const std::string& name, double v) {
+    return std::string(role.zero_allowed ? "cannot be negative: " : "must be positive: ") + name + " is " + role.what +
+           " (got " + number_text(v) + ")";
+}
+
+ParameterSetting read_one(const YamlMap& m, const std::string& name, const PhysicalRole& role,
                           bool needs_search_box) {
     m.allow_only({"init", "value", "fixed", "min", "max", "range"});
     ParameterSetting p;
@@ -64,13 +103,12 @@ ParameterSetting read_one(const YamlMap& m, const std::string& name, const char*
         m.fail(start_key, std::string(start_key) + " " + number_text(p.init) + " is outside the bounds [" +
                               (p.has_min ? number_text(p.min) : "-inf") + ", " +
                               (p.has_max ? number_text(p.max) : "inf") + "]");
-    if (positive_role != nullptr) {
-        if (!(p.init > 0))
-            m.fail(start_key, "must be positive: " + name + " is " + positive_role + " (got " + number_text(p.init) + ")");
-        if (p.has_min && !(p.min > 0))
-            m.fail("min", "must be positive: " + name + " is " + positive_role + " (got " + number_text(p.min) + ")");
-        if (p.range && !(p.range->first > 0))
-            m.fail("range", "must stay positive: " + name + " is " + positive_role);
+    if (role.what != nullptr) {
+        if (violates(role, p.init)) m.fail(start_key, role_problem(role, name, p.init));
+        if (p.has_min && violates(role, p.min)) m.fail("min", role_problem(role, name, p.min));
+        if (p.range && violates(role, p.range->first))
+            m.fail("range", std::string(role.zero_allowed ? "must not reach below 0: " : "must stay positive: ") +
+                                name + " is " + role.what);
     }
     if (!p.fixed && needs_search_box && !p.range && !(p.has_min && p.has_max))
         m.source().fail(m.node(), m.path(),
@@ -85,7 +123,7 @@ std::vector<ParameterSetting> read_parameters(const YamlMap& parameters, const N
     const YamlSource& src = parameters.source();
     parameters.allow_only(network.parameter_names);
     const std::vector<bool> used = parameters_in_use(network);
-    const std::vector<const char*> roles = positivity_roles(network);
+    const std::vector<PhysicalRole> roles = physical_roles(network);
     std::vector<ParameterSetting> out;
     for (std::size_t i = 0; i < network.parameter_names.size(); ++i) {
         const std::string& name = network.parameter_names[i];
@@ -99,8 +137,8 @@ std::vector<ParameterSetting> read_parameters(const YamlMap& parameters, const N
             p.fixed = true;
             p.init = read_number(src, node, parameters.key_path(name));
             p.where = src.where(node, parameters.key_path(name));
-            if (roles[i] != nullptr && !(p.init > 0))
-                parameters.fail(name, "must be positive: " + name + " is " + roles[i]);
+            if (roles[i].what != nullptr && violates(roles[i], p.init))
+                parameters.fail(name, role_problem(roles[i], name, p.init));
             out.push_back(p);
             continue;
         }

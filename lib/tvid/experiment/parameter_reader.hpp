@@ -15,6 +15,9 @@ namespace tvid {
 /// One setting per network parameter, in network order. Every network parameter must be
 /// declared and every declared one must be a network parameter; `needs_search_box`: each
 /// free parameter needs a `range` or both bounds (the particle swarm starts in that box).
+/// A value, bound or range that makes the model unphysical is refused: inertias, σ and
+/// cylinder dimensions must be positive; stiffness, damping, friction, backlash and
+/// reciprocating mass cannot be negative.
 std::vector<ParameterSetting> read_parameters(const YamlMap& parameters, const NetworkSpec& network,
                                               bool needs_search_box);
 

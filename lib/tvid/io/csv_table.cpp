@@ -245,9 +245,10 @@ CsvTable CsvTable::read(const std::filesystem::path& file) {
         break;
     }
     if (header.empty()) {
+        // Line 1, as for an empty experiment file: an editor opens the file there.
         if (saw_comment)
-            throw InputError(fname, 0, "", "no header row: the file holds only comments and blank lines");
-        throw InputError(fname, 0, "", "file is empty");
+            throw InputError(fname, 1, "", "no header row: the file holds only comments and blank lines");
+        throw InputError(fname, 1, "", "file is empty (expected a header row of column names, then one row per sample)");
     }
     const int header_line = lines.line();
     table.header_line_ = header_line;
