@@ -14,6 +14,7 @@ packages=(
   libssl-dev             # OpenSSL: SHA-256 of config and data in the report
   python3                # data generation and test helpers (standard library only)
   clang libclang-rt-14-dev libomp-dev  # libFuzzer targets (scripts/fuzz.sh) with ASan/UBSan
+  libopenmpi-dev openmpi-bin           # Open MPI: the mpi preset (tvid fit / batch under mpirun)
 )
 
 missing=()
