@@ -1,19 +1,20 @@
-# `mpirun -n 2 tvid fit` gives the single process's report: params.json, params.csv and
-# history.csv byte for byte, the same cost in summary.json, which records 2 processes
-# for the swarm (Levenberg–Marquardt runs on the root alone: 1).
+# `mpirun -n PROCESSES tvid fit --threads MPI_THREADS` gives the report of one process on
+# one thread: params.json, params.csv, history.csv and the traces byte for byte, the same
+# cost and simulations in summary.json, which records the processes that scored swarm
+# candidates (PROCESSES_RECORDED; Levenberg–Marquardt runs on the root alone: 1).
 #   cmake -DTVID=... -DMPIEXEC=... -DMPIEXEC_NUMPROC_FLAG=... -DEXPERIMENT=... -DWORK_DIR=...
-#         -DFIT_ARGS=a|b -DPROCESSES_RECORDED=2 -P fit_equals_serial.cmake
+#         -DFIT_ARGS=a|b -DPROCESSES=2 -DMPI_THREADS=1 -DPROCESSES_RECORDED=2 -P fit_equals_serial.cmake
 include(${CMAKE_CURRENT_LIST_DIR}/mpirun.cmake)
 string(REPLACE "|" ";" fit_args "${FIT_ARGS}")
 file(REMOVE_RECURSE "${WORK_DIR}")
 
 run_alone(serial fit "${EXPERIMENT}" -o "${WORK_DIR}/serial" --threads 1 --quiet ${fit_args})
 expect_status(serial 0 "tvid fit")
-run_mpi(mpi 2 fit "${EXPERIMENT}" -o "${WORK_DIR}/mpi" --threads 1 --json ${fit_args})
-expect_status(mpi 0 "mpirun -n 2 tvid fit")
+run_mpi(mpi ${PROCESSES} fit "${EXPERIMENT}" -o "${WORK_DIR}/mpi" --threads ${MPI_THREADS} --json ${fit_args})
+expect_status(mpi 0 "mpirun -n ${PROCESSES} tvid fit")
 
 foreach(file params.json params.csv history.csv estimation.csv validation.csv)
-  expect_equal_files("${WORK_DIR}/serial/${file}" "${WORK_DIR}/mpi/${file}" "mpirun -n 2 tvid fit")
+  expect_equal_files("${WORK_DIR}/serial/${file}" "${WORK_DIR}/mpi/${file}" "mpirun -n ${PROCESSES} tvid fit")
 endforeach()
 
 read_required("${WORK_DIR}/serial/summary.json" serial_summary)
