@@ -154,6 +154,7 @@ struct PreparedBatch {
     std::filesystem::path dir, table, summary_file;
     std::map<std::size_t, BatchRow> rows;   ///< kept by --resume
     std::vector<std::size_t> pending;
+    std::unique_ptr<BatchAppender> appender;  ///< batch.csv, open for the rows to come
 };
 
 std::unique_ptr<PreparedBatch> prepare_batch(const BatchCommand& cmd, const BatchSettings& settings) {
@@ -200,8 +201,11 @@ std::unique_ptr<PreparedBatch> prepare_batch(const BatchCommand& cmd, const Batc
     std::vector<std::size_t> pending;
     for (std::size_t j = 0; j < jobs.size(); ++j)
         if (!rows.count(j)) pending.push_back(j);
+    // Opened here, so that a file that cannot be written stops every process before any job.
+    auto appender = std::make_unique<BatchAppender>(table);
     return std::make_unique<PreparedBatch>(PreparedBatch{std::move(jobs), ex.name, outputs, columns, dir, table,
-                                                         summary_file, std::move(rows), std::move(pending)});
+                                                         summary_file, std::move(rows), std::move(pending),
+                                                         std::move(appender)});
 }
 
 }  // namespace
@@ -231,7 +235,8 @@ int run_batch_command(const BatchCommand& cmd) {
     const std::vector<BatchJob>& jobs = prepared->jobs;
     const BatchColumns& columns = prepared->columns;
     const std::vector<std::string>& outputs = prepared->outputs;
-    const std::filesystem::path &dir = prepared->dir, &table = prepared->table;
+    const std::filesystem::path& dir = prepared->dir;
+    const std::filesystem::path& table = prepared->table;
     std::map<std::size_t, BatchRow>& rows = prepared->rows;
     const std::vector<std::size_t>& pending = prepared->pending;
     const int threads = group.size() > 1
@@ -240,10 +245,9 @@ int run_batch_command(const BatchCommand& cmd) {
                                                    static_cast<int>(std::max<std::size_t>(1, pending.size()))));
 
     // Every finished row is on disk before the next one is reported.
-    BatchAppender appender(table);
     std::size_t done = 0;
     const BatchJobFinished finished = [&](std::size_t job, const BatchRow& row) {
-        appender.append(row);
+        prepared->appender->append(row);
         rows[job] = row;
         ++done;
         if (!cmd.common.quiet)

@@ -63,6 +63,7 @@ int run_fit_command(const FitCommand& cmd) {
         serve_candidate_evaluations(group, local, problem.dimension());
         return 0;
     }
+    CandidateServers servers(group);  // released after the fit, or when anything below throws
     const std::filesystem::path dir = report_directory(ex, cmd.output_dir);
 
     FitOptions options;
@@ -76,7 +77,6 @@ int run_fit_command(const FitCommand& cmd) {
         return true;
     };
     options.processes = &group;
-    CandidateServers servers(group);
     const FitResult fit = run_fit(problem, options);
     servers.release();
     progress.finish();

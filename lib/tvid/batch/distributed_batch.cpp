@@ -101,23 +101,26 @@ void run_batch_jobs_on_group(ProcessGroup& group, const BatchSettings& settings,
             closed = true;
         }
     });
-    // This thread serves the other processes until each of their threads has been told to end.
-    try {
-        while (remote_threads > 0) {
-            const ProcessGroup::Message m = group.receive(ProcessGroup::any, ProcessGroup::any);
-            if (!m.bytes.empty()) {
-                const std::vector<std::string> result = decode_string_list(m.bytes);
-                if (result.size() != columns.size() + 1) throw std::runtime_error("malformed batch row between processes");
-                deliver(std::stoul(result[0]), BatchRow(result.begin() + 1, result.end()));
-            }
-            const std::optional<std::size_t> job = next_job();
-            group.send(m.source, m.tag, job ? std::to_string(*job) : "");
-            if (!job) --remote_threads;
+    // A row from another process, as run_batch_job made it there.
+    const auto receive_row = [&](const std::string& message) {
+        try {
+            const std::vector<std::string> result = decode_string_list(message);
+            if (result.size() != columns.size() + 1) throw std::runtime_error("malformed batch row between processes");
+            deliver(std::stoul(result[0]), BatchRow(result.begin() + 1, result.end()));
+        } catch (...) {
+            const std::lock_guard<std::mutex> lock(delivering);
+            if (!error) error = std::current_exception();
+            closed = true;
         }
-    } catch (...) {
-        closed = true;
-        local.join();
-        throw;
+    };
+    // This thread serves the other processes until each of their threads has been told to
+    // end (also after an error: none of them may be left waiting).
+    while (remote_threads > 0) {
+        const ProcessGroup::Message m = group.receive(ProcessGroup::any, ProcessGroup::any);
+        if (!m.bytes.empty()) receive_row(m.bytes);
+        const std::optional<std::size_t> job = next_job();
+        group.send(m.source, m.tag, job ? std::to_string(*job) : "");
+        if (!job) --remote_threads;
     }
     local.join();
     if (local_error) std::rethrow_exception(local_error);
