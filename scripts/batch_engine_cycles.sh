@@ -8,6 +8,8 @@
 #
 # Usage: scripts/batch_engine_cycles.sh [TVID] [extra tvid batch options, e.g. --threads 2]
 # Writes results/engine-idle-batch/ (batch.csv, batch_summary.json).
+# Under MPI (docs/mpi.md), with the MPI build and the launcher in MPIRUN:
+#   MPIRUN='mpirun -q -n 2' scripts/batch_engine_cycles.sh build/mpi/apps/tvid/tvid --threads 1
 set -euo pipefail
 
 root="$(cd "$(dirname "$0")/.." && pwd)"
@@ -18,13 +20,15 @@ out="$root/results/engine-idle-batch"
 # --force: a fresh batch each time (use --resume instead to continue an interrupted one).
 # Exit status 1 means some cycle failed; the table and summary are written anyway.
 status=0
-"$tvid" batch "$root/configs/engine_idle.yaml" --cycles 2-7 -o "$out" --force "$@" || status=$?
+read -r -a launcher <<< "${MPIRUN:-}"
+"${launcher[@]}" "$tvid" batch "$root/configs/engine_idle.yaml" --cycles 2-7 -o "$out" --force "$@" || status=$?
 if [ "$status" -ge 2 ]; then exit "$status"; fi
 
 python3 - "$out/batch_summary.json" <<'PY'
 import json, sys
 s = json.load(open(sys.argv[1]))
-print(f"\n{s['ok']} of {s['jobs']} cycles fitted, {s['jobs_per_second'] or 0:.3f} cycles/s on {s['threads']} thread(s)")
+processes = f" x {s['processes']} processes" if s.get("processes", 1) > 1 else ""
+print(f"\n{s['ok']} of {s['jobs']} cycles fitted, {s['jobs_per_second'] or 0:.3f} cycles/s on {s['threads']} thread(s){processes}")
 print(f"{'parameter':<10} {'mean':>12} {'std':>12} {'std/mean':>9} {'min':>12} {'max':>12}")
 for name, p in s["parameters"].items():
     if not p["count"]:

@@ -15,6 +15,7 @@ packages=(
   python3                # data generation and test helpers (standard library only)
   python3-matplotlib     # scripts/plot_report.py: figures of a report directory
   clang libclang-rt-14-dev libomp-dev  # libFuzzer targets (scripts/fuzz.sh) with ASan/UBSan
+  libopenmpi-dev openmpi-bin           # Open MPI: the mpi preset (tvid fit / batch under mpirun)
 )
 
 missing=()

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <iostream>
 #include <map>
+#include <memory>
 #include <optional>
 
 #include "commands.hpp"
@@ -14,10 +15,12 @@
 #include "tvid/batch/batch_runner.hpp"
 #include "tvid/batch/batch_summary.hpp"
 #include "tvid/batch/batch_table.hpp"
+#include "tvid/batch/distributed_batch.hpp"
 #include "tvid/estimation/identification_problem.hpp"
 #include "tvid/estimation/parallel_evaluator.hpp"
 #include "tvid/io/atomic_file.hpp"
 #include "tvid/io/output_directory.hpp"
+#include "tvid/parallel/on_every_process.hpp"
 #include "tvid/util/input_error.hpp"
 
 namespace tvid::cli {
@@ -130,6 +133,7 @@ std::string batch_summary_text(const BatchSummary& s, const std::string& name, c
                   name.c_str(), s.jobs, s.ok, s.failed, s.bad_input, s.run, s.wall_seconds, s.threads,
                   s.threads == 1 ? "" : "s");
     std::string out = head;
+    if (s.processes > 1) out += " × " + std::to_string(s.processes) + " processes";
     if (std::isfinite(s.jobs_per_second)) {
         char rate[64];
         std::snprintf(rate, sizeof rate, ", %.3g jobs/s", s.jobs_per_second);
@@ -141,13 +145,20 @@ std::string batch_summary_text(const BatchSummary& s, const std::string& name, c
     return out + "  batch: " + (dir / "batch.csv").string() + "\n";
 }
 
-}  // namespace
+// The batch as the root sets it up: jobs, columns, the output directory with the rows
+// kept by --resume, and the jobs still to run.
+struct PreparedBatch {
+    std::vector<BatchJob> jobs;
+    std::string name;                       ///< the experiment's
+    std::vector<std::string> outputs;
+    BatchColumns columns;
+    std::filesystem::path dir, table, summary_file;
+    std::map<std::size_t, BatchRow> rows;   ///< kept by --resume
+    std::vector<std::size_t> pending;
+    std::unique_ptr<BatchAppender> appender;  ///< batch.csv, open for the rows to come
+};
 
-int run_batch_command(const BatchCommand& cmd) {
-    using clock = std::chrono::steady_clock;
-    const auto start = clock::now();
-    BatchSettings settings{cmd.common.experiment, parse_overrides(cmd.common.overrides), cmd.seed};
-
+std::unique_ptr<PreparedBatch> prepare_batch(const BatchCommand& cmd, const BatchSettings& settings) {
     // The jobs: recordings × cycles, each a set of overrides on the experiment.
     BatchRequest request;
     for (const std::string& pattern : cmd.data_globs) {
@@ -160,7 +171,7 @@ int run_batch_command(const BatchCommand& cmd) {
     }
     if (!cmd.cycles.empty()) request.cycles = parse_cycle_list(cmd.cycles);
     request.validation = !cmd.no_validation;
-    const std::vector<BatchJob> jobs = plan_batch_jobs(request);
+    std::vector<BatchJob> jobs = plan_batch_jobs(request);
 
     const Experiment ex = load_batch_experiment(settings, jobs);
     const IdentificationProblem problem(ex);
@@ -189,20 +200,63 @@ int run_batch_command(const BatchCommand& cmd) {
     std::vector<std::size_t> pending;
     for (std::size_t j = 0; j < jobs.size(); ++j)
         if (!rows.count(j)) pending.push_back(j);
-    const int threads = std::max(1, std::min(resolve_thread_count(cmd.common.threads),
-                                             static_cast<int>(std::max<std::size_t>(1, pending.size()))));
+    // Opened here, so that a file that cannot be written stops every process before any job.
+    auto appender = std::make_unique<BatchAppender>(table, kept);
+    return std::make_unique<PreparedBatch>(PreparedBatch{std::move(jobs), ex.name, outputs, columns, dir, table,
+                                                         summary_file, std::move(rows), std::move(pending),
+                                                         std::move(appender)});
+}
+
+}  // namespace
+
+int run_batch_command(const BatchCommand& cmd) {
+    using clock = std::chrono::steady_clock;
+    const auto start = clock::now();
+    ProcessGroup alone;
+    ProcessGroup& group = cmd.processes ? *cmd.processes : alone;
+    const BatchSettings settings{cmd.common.experiment, parse_overrides(cmd.common.overrides), cmd.seed};
+
+    // The root sets the batch up; under mpirun the others then take its plan and run jobs for it.
+    const std::unique_ptr<PreparedBatch> prepared = on_every_process(group, [&] {
+        return group.is_root() ? prepare_batch(cmd, settings) : std::unique_ptr<PreparedBatch>();
+    });
+    if (group.size() > 1) {
+        std::string plan = group.is_root() ? encode_batch_plan({prepared->jobs, prepared->columns.parameters(),
+                                                                prepared->outputs})
+                                           : std::string();
+        group.broadcast(plan);
+        if (!group.is_root()) {
+            const BatchPlan p = decode_batch_plan(plan);
+            serve_batch_jobs(group, settings, p.jobs, BatchColumns(p.parameters, p.outputs), cmd.common.threads);
+            return 0;
+        }
+    }
+    const std::vector<BatchJob>& jobs = prepared->jobs;
+    const BatchColumns& columns = prepared->columns;
+    const std::vector<std::string>& outputs = prepared->outputs;
+    const std::filesystem::path& dir = prepared->dir;
+    const std::filesystem::path& table = prepared->table;
+    std::map<std::size_t, BatchRow>& rows = prepared->rows;
+    const std::vector<std::size_t>& pending = prepared->pending;
+    const int threads = group.size() > 1
+                            ? resolve_thread_count(cmd.common.threads)
+                            : std::max(1, std::min(resolve_thread_count(cmd.common.threads),
+                                                   static_cast<int>(std::max<std::size_t>(1, pending.size()))));
 
     // Every finished row is on disk before the next one is reported; batch.csv is
     // rewritten atomically each time, so a kill never leaves it torn.
-    BatchAppender appender(table, kept);
     std::size_t done = 0;
-    run_batch_jobs(settings, jobs, pending, columns, threads, [&](std::size_t job, const BatchRow& row) {
-        appender.append(row);
+    const BatchJobFinished finished = [&](std::size_t job, const BatchRow& row) {
+        prepared->appender->append(row);
         rows[job] = row;
         ++done;
         if (!cmd.common.quiet)
             std::cerr << progress_line(done, pending.size(), columns, row, outputs.size() == 1) << '\n';
-    });
+    };
+    if (group.size() > 1)
+        run_batch_jobs_on_group(group, settings, jobs, pending, columns, threads, finished);
+    else
+        run_batch_jobs(settings, jobs, pending, columns, threads, finished);
 
     // The final table in job order, then the summary last.
     std::vector<BatchRow> ordered;
@@ -211,17 +265,19 @@ int run_batch_command(const BatchCommand& cmd) {
         ordered.push_back(row);
         text += batch_csv_line(row);
     }
-    appender.rewrite(text);
+    prepared->appender->rewrite(text);
     const double seconds = std::chrono::duration<double>(clock::now() - start).count();
-    const BatchSummary summary = summarize_batch(columns, ordered, pending.size(), seconds, threads);
-    const BatchRunContext context{TVID_VERSION, cmd.common.command_line, cmd.common.experiment, ex.name, dir.string()};
+    BatchSummary summary = summarize_batch(columns, ordered, pending.size(), seconds, threads);
+    summary.processes = group.size();
+    const BatchRunContext context{TVID_VERSION, cmd.common.command_line, cmd.common.experiment, prepared->name,
+                                  dir.string()};
     const nlohmann::json json = batch_summary_json(summary, context);
-    write_file_atomically(summary_file, json.dump(2) + "\n");
+    write_file_atomically(prepared->summary_file, json.dump(2) + "\n");
 
     if (cmd.common.json) {
         std::cout << json.dump(2) << std::endl;
     } else if (!cmd.common.quiet) {
-        std::cout << batch_summary_text(summary, ex.name, dir) << std::flush;
+        std::cout << batch_summary_text(summary, prepared->name, dir) << std::flush;
     }
     return summary.failed + summary.bad_input > 0 ? 1 : 0;
 }

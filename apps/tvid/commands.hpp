@@ -8,6 +8,10 @@
 #include <string>
 #include <vector>
 
+namespace tvid {
+class ProcessGroup;
+}
+
 namespace tvid::cli {
 
 struct CommonOptions {
@@ -25,6 +29,7 @@ struct FitCommand {
     std::optional<std::uint64_t> seed;
     std::string optimizer;              ///< --optimizer NAME (overrides estimation.optimizer)
     bool force = false;                 ///< --force: replace a report already in the directory
+    ProcessGroup* processes = nullptr;  ///< mpirun: every process runs the command (nullptr: this one)
 };
 
 struct EvaluateCommand {
@@ -67,6 +72,7 @@ struct BatchCommand {
     bool no_validation = false;             ///< --no-validation
     bool resume = false;                    ///< --resume: skip jobs already in batch.csv
     bool force = false;                     ///< --force: replace an existing batch.csv
+    ProcessGroup* processes = nullptr;      ///< mpirun: every process runs the command (nullptr: this one)
 };
 int run_batch_command(const BatchCommand& cmd);
 

@@ -2,12 +2,16 @@
 
 #include <cstdio>
 #include <iostream>
+#include <memory>
 
 #include "commands.hpp"
 #include "terminal.hpp"
 #include "tvid/estimation/identification_problem.hpp"
+#include "tvid/estimation/parallel_evaluator.hpp"
 #include "tvid/experiment/experiment.hpp"
 #include "tvid/fit/fit_run.hpp"
+#include "tvid/parallel/distributed_evaluator.hpp"
+#include "tvid/parallel/on_every_process.hpp"
 #include "tvid/report/report_directory.hpp"
 #include "tvid/report/report_writer.hpp"
 #include "tvid/util/input_error.hpp"
@@ -31,15 +35,41 @@ std::filesystem::path report_directory(const Experiment& ex, const std::string& 
     return std::filesystem::path("results") / ex.name;
 }
 
+namespace {
+
+// The experiment and its identification problem (which refers to the experiment).
+struct LoadedFit {
+    explicit LoadedFit(Experiment e) : experiment(std::move(e)), problem(experiment) {}
+    Experiment experiment;
+    IdentificationProblem problem;
+};
+
+}  // namespace
+
 int run_fit_command(const FitCommand& cmd) {
+    ProcessGroup alone;
+    ProcessGroup& group = cmd.processes ? *cmd.processes : alone;
     std::vector<Override> overrides = parse_overrides(cmd.common.overrides);
     if (!cmd.optimizer.empty()) overrides.push_back(Override{"estimation.optimizer", cmd.optimizer});
-    const Experiment ex = load_experiment(cmd.common.experiment, overrides);
-    const IdentificationProblem problem(ex);
-    if (problem.dimension() == 0)
-        throw InputError(ex.file.string(), 0, "parameters", "every parameter is fixed: there is nothing to identify");
+    // Every process loads the experiment; the root also claims the report directory.
+    const auto loaded = on_every_process(group, [&] {
+        auto l = std::make_unique<LoadedFit>(load_experiment(cmd.common.experiment, overrides));
+        if (l->problem.dimension() == 0)
+            throw InputError(l->experiment.file.string(), 0, "parameters",
+                             "every parameter is fixed: there is nothing to identify");
+        // Before the fit: refuse early, not after it.
+        if (group.is_root()) prepare_report_directory(report_directory(l->experiment, cmd.output_dir), cmd.force);
+        return l;
+    });
+    const Experiment& ex = loaded->experiment;
+    const IdentificationProblem& problem = loaded->problem;
+    if (!group.is_root()) {  // score the root's swarm candidates until it is done
+        ParallelEvaluator local(problem, cmd.common.threads);
+        serve_candidate_evaluations(group, local, problem.dimension());
+        return 0;
+    }
+    CandidateServers servers(group);  // released after the fit, or when anything below throws
     const std::filesystem::path dir = report_directory(ex, cmd.output_dir);
-    prepare_report_directory(dir, cmd.force);  // before the fit: refuse early, not after it
 
     FitOptions options;
     options.threads = cmd.common.threads;
@@ -55,7 +85,9 @@ int run_fit_command(const FitCommand& cmd) {
     // Ctrl-C / SIGTERM from here on: stop the optimizer, keep its best point, write the report.
     install_stop_signal_handlers();
     options.stop = &stop_request();
+    options.processes = &group;
     const FitResult fit = run_fit(problem, options);
+    servers.release();
     progress.finish();
 
     const RunContext context{TVID_VERSION, cmd.common.command_line};

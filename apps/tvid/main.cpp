@@ -5,6 +5,7 @@
 #include <iostream>
 
 #include "commands.hpp"
+#include "tvid/parallel/process_group.hpp"
 #include "tvid/util/input_error.hpp"
 
 namespace {
@@ -31,6 +32,12 @@ void add_common(CLI::App* sub, tvid::cli::CommonOptions& o) {
 
 int main(int argc, char** argv) {
     using namespace tvid::cli;
+    // Under mpirun: fit and batch run on every process; the root alone prints and writes.
+    tvid::ProcessGroup processes(argc, argv);
+    if (!processes.is_root()) {
+        std::cout.rdbuf(nullptr);
+        std::cerr.rdbuf(nullptr);
+    }
     CLI::App app{"tvid: identify torsional-vibration model parameters of powertrains from measurements"};
     app.set_version_flag("--version", std::string("tvid ") + TVID_VERSION);
     app.require_subcommand(1);
@@ -104,10 +111,12 @@ int main(int argc, char** argv) {
         sensitivity.common.command_line = command_line;
 
     batch.common.command_line = command_line;
+    fit.processes = batch.processes = &processes;
 
     try {
         if (*batch_cmd) return run_batch_command(batch);
         if (*fit_cmd) return run_fit_command(fit);
+        if (!processes.is_root()) return 0;  // the other commands run on the root alone
         if (*sim_cmd) return run_simulate_command(simulate);
         if (*val_cmd) return run_validate_command(validate);
         if (*sens_cmd) return run_sensitivity_command(sensitivity);

@@ -81,9 +81,10 @@ std::string fit_summary_text(const IdentificationProblem& problem, const FitResu
     const std::string method =
         fit.run.name == "pso" ? "pso, " + std::to_string(fit.pso.particles) + " particles" : fit.run.name + " (" + fit.run.termination + ")";
     std::snprintf(line, sizeof line,
-                  "tvid fit %s: %s, %d iterations, %lld simulations (%lld failed), %.2f s on %d thread%s\n",
+                  "tvid fit %s: %s, %d iterations, %lld simulations (%lld failed), %.2f s on %d thread%s%s\n",
                   ex.name.c_str(), method.c_str(), fit.run.iterations, fit.run.evaluations, fit.run.failed_evaluations,
-                  fit.wall_seconds, fit.threads, fit.threads == 1 ? "" : "s");
+                  fit.wall_seconds, fit.threads, fit.threads == 1 ? "" : "s",
+                  fit.processes > 1 ? (" × " + std::to_string(fit.processes) + " processes").c_str() : "");
     out << line;
     if (fit.interrupted && fit.success)
         out << "  interrupted: the report holds the best parameters after iteration " << fit.run.iterations

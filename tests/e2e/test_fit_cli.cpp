@@ -80,6 +80,7 @@ TEST_CASE("tvid fit writes a complete report directory", "[e2e][fit]") {
     CHECK(s["experiment"] == "cvt-tipin");
     CHECK(s["model"] == "cvt_clearance");
     CHECK(s["threads"] == 2);
+    CHECK(s["processes"] == 1);  // not under mpirun
     CHECK(s["optimizer"]["name"] == "pso");
     CHECK(s["optimizer"]["particles"] == 16);
     CHECK(s["optimizer"]["iterations"] == 4);

@@ -10,24 +10,22 @@
 
 namespace tvid {
 
-void run_batch_jobs(const BatchSettings& settings, const std::vector<BatchJob>& jobs,
-                    const std::vector<std::size_t>& pending, const BatchColumns& columns, int threads,
-                    const BatchJobFinished& on_finished) {
-    if (pending.empty()) return;
+void run_batch_jobs(const BatchSettings& settings, const std::vector<BatchJob>& jobs, const NextBatchJob& next,
+                    const BatchColumns& columns, int threads, const BatchJobFinished& on_finished) {
     const auto workers = static_cast<std::size_t>(std::max(1, resolve_thread_count(threads)));
-    std::atomic<std::size_t> next{0};
     std::atomic<bool> stop{false};
     std::mutex finished;
     std::exception_ptr error;
     const auto work = [&] {
         for (;;) {
-            const std::size_t k = next++;
-            if (k >= pending.size() || stop) return;
-            const BatchRow row = run_batch_job(settings, jobs[pending[k]], columns);
+            if (stop) return;
+            const std::optional<std::size_t> job = next();
+            if (!job) return;
+            const BatchRow row = run_batch_job(settings, jobs[*job], columns);
             const std::lock_guard<std::mutex> lock(finished);
             if (stop) return;
             try {
-                on_finished(pending[k], row);
+                on_finished(*job, row);
             } catch (...) {
                 error = std::current_exception();
                 stop = true;
@@ -35,10 +33,24 @@ void run_batch_jobs(const BatchSettings& settings, const std::vector<BatchJob>& 
         }
     };
     std::vector<std::thread> pool;
-    for (std::size_t t = 1; t < std::min(workers, pending.size()); ++t) pool.emplace_back(work);
+    for (std::size_t t = 1; t < workers; ++t) pool.emplace_back(work);
     work();  // this thread works too
     for (std::thread& t : pool) t.join();
     if (error) std::rethrow_exception(error);
+}
+
+void run_batch_jobs(const BatchSettings& settings, const std::vector<BatchJob>& jobs,
+                    const std::vector<std::size_t>& pending, const BatchColumns& columns, int threads,
+                    const BatchJobFinished& on_finished) {
+    if (pending.empty()) return;
+    std::atomic<std::size_t> next{0};
+    const NextBatchJob next_pending = [&]() -> std::optional<std::size_t> {
+        const std::size_t k = next++;
+        if (k >= pending.size()) return std::nullopt;
+        return pending[k];
+    };
+    const int workers = std::min(std::max(1, resolve_thread_count(threads)), static_cast<int>(pending.size()));
+    run_batch_jobs(settings, jobs, next_pending, columns, workers, on_finished);
 }
 
 }  // namespace tvid

@@ -5,6 +5,7 @@
 
 #include <cstddef>
 #include <functional>
+#include <optional>
 #include <vector>
 
 #include "tvid/batch/batch_job.hpp"
@@ -19,5 +20,13 @@ using BatchJobFinished = std::function<void(std::size_t job, const BatchRow& row
 void run_batch_jobs(const BatchSettings& settings, const std::vector<BatchJob>& jobs,
                     const std::vector<std::size_t>& pending, const BatchColumns& columns, int threads,
                     const BatchJobFinished& on_finished);
+
+/// The next job to run, or nothing when there is none left. Called by several threads at once.
+using NextBatchJob = std::function<std::optional<std::size_t>()>;
+
+/// The same with the jobs drawn from `next` (shared with other workers, e.g. the other
+/// processes of an MPI run) on `threads` threads.
+void run_batch_jobs(const BatchSettings& settings, const std::vector<BatchJob>& jobs, const NextBatchJob& next,
+                    const BatchColumns& columns, int threads, const BatchJobFinished& on_finished);
 
 }  // namespace tvid

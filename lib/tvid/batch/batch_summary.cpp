@@ -83,6 +83,7 @@ nlohmann::json batch_summary_json(const BatchSummary& summary, const BatchRunCon
             {"run", summary.run},
             {"resumed", summary.jobs - summary.run},
             {"threads", summary.threads},
+            {"processes", summary.processes},
             {"wall_time_s", summary.wall_seconds},
             {"jobs_per_second", number_or_null(summary.jobs_per_second)},
             {"parameters", parameters},

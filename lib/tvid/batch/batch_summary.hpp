@@ -32,7 +32,8 @@ struct BatchSummary {
     std::vector<ColumnSpread> metrics;      ///< cost and the Q-index columns
     double wall_seconds = 0.0;              ///< of this invocation
     double jobs_per_second = 0.0;           ///< run / wall_seconds; NaN when nothing ran
-    int threads = 1;
+    int threads = 1;                        ///< per process
+    int processes = 1;                      ///< MPI processes that ran jobs (mpirun -n)
 };
 
 /// Summarizes the final table (rows in job order, so the sums do not depend on the order

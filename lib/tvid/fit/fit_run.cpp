@@ -7,6 +7,7 @@
 #include "tvid/estimation/experiment_least_squares.hpp"
 #include "tvid/estimation/parallel_evaluator.hpp"
 #include "tvid/fit/optimizer_runs.hpp"
+#include "tvid/parallel/distributed_evaluator.hpp"
 
 namespace tvid {
 
@@ -25,8 +26,10 @@ std::function<bool(const HistoryRow&)> stoppable_progress(const FitOptions& opti
 OptimizerRun run_swarm(const IdentificationProblem& problem, const FitOptions& options, FitResult& r) {
     r.pso_settings = problem.experiment().estimation_settings.pso;
     if (options.seed) r.pso_settings.seed = *options.seed;
-    ParallelEvaluator evaluator(problem, options.threads, options.stop);
-    r.threads = evaluator.threads();
+    ParallelEvaluator local(problem, options.threads, options.stop);
+    DistributedEvaluator evaluator(options.processes, local);
+    r.threads = local.threads();
+    r.processes = evaluator.processes();
     const SearchBox box{problem.lower(), problem.upper(), problem.range_lower(), problem.range_upper()};
     r.pso = run_pso(r.pso_settings, box, evaluator, stoppable_progress(options));
     return OptimizerRun{"pso",

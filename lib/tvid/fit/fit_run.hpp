@@ -19,6 +19,8 @@
 
 namespace tvid {
 
+class ProcessGroup;
+
 struct FitOptions {
     int threads = 0;                        ///< <= 0: all cores
     std::optional<std::uint64_t> seed;      ///< overrides the experiment's seed (swarm, NLopt, multistart)
@@ -27,6 +29,9 @@ struct FitOptions {
     /// stops within about one simulation per thread with the best fully evaluated point,
     /// and the result is marked interrupted.
     const std::atomic<bool>* stop = nullptr;
+    /// mpirun: swarm candidates are scored by every process of the group (run_fit on the
+    /// root, serve_candidate_evaluations on the others). Levenberg–Marquardt runs on the root alone.
+    ProcessGroup* processes = nullptr;
 };
 
 /// What every optimizer reports, whichever ran.
@@ -63,6 +68,7 @@ struct FitResult {
     double optimizer_seconds = 0.0;
     double wall_seconds = 0.0;
     int threads = 1;
+    int processes = 1;                      ///< processes that scored candidates (threads each)
 };
 
 FitResult run_fit(const IdentificationProblem& problem, const FitOptions& options);

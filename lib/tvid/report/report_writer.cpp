@@ -172,6 +172,7 @@ json fit_summary_json(const IdentificationProblem& problem, const FitResult& fit
                      {"value", number(fit.evaluation.cost)}}},
            {"optimizer", optimizer},
            {"threads", fit.threads},
+           {"processes", fit.processes},
            {"wall_time_s", fit.wall_seconds},
            {"optimizer_time_s", fit.optimizer_seconds},
            {"evaluations_per_second", evals_per_s},
