@@ -5,6 +5,7 @@
 
 #include "commands.hpp"
 #include "tvid/estimation/evaluation.hpp"
+#include "tvid/estimation/parallel_evaluator.hpp"
 #include "tvid/experiment/experiment.hpp"
 #include "tvid/io/atomic_file.hpp"
 #include "tvid/report/parameter_file.hpp"
@@ -35,7 +36,7 @@ int report_failed_windows(const Evaluation& ev) {
 int run_simulate_command(const EvaluateCommand& cmd) {
     const Experiment ex = load_experiment(cmd.common.experiment, parse_overrides(cmd.common.overrides));
     const IdentificationProblem problem(ex);
-    const Evaluation ev = evaluate_parameters(problem, chosen_parameters(cmd, ex));
+    const Evaluation ev = evaluate_parameters(problem, chosen_parameters(cmd, ex), resolve_thread_count(cmd.common.threads));
     std::string csv = trace_csv(ex, ev.estimation);
     if (!ev.validation.windows.empty()) {
         const std::string more = trace_csv(ex, ev.validation);
@@ -52,7 +53,7 @@ int run_simulate_command(const EvaluateCommand& cmd) {
 int run_validate_command(const EvaluateCommand& cmd) {
     const Experiment ex = load_experiment(cmd.common.experiment, parse_overrides(cmd.common.overrides));
     const IdentificationProblem problem(ex);
-    const Evaluation ev = evaluate_parameters(problem, chosen_parameters(cmd, ex));
+    const Evaluation ev = evaluate_parameters(problem, chosen_parameters(cmd, ex), resolve_thread_count(cmd.common.threads));
     nlohmann::json j{{"experiment", ex.name},
                      {"cost", std::isfinite(ev.cost) ? nlohmann::json(ev.cost) : nlohmann::json(nullptr)},
                      {"estimation", split_json(ex, ev.estimation)},

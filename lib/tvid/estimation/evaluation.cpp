@@ -1,19 +1,24 @@
 #include "tvid/estimation/evaluation.hpp"
 
+#include <omp.h>
+
+#include <algorithm>
+#include <memory>
+
 namespace tvid {
 
 namespace {
 
-SplitEvaluation evaluate_split(const IdentificationProblem& problem, const std::vector<double>& params,
-                               const std::vector<Window>& windows, const char* name,
-                               const std::vector<double>& offsets, ProblemWorkspace& ws) {
+// Fit metrics per window and output, and pooled over the split's windows.
+SplitEvaluation assemble_split(const IdentificationProblem& problem, std::vector<WindowTrace> traces, const char* name,
+                               const std::vector<double>& offsets) {
     SplitEvaluation split;
     split.split = name;
     const std::size_t n_out = problem.experiment().outputs.size();
     std::vector<std::vector<double>> all_measured(n_out), all_simulated(n_out);
-    for (const Window& w : windows) {
+    for (WindowTrace& trace : traces) {
         WindowEvaluation we;
-        we.trace = problem.trace(params, w, ws);
+        we.trace = std::move(trace);
         if (we.trace.status != SimulationStatus::ok) split.ok = false;
         for (std::size_t k = 0; k < n_out; ++k) {
             we.metrics.push_back(compute_fit_metrics(we.trace.measured[k], we.trace.simulated[k], offsets[k]));
@@ -29,20 +34,42 @@ SplitEvaluation evaluate_split(const IdentificationProblem& problem, const std::
 
 }  // namespace
 
-Evaluation evaluate_parameters(const IdentificationProblem& problem, const std::vector<double>& params) {
+Evaluation evaluate_parameters(const IdentificationProblem& problem, const std::vector<double>& params, int threads) {
     Evaluation ev;
     ev.params = params;
-    auto ws = problem.make_workspace();
-    ws->params = params;  // fixed parameters as given; cost() overwrites only the free ones
-    ws->model.set_parameters(params.data());
     const Experiment& ex = problem.experiment();
+    const std::size_t n_est = ex.estimation.size(), n_val = ex.validation.size();
+    // Task 0 is the estimation cost, then one task per window. Each task simulates from its
+    // own inputs only, so the results do not depend on which thread ran it.
+    const std::size_t tasks = 1 + n_est + n_val;
+    const int team = static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(std::max(1, threads)), tasks));
+    std::vector<std::unique_ptr<ProblemWorkspace>> workspaces;
+    for (int t = 0; t < team; ++t) {
+        workspaces.push_back(problem.make_workspace());
+        workspaces.back()->params = params;  // fixed parameters as given; cost() overwrites only the free ones
+        workspaces.back()->model.set_parameters(params.data());
+    }
     for (std::size_t k = 0; k < ex.outputs.size(); ++k)
-        ev.output_offsets.push_back(ws->model.output_offset(static_cast<std::size_t>(ex.output_indices[k])));
+        ev.output_offsets.push_back(
+            workspaces[0]->model.output_offset(static_cast<std::size_t>(ex.output_indices[k])));
     std::vector<double> free;
     for (std::size_t j : problem.free_indices()) free.push_back(params[j]);
-    ev.cost = problem.cost(free.data(), *ws);
-    ev.estimation = evaluate_split(problem, params, ex.estimation, "estimation", ev.output_offsets, *ws);
-    ev.validation = evaluate_split(problem, params, ex.validation, "validation", ev.output_offsets, *ws);
+
+    std::vector<WindowTrace> estimation(n_est), validation(n_val);
+    const auto n_tasks = static_cast<long long>(tasks);
+#pragma omp parallel for schedule(dynamic, 1) num_threads(team)
+    for (long long task = 0; task < n_tasks; ++task) {
+        ProblemWorkspace& ws = *workspaces[static_cast<std::size_t>(omp_get_thread_num())];
+        const auto i = static_cast<std::size_t>(task);
+        if (i == 0)
+            ev.cost = problem.cost(free.data(), ws);
+        else if (i <= n_est)
+            estimation[i - 1] = problem.trace(params, ex.estimation[i - 1], ws);
+        else
+            validation[i - 1 - n_est] = problem.trace(params, ex.validation[i - 1 - n_est], ws);
+    }
+    ev.estimation = assemble_split(problem, std::move(estimation), "estimation", ev.output_offsets);
+    ev.validation = assemble_split(problem, std::move(validation), "validation", ev.output_offsets);
     return ev;
 }
 

@@ -30,7 +30,10 @@ struct Evaluation {
     std::vector<double> output_offsets;   ///< per compared output
 };
 
-Evaluation evaluate_parameters(const IdentificationProblem& problem, const std::vector<double>& params);
+/// Simulates every window on up to `threads` threads (one window per thread at a time);
+/// the result is the same for any thread count.
+Evaluation evaluate_parameters(const IdentificationProblem& problem, const std::vector<double>& params,
+                               int threads = 1);
 
 /// Where and why the evaluation is incomplete: "estimation window W: step budget exceeded"
 /// for the first window whose simulation failed (diverged, not finite, ...); empty when

@@ -96,7 +96,7 @@ FitResult run_fit(const IdentificationProblem& problem, const FitOptions& option
     r.success = std::isfinite(r.run.best_cost);
     r.best_free = r.success ? r.run.best : problem.initial();
     r.best_params = problem.full_parameters(r.best_free);
-    r.evaluation = evaluate_parameters(problem, r.best_params);
+    r.evaluation = evaluate_parameters(problem, r.best_params, resolve_thread_count(options.threads));
     if (r.interrupted) r.uncertainty.problem = "skipped: interrupted";  // the user wants out: no extra Jacobian
     else if (r.success) r.uncertainty = estimate_uncertainty(problem, r.best_free);
     r.wall_seconds = std::chrono::duration<double>(clock::now() - t0).count();
