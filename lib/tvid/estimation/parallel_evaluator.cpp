@@ -34,4 +34,10 @@ void ParallelEvaluator::evaluate(const double* candidates, std::size_t count, st
     stopped_ = skipped.load();
 }
 
+std::size_t ParallelEvaluator::rhs_evaluations() const {
+    std::size_t total = 0;
+    for (const auto& ws : workspaces_) total += ws->buffers.rhs_evaluations;
+    return total;
+}
+
 }  // namespace tvid

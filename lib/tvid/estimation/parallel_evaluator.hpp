@@ -22,6 +22,8 @@ public:
     bool stopped() const override { return stopped_; }
 
     int threads() const { return threads_; }
+    /// Right-hand sides evaluated so far, summed over the threads' workspaces (for benchmarks).
+    std::size_t rhs_evaluations() const;
 
 private:
     const IdentificationProblem* problem_;
