@@ -1,6 +1,8 @@
 // The cases of docs/performance.md, one per process (so the peak memory is the case's own):
 //
-//   tvid_bench cvt-pso [--threads N] [--iterations K]   paper swarm (512 x 250) with the library
+//   tvid_bench cvt-pso [--threads N] [--iterations K] [--unbounded]
+//                                                       paper swarm (512 x 250) with the library
+//                                                       (--unbounded: without the early stop)
 //   tvid_bench cvt-baseline [--iterations K]            the same swarm, straightforward code, 1 thread
 //   tvid_bench cvt-check                                baseline cost = library cost at a few points
 //   tvid_bench cvt-window --repeat R [--threads N]      one simulation of the window tiled R times
@@ -40,13 +42,20 @@ struct Args {
     int threads = 0;
     int iterations = -1;  ///< -1: the experiment's
     int repeat = 1;
+    bool unbounded = false;  ///< --unbounded: no early stop at the personal best
 };
 
 Args parse(int argc, char** argv) {
     Args a;
     if (argc > 1) a.name = argv[1];
-    for (int i = 2; i + 1 < argc; i += 2) {
+    for (int i = 2; i < argc; i += 2) {
         const std::string key = argv[i];
+        if (key == "--unbounded") {
+            a.unbounded = true;
+            --i;
+            continue;
+        }
+        if (i + 1 >= argc) break;
         const int value = std::atoi(argv[i + 1]);
         if (key == "--threads") a.threads = value;
         else if (key == "--iterations") a.iterations = value;
@@ -70,14 +79,28 @@ std::string cost_note(double cost) {
     return text;
 }
 
+// Hides evaluate_bounded: every candidate simulated to the end (the swarm without the bound).
+class UnboundedEvaluator : public CandidateEvaluator {
+public:
+    explicit UnboundedEvaluator(CandidateEvaluator& inner) : inner_(&inner) {}
+    void evaluate(const double* candidates, std::size_t count, std::size_t dimension, double* costs) override {
+        inner_->evaluate(candidates, count, dimension, costs);
+    }
+
+private:
+    CandidateEvaluator* inner_;
+};
+
 // (a) The paper's swarm through the library's evaluator (the optimizer alone, as `tvid fit`
 // runs it before the report).
 int cvt_pso(const Args& a) {
     const Experiment ex = load_experiment(kSource + "/configs/cvt_tipin.yaml", iteration_override(a));
     const IdentificationProblem problem(ex);
     ParallelEvaluator evaluator(problem, a.threads);
+    UnboundedEvaluator unbounded(evaluator);
+    CandidateEvaluator& used = a.unbounded ? static_cast<CandidateEvaluator&>(unbounded) : evaluator;
     const auto t0 = Clock::now();
-    const PsoSummary s = run_pso(ex.estimation_settings.pso, search_box(problem), evaluator);
+    const PsoSummary s = run_pso(ex.estimation_settings.pso, search_box(problem), used);
     const double wall = seconds_since(t0);
     print_row({a.threads == 1 ? "cvt-pso-1thread" : "cvt-pso", wall, static_cast<double>(s.evaluations),
                static_cast<double>(evaluator.rhs_evaluations()), evaluator.threads(), cost_note(s.best_cost)});

@@ -7,7 +7,7 @@
 #   default  (a) the paper swarm on 1 and 2 threads, the baseline over 25 iterations of the
 #            same swarm, (b) the engine LM fit, (c) the batch over every usable engine cycle
 #            (cycles 2-7, minutes), (d) window length 1x/4x/16x, 3 repeats
-#   --quick  (a) and (d) only, the engine batch over cycles 2-3, 1 repeat of (b) and (c)
+#   --quick  1 repeat (or --repeats N after it), the engine batch over cycles 2-3 only
 # The baseline's wall time for the whole swarm is extrapolated from its simulations per
 # second (it is one thread, one candidate at a time; its time per simulation is steady).
 set -euo pipefail
@@ -59,7 +59,9 @@ run "$repeats" cvt-baseline-25it "$bench" cvt-baseline --iterations 25
 run "$repeats" cvt-pso "$bench" cvt-pso --threads 2
 run "$repeats" cvt-pso-1thread "$bench" cvt-pso --threads 1
 for r in 1 4 16; do run "$repeats" "cvt-window-x$r" "$bench" cvt-window --repeat "$r" --threads 1; done
+run "$repeats" cvt-pso-unbounded "$bench" cvt-pso --threads 2 --unbounded
 if [ "$quick" = 1 ]; then
+  run 1 engine-lm "$bench" engine-lm --threads 2
   batch 2-3
 else
   run "$repeats" engine-lm "$bench" engine-lm --threads 2
@@ -84,6 +86,9 @@ if "cvt-baseline-25it" in rows and "cvt-pso" in rows:
     wall = med(rows["cvt-pso"], "wall_s")
     print(f"\nbaseline for the whole swarm ({sims:.0f} simulations at {base:.0f} sim/s, extrapolated): {sims/base:.2f} s")
     print(f"speed-up of cvt-pso over the baseline: {sims/base/wall:.1f}x")
+    if "cvt-pso-unbounded" in rows:
+        saved = 1 - med(rows["cvt-pso"], "rhs") / med(rows["cvt-pso-unbounded"], "rhs")
+        print(f"right-hand sides saved by stopping at the personal best: {100*saved:.1f} %")
     if "cvt-pso-1thread" in rows:
         print(f"speed-up from 1 to 2 threads: {med(rows['cvt-pso-1thread'],'wall_s')/wall:.2f}x")
 PY

@@ -19,6 +19,10 @@ public:
     ParallelEvaluator(const IdentificationProblem& problem, int threads, const std::atomic<bool>* stop = nullptr);
 
     void evaluate(const double* candidates, std::size_t count, std::size_t dimension, double* costs) override;
+    /// Each candidate's simulation stops once its partial cost reaches its bound
+    /// (IdentificationProblem::cost with a bound).
+    void evaluate_bounded(const double* candidates, std::size_t count, std::size_t dimension, const double* bounds,
+                          double* costs) override;
     bool stopped() const override { return stopped_; }
 
     int threads() const { return threads_; }
