@@ -43,14 +43,14 @@ batch() {
   local cycles="$1" out
   out="$(mktemp -d)"
   local stats
-  stats="$( { /usr/bin/time -f '%e %M' "$tvid" batch "$root/configs/engine_idle.yaml" --cycles "$cycles" \
+  stats="$( { /usr/bin/time -f '%e %M %U' "$tvid" batch "$root/configs/engine_idle.yaml" --cycles "$cycles" \
               -o "$out" --force --quiet > /dev/null; } 2>&1 | tail -1)"
   local sims
   sims="$(python3 -c "import csv,sys; print(sum(int(r['evaluations'] or 0) for r in csv.DictReader(open(sys.argv[1]))))" "$out/batch.csv")"
   local threads
   threads="$(python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['threads'])" "$out/batch_summary.json")"
   set -- $stats
-  echo "case=engine-batch-$cycles wall_s=$1 sims=$sims sims_per_s=$(python3 -c "print($sims/$1)") rhs=0 ns_per_rhs=0 threads=$threads peak_mb=$(python3 -c "print($2/1024)") note=-" >> "$results"
+  echo "case=engine-batch-$cycles wall_s=$1 sims=$sims sims_per_s=$(python3 -c "print($sims/$1)") rhs=0 ns_per_rhs=0 threads=$threads peak_mb=$(python3 -c "print($2/1024)") cpu_s=$3 cpu_ns_per_rhs=0 note=-" >> "$results"
   rm -rf "$out"
 }
 
@@ -76,10 +76,12 @@ for line in open(sys.argv[1]):
     rows.setdefault(f["case"], []).append(f)
 med = lambda rs, k: statistics.median(float(r[k]) for r in rs)
 print(f"\nmedians of {sys.argv[2]} run(s) per case")
-print(f"{'case':<20} {'wall s':>9} {'sims':>8} {'sim/s':>9} {'ns/RHS/cand':>11} {'threads':>7} {'peak MB':>8}  note")
+print(f"{'case':<20} {'wall s':>9} {'sims':>8} {'sim/s':>9} {'ns/RHS/cand':>11} {'threads':>7} {'peak MB':>8} "
+      f"{'CPU s':>9} {'CPU ns/RHS':>10}  note")
 for case, rs in rows.items():
     print(f"{case:<20} {med(rs,'wall_s'):>9.3f} {med(rs,'sims'):>8.0f} {med(rs,'sims_per_s'):>9.0f} "
-          f"{med(rs,'ns_per_rhs'):>11.2f} {rs[0]['threads']:>7} {med(rs,'peak_mb'):>8.1f}  {rs[0]['note']}")
+          f"{med(rs,'ns_per_rhs'):>11.2f} {rs[0]['threads']:>7} {med(rs,'peak_mb'):>8.1f} "
+          f"{med(rs,'cpu_s'):>9.2f} {med(rs,'cpu_ns_per_rhs'):>10.2f}  {rs[0]['note']}")
 if "cvt-baseline-25it" in rows and "cvt-pso" in rows:
     base = med(rows["cvt-baseline-25it"], "sims_per_s")
     sims = med(rows["cvt-pso"], "sims")
@@ -89,6 +91,10 @@ if "cvt-baseline-25it" in rows and "cvt-pso" in rows:
     if "cvt-pso-unbounded" in rows:
         saved = 1 - med(rows["cvt-pso"], "rhs") / med(rows["cvt-pso-unbounded"], "rhs")
         print(f"right-hand sides saved by stopping at the personal best: {100*saved:.1f} %")
+    base_cpu = med(rows["cvt-baseline-25it"], "cpu_ns_per_rhs") * med(rows["cvt-baseline-25it"], "rhs") / med(rows["cvt-baseline-25it"], "sims")
+    print(f"CPU time per simulation, baseline / cvt-pso: {base_cpu * sims / (med(rows['cvt-pso'], 'cpu_s') * 1e9):.2f}x")
     if "cvt-pso-1thread" in rows:
-        print(f"speed-up from 1 to 2 threads: {med(rows['cvt-pso-1thread'],'wall_s')/wall:.2f}x")
+        one = rows["cvt-pso-1thread"]
+        print(f"speed-up from 1 to 2 threads: {med(one,'wall_s')/wall:.2f}x wall; parallel efficiency "
+              f"(CPU time on 1 thread / CPU time on 2): {med(one,'cpu_s')/med(rows['cvt-pso'],'cpu_s'):.2f}")
 PY
