@@ -1,5 +1,6 @@
 #include "tvid/estimation/identification_problem.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "tvid/model/equilibrium.hpp"
@@ -192,6 +193,18 @@ SimulationStatus IdentificationProblem::simulate_window(const Window& w, Problem
 }
 
 double IdentificationProblem::cost(const double* free, ProblemWorkspace& ws) const {
+    return cost(free, ws, std::numeric_limits<double>::infinity());
+}
+
+std::size_t IdentificationProblem::scored_samples(const Window& w) const {
+    // As simulate_window: after a warm-up from a measured state, samples first … last;
+    // otherwise the samples after the start from the first scored one on.
+    if (experiment_->initial_state == InitialStateKind::measured && w.start < w.first) return w.last - w.first + 1;
+    const std::size_t from = std::max(w.start + 1, w.first);
+    return w.last >= from ? w.last - from + 1 : 0;
+}
+
+double IdentificationProblem::cost(const double* free, ProblemWorkspace& ws, double bound) const {
     for (std::size_t j = 0; j < free_.size(); ++j) {
         if (!std::isfinite(free[j])) return std::numeric_limits<double>::infinity();
         ws.params[free_[j]] = free[j];
@@ -199,19 +212,28 @@ double IdentificationProblem::cost(const double* free, ProblemWorkspace& ws) con
     ws.model.set_parameters(ws.params.data());
     const bool l1 = experiment_->estimation_settings.cost == CostKind::l1;
     const std::size_t n_out = experiment_->outputs.size();
+    const bool bounded = bound < std::numeric_limits<double>::infinity();
     double total = 0.0;
     for (const Window& w : experiment_->estimation) {
         double window_sum = 0.0;
         std::size_t scored = 0;
+        // The window's share as the total will add it up, from the sum so far: it only grows
+        // (terms >= 0, rounding is monotonic), so once it reaches the bound the cost will too.
+        const auto n_scored = static_cast<double>(scored_samples(w));
+        auto share = [&] { return l1 ? window_sum / n_scored : window_sum; };
+        bool cut = false;
         auto score = [&](std::size_t i, const std::vector<double>& x, const std::vector<double>& u) {
             for (std::size_t k = 0; k < n_out; ++k) {
                 const double e = ws.model.output(experiment_->output_indices[k], x.data(), u.data()) - measured_[k][i];
                 window_sum += l1 ? std::abs(e) : e * e;
             }
             ++scored;
-            return true;
+            if (bounded && total + share() >= bound) cut = true;
+            return !cut;
         };
-        if (simulate_window(w, ws, nullptr, score) != SimulationStatus::ok) return std::numeric_limits<double>::infinity();
+        const SimulationStatus status = simulate_window(w, ws, nullptr, score);
+        if (cut) return total + share();
+        if (status != SimulationStatus::ok) return std::numeric_limits<double>::infinity();
         total += l1 ? window_sum / static_cast<double>(scored) : window_sum;  // l1: mean per window
     }
     return std::isfinite(total) ? total : std::numeric_limits<double>::infinity();

@@ -81,6 +81,11 @@ public:
     /// l2: Σ e² (seed 000 eq. 7)). +inf when a simulation fails. Never throws.
     double cost(const double* free, ProblemWorkspace& ws) const;
 
+    /// The cost, or, once the partial sum of the non-negative terms already reaches `bound`,
+    /// that partial sum (>= bound, <= the full cost) without simulating the rest: for an
+    /// optimizer that only asks whether the candidate beats `bound`. bound = +inf: cost().
+    double cost(const double* free, ProblemWorkspace& ws, double bound) const;
+
     /// Residuals y* − y of every scored sample of every estimation window and output
     /// (window by window, sample-major). False when a simulation fails.
     bool residuals(const double* free, ProblemWorkspace& ws, std::vector<double>& out) const;
@@ -102,6 +107,9 @@ private:
     template <class Observer>
     SimulationStatus simulate_window(const Window& w, ProblemWorkspace& ws, std::string* problem,
                                      Observer&& on_scored) const;
+
+    // The number of samples of window w that are scored.
+    std::size_t scored_samples(const Window& w) const;
 
     // Measured initial state with a warm-up: leaves ws.x at the window's first sample.
     SimulationStatus shoot_warmup(const Window& w, ProblemWorkspace& ws, bool* solved) const;

@@ -19,19 +19,31 @@ ParallelEvaluator::ParallelEvaluator(const IdentificationProblem& problem, int t
 }
 
 void ParallelEvaluator::evaluate(const double* candidates, std::size_t count, std::size_t dimension, double* costs) {
+    evaluate_bounded(candidates, count, dimension, nullptr, costs);
+}
+
+void ParallelEvaluator::evaluate_bounded(const double* candidates, std::size_t count, std::size_t dimension,
+                                         const double* bounds, double* costs) {
+    const double inf = std::numeric_limits<double>::infinity();
     const auto n = static_cast<long long>(count);
     std::atomic<bool> skipped{false};
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads_)
     for (long long i = 0; i < n; ++i) {
         if (stop_ && stop_->load(std::memory_order_relaxed)) {
-            costs[i] = std::numeric_limits<double>::infinity();
+            costs[i] = inf;
             skipped.store(true, std::memory_order_relaxed);
             continue;
         }
         ProblemWorkspace& ws = *workspaces_[static_cast<std::size_t>(omp_get_thread_num())];
-        costs[i] = problem_->cost(candidates + static_cast<std::size_t>(i) * dimension, ws);
+        costs[i] = problem_->cost(candidates + static_cast<std::size_t>(i) * dimension, ws, bounds ? bounds[i] : inf);
     }
     stopped_ = skipped.load();
+}
+
+std::size_t ParallelEvaluator::rhs_evaluations() const {
+    std::size_t total = 0;
+    for (const auto& ws : workspaces_) total += ws->buffers.rhs_evaluations;
+    return total;
 }
 
 }  // namespace tvid

@@ -19,9 +19,15 @@ public:
     ParallelEvaluator(const IdentificationProblem& problem, int threads, const std::atomic<bool>* stop = nullptr);
 
     void evaluate(const double* candidates, std::size_t count, std::size_t dimension, double* costs) override;
+    /// Each candidate's simulation stops once its partial cost reaches its bound
+    /// (IdentificationProblem::cost with a bound).
+    void evaluate_bounded(const double* candidates, std::size_t count, std::size_t dimension, const double* bounds,
+                          double* costs) override;
     bool stopped() const override { return stopped_; }
 
     int threads() const { return threads_; }
+    /// Right-hand sides evaluated so far, summed over the threads' workspaces (for benchmarks).
+    std::size_t rhs_evaluations() const;
 
 private:
     const IdentificationProblem* problem_;

@@ -65,6 +65,7 @@ public:
             clearances_[i] = Clearance{e.a, e.b,
                                        ClearanceLaw<T>{v(e.k_minus), v(e.k_plus), v(e.c_minus),
                                                        v(e.c_plus), v(e.mu), v(e.sigma), e.smooth}};
+            clearances_[i].law.prepare();
         }
         for (std::size_t i = 0; i < frictions_.size(); ++i)
             frictions_[i] = Friction{s.frictions[i].node, v(s.frictions[i].c)};
@@ -74,6 +75,7 @@ public:
             if (e.has_clearance)
                 g.law = ClearanceLaw<T>{v(e.k_minus), v(e.k_plus), v(e.c_minus),
                                         v(e.c_plus),  v(e.mu),     v(e.sigma), e.smooth};
+            g.law.prepare();
             gears_[i] = g;
         }
         for (std::size_t i = 0; i < torques_.size(); ++i) {

@@ -92,6 +92,7 @@ PsoSummary run_pso(const PsoSettings& options, const SearchBox& box, CandidateEv
     std::vector<double> cost(n, inf);
     std::vector<double> batch(n * m);
     std::vector<double> batch_cost(n);
+    std::vector<double> batch_bound(n);
     std::vector<std::size_t> batch_index(n);
     std::vector<char> moved(n, 1);
     std::vector<double> global(m, 0.0);          // G
@@ -102,13 +103,15 @@ PsoSummary run_pso(const PsoSettings& options, const SearchBox& box, CandidateEv
     s.termination = "iteration limit";
     for (int k = 0;; ++k) {
         // Score the particles that moved (an unmoved particle keeps its cost: the model is deterministic).
+        // Only "better than its personal best?" is asked of a particle: its best is the bound.
         std::size_t count = 0;
         for (std::size_t i = 0; i < n; ++i) {
             if (!moved[i]) continue;
             std::copy_n(&p[i * m], m, &batch[count * m]);
+            batch_bound[count] = personal_cost[i];
             batch_index[count++] = i;
         }
-        if (count > 0) evaluator.evaluate(batch.data(), count, m, batch_cost.data());
+        if (count > 0) evaluator.evaluate_bounded(batch.data(), count, m, batch_bound.data(), batch_cost.data());
         // A batch cut short by a stop request is discarded whole: the best stays the best
         // of the last complete iteration, a fully evaluated point.
         if (count > 0 && evaluator.stopped()) {

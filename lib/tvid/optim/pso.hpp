@@ -36,7 +36,9 @@ struct PsoSummary {
     int iterations = 0;              ///< swarm updates done
     int particles = 0;
     long long evaluations = 0;       ///< simulations run
-    long long failed_evaluations = 0;///< candidates whose simulation failed (cost +inf)
+    /// candidates whose simulation failed (cost +inf); a candidate whose partial cost had
+    /// already reached its personal best was stopped there (evaluate_bounded) and is not counted
+    long long failed_evaluations = 0;
     std::vector<HistoryRow> history; ///< one row per iteration, k = 0 … iterations
     /// "iteration limit", "stopped" (the progress callback returned false, or the evaluator
     /// was stopped mid-batch: that iteration is dropped), "all candidates failed"

@@ -18,6 +18,9 @@ public:
     std::size_t samples() const { return time_.size(); }
     const std::vector<double>& time() const { return time_; }
     double value(std::size_t input, std::size_t sample) const { return values_[input][sample]; }
+    /// Input `input` half way between samples `sample` and sample + 1 (the linear
+    /// interpolation there, computed once): RK4's middle stages at the sampling step.
+    double midpoint(std::size_t input, std::size_t sample) const { return midpoints_[input][sample]; }
 
     /// Inputs at time t into u[0 … count). `hint` is the caller's cursor (the interval
     /// index found last time), so a simulation marching forward finds its interval in O(1).
@@ -27,6 +30,7 @@ public:
 private:
     std::vector<double> time_;
     std::vector<std::vector<double>> values_;
+    std::vector<std::vector<double>> midpoints_;
 };
 
 }  // namespace tvid

@@ -12,22 +12,18 @@
 #include <cmath>
 #include <cstddef>
 #include <functional>
+#include <type_traits>
 #include <vector>
 #include <utility>
 
 #include "tvid/experiment/experiment.hpp"
 #include "tvid/model/network_model.hpp"
+#include "tvid/sim/fixed_state_rk4.hpp"
 #include "tvid/sim/input_channels.hpp"
+#include "tvid/sim/simulation_status.hpp"
 #include "tvid/sim/stiff_network_system.hpp"
 
 namespace tvid {
-
-enum class SimulationStatus { ok, not_finite, diverged, step_budget_exceeded, stopped_by_observer };
-
-const char* to_string(SimulationStatus s);
-
-/// |θ| or |ω| beyond this is taken as a diverging simulation.
-inline constexpr double kDivergenceLimit = 1e12;
 
 /// The odeint system: dx/dt = f(x, u(t)) with inputs interpolated at t.
 class NetworkSystem {
@@ -63,6 +59,7 @@ struct SimulationBuffers {
                                                               boost::numeric::odeint::default_operations,
                                                               boost::numeric::odeint::always_resizer>;
     std::vector<double> u;
+    std::vector<double> u_stages;  ///< inputs at the RK4 stage times (fixed-state RK4)
     Rk4 rk4;
     Dopri5 dopri5;
     StiffBuffers stiff;  ///< rosenbrock4
@@ -196,6 +193,24 @@ SimulationStatus simulate_samples(NetworkModel<double>& model, const InputChanne
         buffers.rhs_evaluations += stiff.evaluations;
         buffers.jacobian_evaluations += stiff.jacobians;
         return status;
+    }
+    if (settings.method == IntegrationMethod::rk4 && x.size() <= kMaxFixedState && x.size() % 2 == 0) {
+        // Small models (every preset): RK4 over a fixed-size state, the same arithmetic.
+        const auto fixed = [&]<std::size_t N>(std::integral_constant<std::size_t, N>) {
+            return march_fixed_state_rk4<N>(model, inputs, start, last, x, settings.max_step, buffers.u,
+                                            buffers.u_stages, buffers.rhs_evaluations, observer);
+        };
+        switch (x.size()) {
+            case 2: return fixed(std::integral_constant<std::size_t, 2>{});
+            case 4: return fixed(std::integral_constant<std::size_t, 4>{});
+            case 6: return fixed(std::integral_constant<std::size_t, 6>{});
+            case 8: return fixed(std::integral_constant<std::size_t, 8>{});
+            case 10: return fixed(std::integral_constant<std::size_t, 10>{});
+            case 12: return fixed(std::integral_constant<std::size_t, 12>{});
+            case 14: return fixed(std::integral_constant<std::size_t, 14>{});
+            case 16: return fixed(std::integral_constant<std::size_t, 16>{});
+            default: break;
+        }
     }
     NetworkSystem system(model, inputs, buffers.u);
     const SimulationStatus status = march_samples(system, inputs, start, last, x, x.size(), settings, buffers,

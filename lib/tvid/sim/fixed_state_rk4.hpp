@@ -1,0 +1,92 @@
+#pragma once
+// The classical RK4 of simulate_samples for a model with a small state, written out over
+// a fixed-size state on the stack (std::array<double, N>) instead of odeint's stepper over
+// std::vector: the same stages, coefficients and order of operations as odeint's
+// runge_kutta4 (x + dt/2·k1, x + dt/2·k2, x + dt·k3, x + dt/6·k1 + dt/3·k2 + dt/3·k3 + dt/6·k4),
+// without the resizing checks and loops over run-time sizes. The inputs at the stage times
+// are not searched for at every right-hand side: at the sampling step they are the
+// samples and the precomputed sample midpoints (InputChannels::midpoint); with substeps,
+// the interval is known and only the interpolation weight changes.
+
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <vector>
+
+#include "tvid/model/network_model.hpp"
+#include "tvid/sim/input_channels.hpp"
+#include "tvid/sim/simulation_status.hpp"
+
+namespace tvid {
+
+/// The largest state simulate_samples marches with march_fixed_state_rk4 (engine block
+/// with 4 cylinders: 6 nodes, 12 states).
+inline constexpr std::size_t kMaxFixedState = 16;
+
+/// The sane-state test of simulate.hpp (state_is_sane) on the fixed-size state.
+template <std::size_t N>
+bool fixed_state_is_sane(const std::array<double, N>& x, SimulationStatus& status) {
+    for (std::size_t i = 0; i < N; ++i) {
+        if (!std::isfinite(x[i])) { status = SimulationStatus::not_finite; return false; }
+        if (std::abs(x[i]) > kDivergenceLimit) { status = SimulationStatus::diverged; return false; }
+    }
+    return true;
+}
+
+/// RK4 from sample `start` to `last` (N = x.size()), `substeps` per sample interval from
+/// `max_step` (0: one step per interval), calling observer(i, x, u) at every sample as
+/// march_samples does. Returns the status; `rhs` counts the right-hand sides.
+template <std::size_t N, class Observer>
+SimulationStatus march_fixed_state_rk4(NetworkModel<double>& model, const InputChannels& inputs, std::size_t start,
+                                       std::size_t last, std::vector<double>& x_out, double max_step,
+                                       std::vector<double>& u, std::vector<double>& u_stage, std::size_t& rhs,
+                                       Observer&& observer) {
+    const std::vector<double>& time = inputs.time();
+    const std::size_t n_in = inputs.count();
+    u.resize(n_in);
+    u_stage.resize(3 * n_in);
+    double* u0 = u_stage.data();          // at the stage start
+    double* um = u_stage.data() + n_in;   // half a step on
+    double* u1 = u_stage.data() + 2 * n_in;  // a step on
+    std::array<double, N> x, xt, k1, k2, k3, k4;
+    for (std::size_t j = 0; j < N; ++j) x[j] = x_out[j];
+    SimulationStatus status = SimulationStatus::ok;
+    std::size_t hint = start;
+    for (std::size_t i = start; i < last; ++i) {
+        const double t0 = time[i], h = time[i + 1] - t0;
+        int substeps = 1;
+        if (max_step > 0.0 && h > max_step) substeps = static_cast<int>(std::ceil(h / max_step - 1e-9));
+        const double dt = h / substeps;
+        const double half = 0.5 * dt, sixth = (1.0 / 6.0) * dt, third = (1.0 / 3.0) * dt;
+        for (int s = 0; s < substeps; ++s) {
+            if (substeps == 1) {
+                for (std::size_t k = 0; k < n_in; ++k) {
+                    u0[k] = inputs.value(k, i);
+                    um[k] = inputs.midpoint(k, i);
+                    u1[k] = inputs.value(k, i + 1);
+                }
+            } else if (n_in > 0) {
+                const double t = t0 + s * dt;
+                inputs.at(t, hint, u0);
+                inputs.at(t + half, hint, um);
+                inputs.at(t + dt, hint, u1);
+            }
+            model.derivative(x.data(), u0, k1.data());
+            for (std::size_t j = 0; j < N; ++j) xt[j] = x[j] + half * k1[j];
+            model.derivative(xt.data(), um, k2.data());
+            for (std::size_t j = 0; j < N; ++j) xt[j] = x[j] + half * k2[j];
+            model.derivative(xt.data(), um, k3.data());
+            for (std::size_t j = 0; j < N; ++j) xt[j] = x[j] + dt * k3[j];
+            model.derivative(xt.data(), u1, k4.data());
+            for (std::size_t j = 0; j < N; ++j) x[j] = x[j] + sixth * k1[j] + third * k2[j] + third * k3[j] + sixth * k4[j];
+            rhs += 4;
+        }
+        for (std::size_t j = 0; j < N; ++j) x_out[j] = x[j];
+        if (!fixed_state_is_sane(x, status)) return status;
+        for (std::size_t k = 0; k < n_in; ++k) u[k] = inputs.value(k, i + 1);
+        if (!observer(i + 1, x_out, u)) return SimulationStatus::stopped_by_observer;
+    }
+    return status;
+}
+
+}  // namespace tvid
