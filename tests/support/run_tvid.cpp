@@ -25,43 +25,6 @@ std::string slurp(const std::filesystem::path& p) {
     s << in.rdbuf();
     return s.str();
 }
-}  // namespace
-
-RunResult run_tvid(const std::vector<std::string>& args, const std::string& cwd) {
-    static int counter = 0;
-    const auto base = std::filesystem::temp_directory_path() /
-                      ("tvid-run-" + std::to_string(::getpid()) + "-" + std::to_string(counter++));
-    const std::string out_path = base.string() + ".out", err_path = base.string() + ".err";
-    RunResult r;
-    const pid_t pid = ::fork();
-    if (pid == 0) {
-        if (!cwd.empty() && ::chdir(cwd.c_str()) != 0) ::_exit(127);
-        const int out = ::open(out_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-        const int err = ::open(err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-        const int in = ::open("/dev/null", O_RDONLY);
-        ::dup2(in, 0);
-        ::dup2(out, 1);
-        ::dup2(err, 2);
-        std::vector<char*> argv;
-        std::string binary = TVID_BINARY;
-        argv.push_back(binary.data());
-        std::vector<std::string> copy = args;
-        for (auto& a : copy) argv.push_back(a.data());
-        argv.push_back(nullptr);
-        ::execv(binary.c_str(), argv.data());
-        ::_exit(127);
-    }
-    int status = 0;
-    ::waitpid(pid, &status, 0);
-    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-    r.out = slurp(out_path);
-    r.err = slurp(err_path);
-    std::filesystem::remove(out_path);
-    std::filesystem::remove(err_path);
-    return r;
-}
-
-namespace {
 
 int status_to_exit_code(int status) { return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status); }
 
@@ -77,30 +40,51 @@ int status_to_exit_code(int status) { return WIFEXITED(status) ? WEXITSTATUS(sta
     ::_exit(127);
 }
 
+// In the child: run in `cwd`, stdin from /dev/null, stdout and stderr to the two files,
+// then exec tvid with `args`.
+[[noreturn]] void exec_tvid_redirected(const std::vector<std::string>& args, const std::string& cwd,
+                                       const std::string& out_path, const std::string& err_path) {
+    if (!cwd.empty() && ::chdir(cwd.c_str()) != 0) ::_exit(127);
+    const int out = ::open(out_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    const int err = ::open(err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    const int in = ::open("/dev/null", O_RDONLY);
+    ::dup2(in, 0);
+    ::dup2(out, 1);
+    ::dup2(err, 2);
+    exec_tvid(args);
+}
+
 std::string scratch_base() {
     static int counter = 0;
     return (std::filesystem::temp_directory_path() /
-            ("tvid-async-" + std::to_string(::getpid()) + "-" + std::to_string(counter++)))
+            ("tvid-run-" + std::to_string(::getpid()) + "-" + std::to_string(counter++)))
         .string();
 }
-
 }  // namespace
+
+RunResult run_tvid(const std::vector<std::string>& args, const std::string& cwd) {
+    const std::string base = scratch_base();
+    const std::string out_path = base + ".out", err_path = base + ".err";
+    RunResult r;
+    const pid_t pid = ::fork();
+    if (pid == 0) exec_tvid_redirected(args, cwd, out_path, err_path);
+    int status = 0;
+    ::waitpid(pid, &status, 0);
+    r.exit_code = status_to_exit_code(status);
+    r.out = slurp(out_path);
+    r.err = slurp(err_path);
+    std::filesystem::remove(out_path);
+    std::filesystem::remove(err_path);
+    return r;
+}
+
 
 TvidProcess::TvidProcess(const std::vector<std::string>& args, const std::string& cwd) {
     const std::string base = scratch_base();
     out_path_ = base + ".out";
     err_path_ = base + ".err";
     pid_ = ::fork();
-    if (pid_ == 0) {
-        if (!cwd.empty() && ::chdir(cwd.c_str()) != 0) ::_exit(127);
-        const int out = ::open(out_path_.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-        const int err = ::open(err_path_.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-        const int in = ::open("/dev/null", O_RDONLY);
-        ::dup2(in, 0);
-        ::dup2(out, 1);
-        ::dup2(err, 2);
-        exec_tvid(args);
-    }
+    if (pid_ == 0) exec_tvid_redirected(args, cwd, out_path_, err_path_);
 }
 
 TvidProcess::~TvidProcess() {
