@@ -1,8 +1,9 @@
 // The cases of docs/performance.md, one per process (so the peak memory is the case's own):
 //
-//   tvid_bench cvt-pso [--threads N] [--iterations K] [--unbounded]
+//   tvid_bench cvt-pso [--threads N] [--iterations K] [--unbounded] [--scalar]
 //                                                       paper swarm (512 x 250) with the library
-//                                                       (--unbounded: without the early stop)
+//                                                       (--unbounded: without the early stop;
+//                                                       --scalar: one candidate at a time, no SIMD groups)
 //   tvid_bench cvt-baseline [--iterations K]            the same swarm, straightforward code, 1 thread
 //   tvid_bench cvt-check                                baseline cost = library cost at a few points
 //   tvid_bench cvt-window --repeat R [--threads N]      one simulation of the window tiled R times
@@ -43,6 +44,7 @@ struct Args {
     int iterations = -1;  ///< -1: the experiment's
     int repeat = 1;
     bool unbounded = false;  ///< --unbounded: no early stop at the personal best
+    bool scalar = false;     ///< --scalar: one candidate at a time instead of SIMD groups
 };
 
 Args parse(int argc, char** argv) {
@@ -50,8 +52,8 @@ Args parse(int argc, char** argv) {
     if (argc > 1) a.name = argv[1];
     for (int i = 2; i < argc; i += 2) {
         const std::string key = argv[i];
-        if (key == "--unbounded") {
-            a.unbounded = true;
+        if (key == "--unbounded" || key == "--scalar") {
+            (key == "--unbounded" ? a.unbounded : a.scalar) = true;
             --i;
             continue;
         }
@@ -97,12 +99,14 @@ int cvt_pso(const Args& a) {
     const Experiment ex = load_experiment(kSource + "/configs/cvt_tipin.yaml", iteration_override(a));
     const IdentificationProblem problem(ex);
     ParallelEvaluator evaluator(problem, a.threads);
+    evaluator.set_batching(!a.scalar);
     UnboundedEvaluator unbounded(evaluator);
     CandidateEvaluator& used = a.unbounded ? static_cast<CandidateEvaluator&>(unbounded) : evaluator;
     const auto t0 = Clock::now();
     const PsoSummary s = run_pso(ex.estimation_settings.pso, search_box(problem), used);
     const double wall = seconds_since(t0);
-    print_row({a.threads == 1 ? "cvt-pso-1thread" : "cvt-pso", wall, static_cast<double>(s.evaluations),
+    const std::string name = std::string(a.threads == 1 ? "cvt-pso-1thread" : "cvt-pso") + (a.scalar ? "-scalar" : "");
+    print_row({name, wall, static_cast<double>(s.evaluations),
                static_cast<double>(evaluator.rhs_evaluations()), evaluator.threads(), cost_note(s.best_cost)});
     return 0;
 }

@@ -98,6 +98,15 @@ public:
     /// state at w.start and, after a warm-up, ws.x the state at w.first.
     WindowStart start_window(const Window& w, ProblemWorkspace& ws, std::string* problem) const;
 
+    /// The number of samples of window w that are scored.
+    std::size_t scored_samples(const Window& w) const;
+
+    /// Whether window w is simulated from a measured start through a warm-up (then its
+    /// march begins at w.first, whose sample is scored too).
+    bool warms_up(const Window& w) const {
+        return experiment_->initial_state == InitialStateKind::measured && w.start < w.first;
+    }
+
 private:
     // Sets ws.x to the initial state at sample `start`; false (with a reason) if impossible.
     bool initial_state(std::size_t start, ProblemWorkspace& ws, std::string* problem) const;
@@ -107,9 +116,6 @@ private:
     template <class Observer>
     SimulationStatus simulate_window(const Window& w, ProblemWorkspace& ws, std::string* problem,
                                      Observer&& on_scored) const;
-
-    // The number of samples of window w that are scored.
-    std::size_t scored_samples(const Window& w) const;
 
     // Measured initial state with a warm-up: leaves ws.x at the window's first sample.
     SimulationStatus shoot_warmup(const Window& w, ProblemWorkspace& ws, bool* solved) const;

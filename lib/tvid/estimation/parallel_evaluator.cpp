@@ -2,6 +2,7 @@
 
 #include <omp.h>
 
+#include <algorithm>
 #include <limits>
 #include <thread>
 
@@ -16,6 +17,9 @@ int resolve_thread_count(int threads) {
 ParallelEvaluator::ParallelEvaluator(const IdentificationProblem& problem, int threads, const std::atomic<bool>* stop)
     : problem_(&problem), threads_(resolve_thread_count(threads)), stop_(stop) {
     for (int t = 0; t < threads_; ++t) workspaces_.push_back(problem.make_workspace());
+    if (batch_supported(problem))
+        for (int t = 0; t < threads_; ++t) batch_workspaces_.push_back(std::make_unique<BatchWorkspace>(problem));
+    batching_ = !batch_workspaces_.empty();
 }
 
 void ParallelEvaluator::evaluate(const double* candidates, std::size_t count, std::size_t dimension, double* costs) {
@@ -25,8 +29,27 @@ void ParallelEvaluator::evaluate(const double* candidates, std::size_t count, st
 void ParallelEvaluator::evaluate_bounded(const double* candidates, std::size_t count, std::size_t dimension,
                                          const double* bounds, double* costs) {
     const double inf = std::numeric_limits<double>::infinity();
-    const auto n = static_cast<long long>(count);
     std::atomic<bool> skipped{false};
+    if (batching_) {
+        const std::size_t lanes = kBatchLanes;
+        const auto groups = static_cast<long long>((count + lanes - 1) / lanes);
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads_)
+        for (long long g = 0; g < groups; ++g) {
+            const std::size_t first = static_cast<std::size_t>(g) * lanes;
+            const std::size_t size = std::min(lanes, count - first);
+            if (stop_ && stop_->load(std::memory_order_relaxed)) {
+                for (std::size_t i = first; i < first + size; ++i) costs[i] = inf;
+                skipped.store(true, std::memory_order_relaxed);
+                continue;
+            }
+            BatchWorkspace& ws = *batch_workspaces_[static_cast<std::size_t>(omp_get_thread_num())];
+            batch_costs(*problem_, candidates + first * dimension, size, bounds ? bounds + first : nullptr, ws,
+                        costs + first);
+        }
+        stopped_ = skipped.load();
+        return;
+    }
+    const auto n = static_cast<long long>(count);
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads_)
     for (long long i = 0; i < n; ++i) {
         if (stop_ && stop_->load(std::memory_order_relaxed)) {
@@ -43,6 +66,7 @@ void ParallelEvaluator::evaluate_bounded(const double* candidates, std::size_t c
 std::size_t ParallelEvaluator::rhs_evaluations() const {
     std::size_t total = 0;
     for (const auto& ws : workspaces_) total += ws->buffers.rhs_evaluations;
+    for (const auto& ws : batch_workspaces_) total += ws->rhs_evaluations + ws->scalar->buffers.rhs_evaluations;
     return total;
 }
 

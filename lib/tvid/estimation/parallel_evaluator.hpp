@@ -1,13 +1,17 @@
 #pragma once
 // Scores batches of candidates of an IdentificationProblem on all cores. Each thread
-// owns a workspace built once; every candidate's cost is computed by one thread from
-// its own inputs only, so costs are identical for any thread count. Given a stop flag,
-// a batch stops within one simulation per thread once the flag is set (see stopped()).
+// owns a workspace built once; every candidate's cost is computed from its own inputs
+// only, so costs are identical for any thread count. Where the problem allows it
+// (fixed-step RK4, batch_cost.hpp) the candidates go in groups of kBatchLanes through one
+// simulation in SIMD lanes, each lane costing exactly what its candidate costs alone.
+// Given a stop flag, a batch stops within one simulation per thread once the flag is set
+// (see stopped()).
 
 #include <atomic>
 #include <memory>
 #include <vector>
 
+#include "tvid/estimation/batch_cost.hpp"
 #include "tvid/estimation/identification_problem.hpp"
 #include "tvid/optim/candidate_evaluator.hpp"
 
@@ -26,6 +30,10 @@ public:
     bool stopped() const override { return stopped_; }
 
     int threads() const { return threads_; }
+    /// Whether candidates are simulated in SIMD groups (the default where the problem allows).
+    bool batching() const { return batching_; }
+    /// Turns the SIMD groups off (one candidate at a time), e.g. to compare; the costs are the same.
+    void set_batching(bool on) { batching_ = on && !batch_workspaces_.empty(); }
     /// Right-hand sides evaluated so far, summed over the threads' workspaces (for benchmarks).
     std::size_t rhs_evaluations() const;
 
@@ -35,6 +43,8 @@ private:
     const std::atomic<bool>* stop_;
     bool stopped_ = false;
     std::vector<std::unique_ptr<ProblemWorkspace>> workspaces_;
+    std::vector<std::unique_ptr<BatchWorkspace>> batch_workspaces_;  ///< empty when the problem cannot batch
+    bool batching_ = false;
 };
 
 /// The number of threads `threads` means (<= 0: all hardware threads).

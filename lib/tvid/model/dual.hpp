@@ -16,6 +16,8 @@
 #include <cstddef>
 #include <type_traits>
 
+#include "tvid/simd/elementary_functions.hpp"
+
 namespace tvid {
 
 inline constexpr int kDualCapacity = 32;
@@ -113,11 +115,15 @@ public:
         const double r = std::sqrt(a.v_);
         return scaled(r, 0.5 / r, a);
     }
-    friend Dual exp(const Dual& a) {
-        const double e = std::exp(a.v_);
+    // exp and log1p with tvid's own values (tvid/simd/elementary_functions.hpp), as the
+    // double and pack code computes them: a simulation with Dual keeps the double one's values.
+    static Dual exponential(const Dual& a) {
+        const double e = math::exp(a.v_);
         return scaled(e, e, a);
     }
-    friend Dual log1p(const Dual& a) { return scaled(std::log1p(a.v_), 1.0 / (1.0 + a.v_), a); }
+    static Dual log_one_plus(const Dual& a) { return scaled(math::log1p(a.v_), 1.0 / (1.0 + a.v_), a); }
+    friend Dual exp(const Dual& a) { return exponential(a); }
+    friend Dual log1p(const Dual& a) { return log_one_plus(a); }
     friend Dual tanh(const Dual& a) {
         const double t = std::tanh(a.v_);
         return scaled(t, 1.0 - t * t, a);
@@ -132,5 +138,16 @@ private:
     int n_ = 0;
     std::array<double, kDualCapacity> d_;  // only the first n_ entries are meaningful
 };
+
+namespace math {
+inline Dual exp(const Dual& a) { return Dual::exponential(a); }
+inline Dual log1p(const Dual& a) { return Dual::log_one_plus(a); }
+inline void log1p_unit_pair(const Dual& x, const Dual& y, Dual& log_x, Dual& log_y) {
+    double lx = 0.0, ly = 0.0;
+    log1p_unit_pair(x.value(), y.value(), lx, ly);
+    log_x = Dual::scaled(lx, 1.0 / (1.0 + x.value()), x);
+    log_y = Dual::scaled(ly, 1.0 / (1.0 + y.value()), y);
+}
+}  // namespace math
 
 }  // namespace tvid

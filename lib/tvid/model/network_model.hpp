@@ -1,12 +1,14 @@
 #pragma once
 // A NetworkSpec bound to one parameter vector: the right-hand side of the equations of
 // motion of the lumped torsional network, J_i θ_i'' = Σ torques on node i, written once
-// for any scalar type T. Buffers are sized at construction; `set_parameters`,
+// for any scalar type T: double, Dual (sensitivities) or Pack<W> (W parameter vectors at
+// once, one per lane). Buffers are sized at construction; `set_parameters`,
 // `derivative` and `output` allocate nothing.
 //
 // State layout: x = [θ_0 … θ_{n−1}, ω_0 … ω_{n−1}].
 
 #include <algorithm>
+#include <array>
 #include <cstddef>
 #include <vector>
 
@@ -32,10 +34,19 @@ public:
           torques_(spec.torques.size()),
           cylinders_(spec.cylinders.size()),
           cylinder_lever_(spec.cylinders.size()),
-          pressure_cursor_(spec.cylinders.size(), 0),
+          pressure_cursor_(spec.cylinders.size(), AngleCursor<T>{}),
           inertia_(spec.nodes.size()),
           output_offsets_(spec.outputs.size()),
-          parameters_(spec.parameter_names.size()) {}
+          parameters_(spec.parameter_names.size()) {
+        const std::size_t counts[6] = {spec.spring_dampers.size(), spec.clearances.size(), spec.frictions.size(),
+                                       spec.gear_meshes.size(),    spec.torques.size(),    spec.cylinders.size()};
+        std::size_t at = 0;
+        for (std::size_t kind = 0; kind < 6; ++kind) {
+            first_of_kind_[kind] = at;
+            at += counts[kind];
+        }
+        last_torques_.assign(at, T(0));
+    }
 
     /// The crank-angle channels (cylinder pressures) the cylinders read; must outlive the model.
     void set_crank_angle_inputs(const CrankAngleChannels* channels) { angle_inputs_ = channels; }
@@ -65,7 +76,6 @@ public:
             clearances_[i] = Clearance{e.a, e.b,
                                        ClearanceLaw<T>{v(e.k_minus), v(e.k_plus), v(e.c_minus),
                                                        v(e.c_plus), v(e.mu), v(e.sigma), e.smooth}};
-            clearances_[i].law.prepare();
         }
         for (std::size_t i = 0; i < frictions_.size(); ++i)
             frictions_[i] = Friction{s.frictions[i].node, v(s.frictions[i].c)};
@@ -75,7 +85,6 @@ public:
             if (e.has_clearance)
                 g.law = ClearanceLaw<T>{v(e.k_minus), v(e.k_plus), v(e.c_minus),
                                         v(e.c_plus),  v(e.mu),     v(e.sigma), e.smooth};
-            g.law.prepare();
             gears_[i] = g;
         }
         for (std::size_t i = 0; i < torques_.size(); ++i) {
@@ -126,6 +135,22 @@ public:
 
     /// Model output k (NetworkSpec::outputs order) including its offset.
     T output(std::size_t k, const T* x, const double* u) const {
+        return output_from(k, x, [&](const ElementRef& ref, const T* theta, const T* omega) {
+            return element_torque(ref, theta, omega, u);
+        });
+    }
+
+    /// Model output k at the state x and inputs u of the last derivative() call: the value
+    /// output(k, x, u) computes, with an element's torque taken from that call instead of
+    /// evaluating the element again (a simulation that scores every sample needs the
+    /// derivative there anyway, as the first stage of its next step).
+    T output_after_derivative(std::size_t k, const T* x) const {
+        return output_from(k, x, [&](const ElementRef& ref, const T*, const T*) { return last_torque(ref); });
+    }
+
+private:
+    template <class ElementTorque>
+    T output_from(std::size_t k, const T* x, ElementTorque&& torque_of) const {
         const OutputSpec& o = spec_->outputs[k];
         const T* theta = x;
         const T* omega = x + node_count_;
@@ -133,10 +158,17 @@ public:
         switch (o.kind) {
             case OutputKind::speed: y = omega[o.node]; break;
             case OutputKind::angle: y = theta[o.node]; break;
-            case OutputKind::torque: y = element_torque(o.element, theta, omega, u); break;
+            case OutputKind::torque: y = torque_of(o.element, theta, omega); break;
         }
         return y + output_offsets_[k];
     }
+
+    // The torque element `ref` transmitted in the last derivative() call.
+    const T& last_torque(const ElementRef& ref) const {
+        return last_torques_[first_of_kind_[static_cast<std::size_t>(ref.kind)] + static_cast<std::size_t>(ref.index)];
+    }
+
+public:
 
     /// The torque an element transmits (spring_damper, clearance, gear_mesh: the torque
     /// from a to b; friction: the friction torque c·ω; torque: the applied torque).
@@ -193,32 +225,51 @@ private:
     void accumulate_torques(const T* theta, const T* omega, const double* u, T* torque, bool with_speed) const {
         for (std::size_t i = 0; i < node_count_; ++i) torque[i] = T(0);
         auto rate = [&](int a, int b) { return with_speed ? twist(omega, a, b) : T(0); };
+        // Each element's transmitted torque is kept (as element_torque() computes it) for
+        // output_after_derivative().
+        T* kept = with_speed ? last_torques_.data() : nullptr;
+        auto keep = [&](const T& t) {
+            if (kept) *kept++ = t;
+        };
         for (const Spring& e : springs_) {
             const T t = e.k * twist(theta, e.a, e.b) + e.c * rate(e.a, e.b);
+            keep(t);
             torque[e.a] -= t;
             if (e.b != kGround) torque[e.b] += t;
         }
         for (const Clearance& e : clearances_) {
             const T t = e.law.torque(twist(theta, e.a, e.b), rate(e.a, e.b));
+            keep(t);
             torque[e.a] -= t;
             if (e.b != kGround) torque[e.b] += t;
         }
         if (with_speed)
-            for (const Friction& e : frictions_) torque[e.node] -= e.c * omega[e.node];
+            for (const Friction& e : frictions_) {
+                const T t = e.c * omega[e.node];
+                keep(t);
+                torque[e.node] -= t;
+            }
         for (const Gear& e : gears_) {
             const T tw = theta[e.a] - e.ratio * theta[e.b];
             const T tw_rate = with_speed ? omega[e.a] - e.ratio * omega[e.b] : T(0);
             const T t = gear_torque(e, tw, tw_rate);
+            keep(t);
             torque[e.a] -= t;           // mesh torque T on a
             torque[e.b] += e.ratio * t; // and n·T on b
         }
-        for (const Torque& e : torques_) torque[e.node] += e.scale * (u[e.input] - e.offset);
+        for (const Torque& e : torques_) {
+            const T t = e.scale * (u[e.input] - e.offset);
+            keep(t);
+            torque[e.node] += t;
+        }
         for (std::size_t c = 0; c < cylinders_.size(); ++c) {
             const Cylinder& e = cylinders_[c];
             const T& th = theta[e.node];
             const SliderCrankMotion<T> k = slider_crank(th + e.phase, e.r, e.l);
             cylinder_lever_[c] = k.ds;
-            torque[e.node] += gas_force(e, c, th) * k.ds;  // seed 000 eq. 4, pressure force
+            const T gas = gas_force(e, c, th) * k.ds;  // seed 000 eq. 4, pressure force
+            keep(gas);
+            torque[e.node] += gas;
             if (with_speed) torque[e.node] -= e.mass * k.ds * k.dds * omega[e.node] * omega[e.node];  // −m s' s'' ω²
         }
     }
@@ -234,11 +285,15 @@ private:
     std::vector<Torque> torques_;
     std::vector<Cylinder> cylinders_;
     mutable std::vector<T> cylinder_lever_;              ///< s'(φ) of each cylinder at the last evaluation
-    mutable std::vector<std::size_t> pressure_cursor_;  ///< lookup cursors, one per cylinder
+    mutable std::vector<AngleCursor<T>> pressure_cursor_;  ///< lookup cursors, one per cylinder (and lane)
     std::vector<T> inertia_;
     const CrankAngleChannels* angle_inputs_ = nullptr;
     std::vector<T> output_offsets_;
     std::vector<T> parameters_;  ///< copy of the last set_parameters argument
+    /// Where each element kind starts in last_torques_ (ElementKind order: spring_damper,
+    /// clearance, friction, gear_mesh, torque, cylinder, as accumulate_torques keeps them).
+    std::array<std::size_t, 6> first_of_kind_{};
+    mutable std::vector<T> last_torques_;  ///< every element's torque in the last derivative() call
 };
 
 }  // namespace tvid

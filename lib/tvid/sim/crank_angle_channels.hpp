@@ -6,10 +6,12 @@
 // beyond the ends its end value is held. Read-only and shared by all threads; each
 // caller keeps its own cursor.
 
+#include <array>
 #include <cstddef>
 #include <vector>
 
 #include "tvid/model/scalar_value.hpp"
+#include "tvid/simd/pack.hpp"
 
 namespace tvid {
 
@@ -36,6 +38,14 @@ public:
         return v[i] + slope * (a - angle_[i]);
     }
 
+    /// Channel k at the angles of the lanes of a pack, each lane with its own cursor.
+    template <int W>
+    Pack<W> at(std::size_t k, const Pack<W>& a, std::array<std::size_t, static_cast<std::size_t>(W)>& cursors) const {
+        Pack<W> r;
+        for (int lane = 0; lane < W; ++lane) r.set(lane, at(k, a[lane], cursors[static_cast<std::size_t>(lane)]));
+        return r;
+    }
+
 private:
     /// i with angle_[i] <= x < angle_[i+1] (clamped to the grid).
     std::size_t interval(double x, std::size_t& cursor) const;
@@ -43,5 +53,17 @@ private:
     std::vector<double> angle_;
     std::vector<std::vector<double>> values_;
 };
+
+/// A caller's cursor into the angle grid for scalar type T: one per lane for a pack.
+template <class T>
+struct AngleCursorOf {
+    using type = std::size_t;
+};
+template <int W>
+struct AngleCursorOf<Pack<W>> {
+    using type = std::array<std::size_t, static_cast<std::size_t>(W)>;
+};
+template <class T>
+using AngleCursor = typename AngleCursorOf<T>::type;
 
 }  // namespace tvid

@@ -1,0 +1,97 @@
+#pragma once
+// RK4 over W simulations at once: the fixed-size RK4 of fixed_state_rk4.hpp (the same
+// stages, coefficients, stage inputs and order of operations) with a state of packs,
+// lane i one candidate's simulation. Every lane computes the bits its candidate's scalar
+// simulation computes; lanes only share the time grid and the inputs.
+//
+// At every sample the observer sees the state and which lanes are sane (finite, below
+// the divergence limit, as fixed_state_is_sane tests the scalar state) and answers which
+// lanes must go on; the march ends when none must. The first stage of the next step is
+// evaluated before the observer is called, at the sample's state and inputs, so the
+// observer reads the outputs from it (NetworkModel::output_after_derivative) instead of
+// evaluating the elements once more.
+
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <vector>
+
+#include "tvid/model/network_model.hpp"
+#include "tvid/sim/input_channels.hpp"
+#include "tvid/sim/simulation_status.hpp"
+#include "tvid/simd/pack.hpp"
+
+namespace tvid {
+
+/// The lanes whose state is finite and within kDivergenceLimit in every component.
+template <std::size_t N, int W>
+Mask<W> sane_lanes(const std::array<Pack<W>, N>& x) {
+    Mask<W> sane(true);
+    for (std::size_t j = 0; j < N; ++j) sane = sane & (abs(x[j]) <= Pack<W>(kDivergenceLimit));  // NaN fails
+    return sane;
+}
+
+/// RK4 from sample `start` to `last` for the W lanes of `x`, `max_step` as in
+/// march_fixed_state_rk4, calling `observer(i, x, u, sane)` at every sample i in
+/// (start, last] with u the inputs at time[i]; it returns the lanes still needed. `active`
+/// holds the lanes needed at the start and is left with those needed at the end; `rhs`
+/// grows by the right-hand sides of the needed lanes (what their scalar simulations would
+/// have evaluated).
+template <std::size_t N, int W, class Observer>
+void march_batch_rk4(NetworkModel<Pack<W>>& model, const InputChannels& inputs, std::size_t start, std::size_t last,
+                     std::array<Pack<W>, N>& x, double max_step, std::vector<double>& u,
+                     std::vector<double>& u_stage, Mask<W>& active, std::size_t& rhs, Observer&& observer) {
+    using P = Pack<W>;
+    const std::vector<double>& time = inputs.time();
+    const std::size_t n_in = inputs.count();
+    u.resize(n_in);
+    u_stage.resize(3 * n_in);
+    double* u0 = u_stage.data();
+    double* um = u_stage.data() + n_in;
+    double* u1 = u_stage.data() + 2 * n_in;
+    std::array<P, N> xt, k1, k2, k3, k4;
+    std::size_t hint = start;
+    std::size_t needed = 0;
+    for (int l = 0; l < W; ++l) needed += active[l] ? 1 : 0;
+    if (needed > 0 && start < last) {
+        for (std::size_t k = 0; k < n_in; ++k) u[k] = inputs.value(k, start);
+        model.derivative(x.data(), u.data(), k1.data());
+    }
+    for (std::size_t i = start; i < last && needed > 0; ++i) {
+        const double t0 = time[i], h = time[i + 1] - t0;
+        int substeps = 1;
+        if (max_step > 0.0 && h > max_step) substeps = static_cast<int>(std::ceil(h / max_step - 1e-9));
+        const double dt = h / substeps;
+        const P half(0.5 * dt), sixth((1.0 / 6.0) * dt), third((1.0 / 3.0) * dt), full(dt);
+        for (int s = 0; s < substeps; ++s) {
+            // The stage inputs (k1, at the substep's start, is known: the sample's, or below).
+            if (substeps == 1) {
+                for (std::size_t k = 0; k < n_in; ++k) {
+                    um[k] = inputs.midpoint(k, i);
+                    u1[k] = inputs.value(k, i + 1);
+                }
+            } else if (n_in > 0) {
+                const double t = t0 + s * dt;
+                inputs.at(t, hint, u0);
+                inputs.at(t + 0.5 * dt, hint, um);
+                inputs.at(t + dt, hint, u1);
+            }
+            if (s > 0) model.derivative(x.data(), u0, k1.data());
+            for (std::size_t j = 0; j < N; ++j) xt[j] = x[j] + half * k1[j];
+            model.derivative(xt.data(), um, k2.data());
+            for (std::size_t j = 0; j < N; ++j) xt[j] = x[j] + half * k2[j];
+            model.derivative(xt.data(), um, k3.data());
+            for (std::size_t j = 0; j < N; ++j) xt[j] = x[j] + full * k3[j];
+            model.derivative(xt.data(), u1, k4.data());
+            for (std::size_t j = 0; j < N; ++j) x[j] = x[j] + sixth * k1[j] + third * k2[j] + third * k3[j] + sixth * k4[j];
+        }
+        rhs += 4 * static_cast<std::size_t>(substeps) * needed;
+        for (std::size_t k = 0; k < n_in; ++k) u[k] = inputs.value(k, i + 1);
+        model.derivative(x.data(), u.data(), k1.data());  // the next step's first stage, at sample i + 1
+        active = observer(i + 1, x, u, sane_lanes(x)) & active;
+        needed = 0;
+        for (int l = 0; l < W; ++l) needed += active[l] ? 1 : 0;
+    }
+}
+
+}  // namespace tvid

@@ -1,0 +1,222 @@
+// Candidates scored in SIMD groups (lib/tvid/estimation/batch_cost.hpp) cost exactly what
+// IdentificationProblem::cost gives each alone, bit for bit: with and without a bound,
+// for candidates that fail, that are not finite, in full and in partial groups, on the
+// CVT preset, the engine block (cylinders, warm-up shooting, substeps) and a custom
+// network with every other element kind. The swarm then takes the same path with and
+// without the groups.
+#include <catch2/catch.hpp>
+
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <fstream>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <random>
+#include <sstream>
+#include <vector>
+
+#include "support/test_files.hpp"
+#include "tvid/estimation/batch_cost.hpp"
+#include "tvid/estimation/identification_problem.hpp"
+#include "tvid/estimation/parallel_evaluator.hpp"
+#include "tvid/experiment/experiment.hpp"
+#include "tvid/optim/pso.hpp"
+
+using namespace tvid;
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+bool same_bits(double a, double b) { return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b); }
+
+// Random points of the search box of `problem`, as a flat list.
+std::vector<double> points_in_box(const IdentificationProblem& problem, std::size_t count, std::uint64_t seed) {
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    const std::size_t m = problem.dimension();
+    std::vector<double> points(count * m);
+    for (std::size_t i = 0; i < count; ++i)
+        for (std::size_t j = 0; j < m; ++j) {
+            const double a = problem.range_lower()[j], b = problem.range_upper()[j];
+            points[i * m + j] = a + (b - a) * unit(rng);
+        }
+    return points;
+}
+
+// Scores `points` one at a time and in groups of up to `group` with the given bounds, and
+// counts the candidates whose costs differ in any bit.
+std::size_t mismatches(const IdentificationProblem& problem, const std::vector<double>& points,
+                       const std::vector<double>& bounds, std::size_t group) {
+    const std::size_t m = problem.dimension(), count = points.size() / m;
+    auto scalar = problem.make_workspace();
+    BatchWorkspace batch(problem);
+    std::vector<double> costs(count);
+    for (std::size_t first = 0; first < count; first += group) {
+        const std::size_t size = std::min(group, count - first);
+        batch_costs(problem, points.data() + first * m, size, bounds.data() + first, batch, costs.data() + first);
+    }
+    std::size_t differ = 0;
+    for (std::size_t i = 0; i < count; ++i) {
+        const double alone = problem.cost(points.data() + i * m, *scalar, bounds[i]);
+        if (!same_bits(alone, costs[i])) {
+            ++differ;
+            UNSCOPED_INFO("candidate " << i << ": alone " << alone << ", in a group " << costs[i] << ", bound " << bounds[i]);
+        }
+    }
+    return differ;
+}
+
+// Bounds that cut the candidates early, late, exactly at the end, or not at all.
+std::vector<double> mixed_bounds(const IdentificationProblem& problem, const std::vector<double>& points) {
+    const std::size_t m = problem.dimension(), count = points.size() / m;
+    auto ws = problem.make_workspace();
+    const double factors[] = {kInf, 0.3, 1.0 - 1e-12, 1.0, 1.001, 0.95};
+    std::vector<double> bounds(count);
+    for (std::size_t i = 0; i < count; ++i) {
+        const double full = problem.cost(points.data() + i * m, *ws);
+        const double f = factors[i % 6];
+        bounds[i] = std::isfinite(full) && std::isfinite(f) ? f * full : kInf;
+    }
+    return bounds;
+}
+
+// A recording for the custom network: a smooth drive torque and some outputs.
+std::string custom_recording() {
+    std::ostringstream s;
+    s << "t,u,w,a,T\n";
+    for (int i = 0; i <= 300; ++i) {
+        const double t = 1e-3 * i;
+        s << t << ',' << 20.0 * std::sin(40.0 * t) + 5.0 << ',' << 3.0 * std::sin(25.0 * t) << ',' << 0.1 * t << ','
+          << 2.0 * std::cos(30.0 * t) << '\n';
+    }
+    return s.str();
+}
+
+// Every element kind but the cylinder: a gear mesh with a smoothed clearance, a stop
+// with the non-smooth law (no sigma), springs, friction and a scaled input torque; three
+// outputs (speed, angle, torque), two windows, the l2 cost, RK4 in four substeps.
+std::string custom_network(const std::string& initial_state) {
+    return "tvid: 1\n"
+           "data: { file: rec.csv, time: t }\n"
+           "model:\n"
+           "  nodes:\n"
+           "    - { name: motor, J: J_m }\n"
+           "    - { name: load, inverse_J: 20 }\n"
+           "  elements:\n"
+           "    - { type: torque, name: drive, node: motor, input: T_in, offset: d_in, scale: 2 }\n"
+           "    - { type: spring_damper, name: shaft, between: [motor, load], k: k_s, c: 0.5 }\n"
+           "    - { type: clearance, name: stop, between: [load], k_minus: 100, k_plus: 200, c_minus: 1, c_plus: 2, mu: 0.002 }\n"
+           "    - { type: friction, name: bearing, node: load, c: c_f }\n"
+           "    - { type: gear_mesh, name: stage, between: [motor, load], ratio: 3, k: 5000, c: 1, mu: 0.01, sigma: 2000 }\n"
+           "    - { type: spring_damper, name: mount, between: [motor, ground], k: 50 }\n"
+           "inputs: { T_in: u }\n"
+           "outputs:\n"
+           "  w_load:  { column: w, speed: load }\n"
+           "  a_motor: { column: a, angle: motor }\n"
+           "  T_shaft: { column: T, torque: shaft, offset: d_T }\n"
+           "parameters:\n"
+           "  J_m:  { init: 0.1, min: 0.01, max: 1 }\n"
+           "  d_in: { value: 0.5 }\n"
+           "  k_s:  { init: 1000, min: 10, max: 1.0e5 }\n"
+           "  c_f:  { init: 0.1, min: 0, max: 10 }\n"
+           "  d_T:  { init: 0, min: -10, max: 10 }\n"
+           "windows:\n"
+           "  estimation: [ { samples: [10, 120] }, { samples: [150, 290] } ]\n"
+           "initial_state: " + initial_state + "\n"
+           "simulation: { method: rk4, step: 2.5e-4 }\n"
+           "estimation: { cost: l2 }\n";
+}
+
+}  // namespace
+
+TEST_CASE("CVT candidates cost the same bits in SIMD groups as alone, with and without bounds", "[batch][cvt]") {
+    const Experiment ex = load_experiment(test::source_dir() / "configs/cvt_tipin.yaml");
+    const IdentificationProblem problem(ex);
+    REQUIRE(batch_supported(problem));
+    const std::size_t m = problem.dimension();
+    std::vector<double> points = points_in_box(problem, 45, 3);
+    // Wild candidates: a very steep clearance (σμ far beyond the paper's), one at the
+    // lower bounds (a soft, fast-diverging drivetrain), and two that are not finite.
+    points[0 * m + 6] = 1.0e5;
+    points[0 * m + 5] = 0.05;
+    for (std::size_t j = 0; j < m; ++j) points[1 * m + j] = problem.lower()[j];
+    points[2 * m + 3] = std::numeric_limits<double>::quiet_NaN();
+    points[7 * m + 0] = kInf;
+    const std::vector<double> unbounded(points.size() / m, kInf);
+    CHECK(mismatches(problem, points, unbounded, kBatchLanes) == 0);
+    const std::vector<double> bounds = mixed_bounds(problem, points);
+    CHECK(mismatches(problem, points, bounds, kBatchLanes) == 0);
+    CHECK(mismatches(problem, points, bounds, 5) == 0);  // partial groups
+    CHECK(mismatches(problem, points, bounds, 1) == 0);
+}
+
+TEST_CASE("a group counts the right-hand sides its candidates' own simulations need", "[batch][cvt]") {
+    const Experiment ex = load_experiment(test::source_dir() / "configs/cvt_tipin.yaml");
+    const IdentificationProblem problem(ex);
+    const std::vector<double> points = points_in_box(problem, 11, 5);
+    const std::vector<double> bounds = mixed_bounds(problem, points);
+    auto scalar = problem.make_workspace();
+    BatchWorkspace batch(problem);
+    std::vector<double> costs(11);
+    batch_costs(problem, points.data(), 11, bounds.data(), batch, costs.data());
+    for (std::size_t i = 0; i < 11; ++i) problem.cost(points.data() + i * problem.dimension(), *scalar, bounds[i]);
+    CHECK(batch.rhs_evaluations + batch.scalar->buffers.rhs_evaluations == scalar->buffers.rhs_evaluations);
+}
+
+TEST_CASE("engine candidates (cylinders, warm-up shooting, substeps) cost the same bits in a group", "[batch][engine]") {
+    const Experiment ex = load_experiment(test::source_dir() / "configs/engine_idle_clean.yaml");
+    const IdentificationProblem problem(ex);
+    REQUIRE(batch_supported(problem));
+    const auto truth = nlohmann::json::parse(test::read_text(test::source_dir() / "data/engine/truth.json"));
+    std::vector<double> points;
+    for (double scale : {1.0, 1.08, 0.93})
+        for (const std::string& name : problem.free_names())
+            points.push_back(truth["parameters"][name].get<double>() * (name == "J2" ? 1.0 : scale));
+    auto ws = problem.make_workspace();
+    const double second = problem.cost(points.data() + problem.dimension(), *ws);
+    REQUIRE(std::isfinite(second));
+    const std::vector<double> bounds = {kInf, 0.5 * second, kInf};
+    CHECK(mismatches(problem, points, bounds, kBatchLanes) == 0);
+}
+
+TEST_CASE("a custom network with every element kind but the cylinder costs the same bits in a group",
+          "[batch][network]") {
+    test::TempDir dir;
+    dir.write("rec.csv", custom_recording());
+    for (const std::string start : {"rest", "equilibrium"}) {
+        INFO("initial_state: " << start);
+        const Experiment ex = load_experiment(dir.write("custom.yaml", custom_network(start)));
+        const IdentificationProblem problem(ex);
+        REQUIRE(batch_supported(problem));
+        std::vector<double> points = points_in_box(problem, 21, 9);
+        points[4 * problem.dimension()] = 1e-7;  // a motor inertia that makes RK4 diverge
+        CHECK(mismatches(problem, points, std::vector<double>(21, kInf), kBatchLanes) == 0);
+        CHECK(mismatches(problem, points, mixed_bounds(problem, points), kBatchLanes) == 0);
+    }
+}
+
+TEST_CASE("the swarm takes the same path with and without SIMD groups, on 1 and 2 threads", "[batch][pso]") {
+    const Experiment ex = load_experiment(test::source_dir() / "configs/cvt_tipin.yaml",
+                                          {{"estimation.pso.start", "latin_hypercube"},
+                                           {"estimation.pso.particles", "40"},
+                                           {"estimation.pso.iterations", "12"}});
+    const IdentificationProblem problem(ex);
+    const SearchBox box{problem.lower(), problem.upper(), problem.range_lower(), problem.range_upper()};
+    auto run = [&](int threads, bool groups) {
+        ParallelEvaluator evaluator(problem, threads);
+        evaluator.set_batching(groups);
+        REQUIRE(evaluator.batching() == groups);
+        return run_pso(ex.estimation_settings.pso, box, evaluator);
+    };
+    const PsoSummary reference = run(1, false);
+    for (const auto& [threads, groups] : {std::pair{1, true}, std::pair{2, true}, std::pair{2, false}}) {
+        INFO(threads << " threads, groups " << groups);
+        const PsoSummary s = run(threads, groups);
+        CHECK(same_bits(s.best_cost, reference.best_cost));
+        CHECK(s.best == reference.best);
+        REQUIRE(s.history.size() == reference.history.size());
+        for (std::size_t k = 0; k < s.history.size(); ++k) CHECK(same_bits(s.history[k].best_cost, reference.history[k].best_cost));
+    }
+}
