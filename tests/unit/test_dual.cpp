@@ -84,3 +84,22 @@ TEST_CASE("the engine model's right-hand side differentiates through Dual like c
         }
     }
 }
+
+TEST_CASE("PackedDual numbers give the double values and Dual's derivatives", "[dual]") {
+    const Dual x = Dual::variable(0.7, 0, 3), y = Dual::variable(-1.3, 1, 3);
+    auto px = PackedDual<4>::variable(0.7, 0), py = PackedDual<4>::variable(-1.3, 1);
+    auto f = [](const auto& a, const auto& b) {
+        using std::abs, std::max, std::sin, std::cos, std::sqrt;
+        return sin(a) * b + exp(a) / b - sqrt(a) * 3 + 2 / (1 - a) + log1p(a * a) - cos(b) / 4.0 + abs(b) * max(a, b) -
+               (a - 1.5) * (0.5 + b);
+    };
+    const Dual d = f(x, y);
+    const PackedDual<4> p = f(px, py);
+    CHECK(p.value() == d.value());
+    CHECK(p.value() == f(0.7, -1.3));
+    for (int i = 0; i < 2; ++i) CHECK(p.derivative(i) == Approx(d.derivative(i)).epsilon(1e-15));
+    CHECK(p.derivative(2) == 0.0);
+    CHECK(p.derivative(3) == 0.0);
+    CHECK(p.all_finite());
+    CHECK_FALSE((px / 0.0).all_finite());
+}

@@ -100,3 +100,82 @@ TEST_CASE("the least-squares Jacobian from sensitivities equals the one by diffe
     CHECK((Js - J1).cwiseAbs().maxCoeff() == 0.0);  // the same with 1 or 2 threads
     CHECK((Js - Jf).norm() / Jf.norm() < 1e-3);  // the differences' noise, see above
 }
+
+TEST_CASE("fixed-step RK4 sensitivities as PackedDual equal the augmented system's", "[sensitivity][engine][cvt]") {
+    // The packed path integrates the same equations with the same RK4 arithmetic: on the
+    // engine (no time inputs) every entry is the same double; on the CVT the augmented
+    // system interpolates the input at the stage times where the packed path uses the
+    // precomputed sample midpoints, equal to rounding.
+    for (const auto& [config, tolerance] : {std::pair{"configs/engine_idle_clean.yaml", 0.0},
+                                             std::pair{"configs/cvt_tipin_clean.yaml", 1e-9}}) {
+        INFO(config);
+        const Experiment ex = load_experiment(source_dir() / config);
+        const IdentificationProblem problem(ex);
+        ForwardSensitivity sensitivity(problem);
+        auto ws = sensitivity.make_workspace();
+        const auto rows = static_cast<Eigen::Index>(estimation_residual_count(ex));
+        const auto cols = static_cast<Eigen::Index>(problem.dimension());
+        Eigen::MatrixXd packed(rows, cols), augmented(rows, cols);
+        const std::vector<double> x = problem.initial();
+        REQUIRE(sensitivity.jacobian_columns(x.data(), 0, x.size(), *ws, packed));
+        sensitivity.set_packed(false);
+        REQUIRE(sensitivity.jacobian_columns(x.data(), 0, x.size(), *ws, augmented));
+        for (Eigen::Index j = 0; j < cols; ++j) {
+            INFO(problem.free_names()[static_cast<std::size_t>(j)]);
+            CHECK((packed.col(j) - augmented.col(j)).norm() <= tolerance * augmented.col(j).norm());
+        }
+    }
+}
+
+TEST_CASE("a Jacobian after the residuals at the same point reuses their starts and equals a fresh one",
+          "[sensitivity][engine]") {
+    const Experiment ex = load_experiment(source_dir() / "configs/engine_idle_clean.yaml");
+    const IdentificationProblem problem(ex);
+    ExperimentLeastSquares reusing(problem, 2, JacobianKind::sensitivity), fresh(problem, 2, JacobianKind::sensitivity);
+    const auto rows = static_cast<Eigen::Index>(reusing.residual_count());
+    const auto cols = static_cast<Eigen::Index>(problem.dimension());
+    Eigen::MatrixXd J_reused(rows, cols), J_fresh(rows, cols);
+    Eigen::VectorXd r(rows), r_reused(rows), r_fresh(rows);
+    std::vector<double> x = problem.initial();
+    x[3] *= 1.05;
+    REQUIRE(reusing.residuals(x.data(), r.data()));
+    const long long after_residuals = reusing.simulations();
+    REQUIRE(reusing.jacobian(x.data(), r_reused.data(), J_reused));
+    REQUIRE(fresh.jacobian(x.data(), r_fresh.data(), J_fresh));
+    CHECK(reusing.simulations() - after_residuals == fresh.simulations() - 1);  // no second residual simulation
+    CHECK((r_reused - r_fresh).cwiseAbs().maxCoeff() == 0.0);
+    CHECK((J_reused - J_fresh).cwiseAbs().maxCoeff() == 0.0);
+    // Elsewhere it simulates again.
+    x[3] *= 1.01;
+    REQUIRE(reusing.jacobian(x.data(), r_reused.data(), J_reused));
+    REQUIRE(fresh.jacobian(x.data(), r_fresh.data(), J_fresh));
+    CHECK((J_reused - J_fresh).cwiseAbs().maxCoeff() == 0.0);
+}
+
+TEST_CASE("the warm-up shooting meets the encoder at both of its samples", "[sensitivity][engine]") {
+    const Experiment ex = load_experiment(source_dir() / "configs/engine_idle_clean.yaml");
+    const IdentificationProblem problem(ex);
+    auto ws = problem.make_workspace();
+    for (const double scale : {1.0, 1.2, 0.8}) {
+        std::vector<double> params = problem.full_parameters(problem.initial());
+        for (double& p : params) p *= scale;
+        ws->params = params;
+        ws->model.set_parameters(ws->params.data());
+        const Window& w = ex.estimation.at(0);
+        const WindowStart start = problem.start_window(w, *ws, nullptr);
+        REQUIRE(start.status == SimulationStatus::ok);
+        REQUIRE(start.shot);
+        // The start it found, simulated plainly, lands on the measured crank angle.
+        std::vector<double> x = ws->x_start;
+        double at_mid = 0.0;
+        const auto watch = [&](std::size_t i, const std::vector<double>& state, const std::vector<double>&) {
+            if (i == start.mid) at_mid = state[start.node];
+            return true;
+        };
+        REQUIRE(simulate_samples(ws->model, problem.inputs(), w.start, w.first, x, ex.simulation, ws->buffers, watch) ==
+                SimulationStatus::ok);
+        CHECK(std::abs(at_mid - ex.crank_angle[start.mid]) < 1e-11);
+        CHECK(std::abs(x[start.node] - ex.crank_angle[w.first]) < 1e-11);
+        CHECK(x == ws->x);  // the shooting's own last state, bit for bit
+    }
+}

@@ -45,13 +45,24 @@ bool ExperimentLeastSquares::residuals(const double* x, double* r) {
     stopped_ = stop_requested();
     if (stopped_) return false;
     ++simulations_;
-    if (!problem_->residuals(x, *workspaces_[0], buffer_) || buffer_.size() != residual_count_) return false;
+    last_valid_ = false;
+    if (!problem_->residuals(x, *workspaces_[0], buffer_, &last_starts_) || buffer_.size() != residual_count_)
+        return false;
     std::copy(buffer_.begin(), buffer_.end(), r);
+    last_point_.assign(x, x + problem_->dimension());
+    last_valid_ = true;
     return true;
 }
 
 bool ExperimentLeastSquares::jacobian(const double* x, double* r, Eigen::MatrixXd& J) {
-    if (!residuals(x, r)) return false;
+    const bool known = last_valid_ && std::equal(last_point_.begin(), last_point_.end(), x);
+    if (known) {
+        stopped_ = stop_requested();
+        if (stopped_) return false;
+        std::copy(buffer_.begin(), buffer_.end(), r);
+    } else if (!residuals(x, r)) {
+        return false;
+    }
     const bool ok = kind_ == JacobianKind::sensitivity ? sensitivity_jacobian(x, J) : finite_difference_jacobian(x, r, J);
     stopped_ = !ok && stop_requested();
     return ok;
@@ -75,7 +86,7 @@ bool ExperimentLeastSquares::sensitivity_jacobian(const double* x, Eigen::Matrix
         }
         SensitivityWorkspace& ws = *sensitivity_workspaces_[static_cast<std::size_t>(omp_get_thread_num())];
         const std::size_t j0 = static_cast<std::size_t>(b) * width, j1 = std::min(m, j0 + width);
-        ok[static_cast<std::size_t>(b)] = j0 >= j1 || sensitivity_.jacobian_columns(x, j0, j1, ws, J) ? 1 : 0;
+        ok[static_cast<std::size_t>(b)] = j0 >= j1 || sensitivity_.jacobian_columns(x, j0, j1, ws, J, &last_starts_) ? 1 : 0;
     }
     simulations_ += count;
     return std::all_of(ok.begin(), ok.end(), [](char c) { return c != 0; });

@@ -47,6 +47,12 @@ private:
     std::vector<std::unique_ptr<ProblemWorkspace>> workspaces_;
     std::vector<std::vector<double>> plus_, minus_;  ///< residuals at x ± h e_j, per column
     std::vector<double> buffer_;
+    // The last residuals computed and where: a Jacobian asked for at that point (LM asks
+    // for it after accepting the trial point just evaluated) reuses them and the windows'
+    // solved starts instead of simulating them again.
+    std::vector<double> last_point_;
+    std::vector<SolvedStart> last_starts_;
+    bool last_valid_ = false;
     long long simulations_ = 0;
     const std::atomic<bool>* stop_ = nullptr;
     bool stopped_ = false;

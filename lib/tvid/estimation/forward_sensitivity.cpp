@@ -1,14 +1,17 @@
 #include "tvid/estimation/forward_sensitivity.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <type_traits>
 
+#include "tvid/sim/fixed_state_rk4.hpp"
 #include "tvid/sim/sensitivity_system.hpp"
 
 namespace tvid {
 
 SensitivityWorkspace::SensitivityWorkspace(const IdentificationProblem& problem)
-    : plain(problem.make_workspace()), model(problem.experiment().network) {
+    : plain(problem.make_workspace()), model(problem.experiment().network), packed8(problem), packed16(problem) {
     model.set_crank_angle_inputs(&problem.crank_angle_inputs());
     params.resize(problem.experiment().network.parameter_names.size());
     x.resize(model.state_size());
@@ -32,11 +35,11 @@ void ForwardSensitivity::set_parameters(const double* free, std::size_t j0, std:
     ws.model.set_parameters(ws.params.data());
 }
 
-bool ForwardSensitivity::equilibrium_sensitivity(std::size_t j0, std::size_t j1, SensitivityWorkspace& ws) const {
+bool ForwardSensitivity::equilibrium_sensitivity(std::size_t j0, std::size_t j1, SensitivityWorkspace& ws,
+                                                 Eigen::MatrixXd& dtheta) const {
     // F(θ̄(p), p) = 0 ⇒ ∂F/∂θ · dθ̄/dp = −∂F/∂p, with both Jacobians of the static torques
     // from the dual model (θ seeded in blocks of the dual capacity, then p).
     const std::size_t n = ws.model.node_count(), cols = j1 - j0;
-    const std::size_t d = cols;  // directions of z at this point
     const double* u = ws.plain->u0.data();
     std::vector<Dual> theta(n), torque(n);
     Eigen::MatrixXd dFdtheta(n, n), dFdp(n, cols);
@@ -66,22 +69,23 @@ bool ForwardSensitivity::equilibrium_sensitivity(std::size_t j0, std::size_t j1,
     ws.model.set_parameters(ws.params.data());
     const Eigen::FullPivLU<Eigen::MatrixXd> lu(dFdtheta);
     if (!lu.isInvertible()) return false;
-    const Eigen::MatrixXd dtheta = -lu.solve(dFdp);
-    const std::size_t state = ws.model.state_size();
-    for (std::size_t i = 0; i < n; ++i)
-        for (std::size_t j = 0; j < cols; ++j)
-            ws.z[state + i * d + j] = dtheta(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j));
+    dtheta = -lu.solve(dFdp);
     return dtheta.allFinite();
 }
 
+WindowStart ForwardSensitivity::window_start(const Window& w, SensitivityWorkspace& ws, std::string* problem,
+                                             const SolvedStart* solved) const {
+    return solved ? IdentificationProblem::restore_start(*solved, *ws.plain) : problem_->start_window(w, *ws.plain, problem);
+}
+
 template <class Observer>
-SimulationStatus ForwardSensitivity::simulate(const double* free, const Window& w, std::size_t j0, std::size_t j1,
-                                              SensitivityWorkspace& ws, std::string* problem,
-                                              Observer&& on_scored) const {
+SimulationStatus ForwardSensitivity::simulate_augmented(const double* free, const Window& w, std::size_t j0,
+                                                        std::size_t j1, SensitivityWorkspace& ws, std::string* problem,
+                                                        Observer&& on_scored, const SolvedStart* solved) const {
     const Experiment& ex = problem_->experiment();
     const std::size_t cols = j1 - j0, state = ws.model.state_size(), n = ws.model.node_count();
     set_parameters(free, j0, j1, static_cast<int>(cols), ws);
-    const WindowStart start = problem_->start_window(w, *ws.plain, problem);
+    const WindowStart start = window_start(w, ws, problem, solved);
     if (start.status != SimulationStatus::ok) return start.status;
 
     // z = [x, S] at w.start; with a solved warm-up two more directions: the offset a, the speed s.
@@ -89,9 +93,15 @@ SimulationStatus ForwardSensitivity::simulate(const double* free, const Window& 
     if (d != cols) set_parameters(free, j0, j1, static_cast<int>(d), ws);
     ws.z.assign(state * (1 + d), 0.0);
     std::copy(ws.plain->x_start.begin(), ws.plain->x_start.end(), ws.z.begin());
-    if (ex.initial_state == InitialStateKind::equilibrium && !equilibrium_sensitivity(j0, j1, ws)) {
-        if (problem) *problem = "the equilibrium start has no sensitivity (singular static stiffness)";
-        return SimulationStatus::not_finite;
+    if (ex.initial_state == InitialStateKind::equilibrium) {
+        Eigen::MatrixXd dtheta;
+        if (!equilibrium_sensitivity(j0, j1, ws, dtheta)) {
+            if (problem) *problem = "the equilibrium start has no sensitivity (singular static stiffness)";
+            return SimulationStatus::not_finite;
+        }
+        for (std::size_t i = 0; i < n; ++i)
+            for (std::size_t j = 0; j < cols; ++j)
+                ws.z[state + i * d + j] = dtheta(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j));
     }
     if (start.shot)
         for (std::size_t i = 0; i < n; ++i) {
@@ -103,7 +113,7 @@ SimulationStatus ForwardSensitivity::simulate(const double* free, const Window& 
         SensitivitySystem::unpack(z, state, d, ws.x);
         for (std::size_t k = 0; k < ws.y.size(); ++k)
             ws.y[k] = ws.model.output(ex.output_indices[k], ws.x.data(), u.data());
-        return on_scored(i, ws);
+        return on_scored(i, ws.y.data());
     };
     std::size_t from = w.start;
     if (ex.initial_state == InitialStateKind::measured && w.start < w.first) {
@@ -163,16 +173,150 @@ SimulationStatus ForwardSensitivity::simulate(const double* free, const Window& 
     return status;
 }
 
+template <std::size_t N, int D, class Observer>
+SimulationStatus ForwardSensitivity::simulate_packed(const double* free, const Window& w, std::size_t j0,
+                                                     std::size_t j1, SensitivityWorkspace& ws, std::string* problem,
+                                                     Observer&& on_scored, const SolvedStart* solved) const {
+    using T = PackedDual<D>;
+    PackedSensitivityModel<D>& dual = ws.packed<D>();
+    const Experiment& ex = problem_->experiment();
+    const InputChannels& inputs = problem_->inputs();
+    const std::size_t cols = j1 - j0, n = N / 2;
+    // The plain start (equilibrium, or the warm-up shooting) and the Dual model for the
+    // equilibrium's sensitivity, as the augmented path sets them.
+    set_parameters(free, j0, j1, static_cast<int>(cols), ws);
+    const WindowStart start = window_start(w, ws, problem, solved);
+    if (start.status != SimulationStatus::ok) return start.status;
+
+    // Parameters: the block's columns are directions 0 … cols−1; a shot warm-up's angle
+    // offset a and speed s are directions cols and cols + 1.
+    const std::vector<std::size_t>& index = problem_->free_indices();
+    for (std::size_t i = 0; i < dual.params.size(); ++i) dual.params[i] = T(ws.plain->params[i]);
+    for (std::size_t j = j0; j < j1; ++j) dual.params[index[j]] = T::variable(free[j], static_cast<int>(j - j0));
+    dual.model.set_parameters(dual.params.data());
+    std::array<T, N> x;
+    for (std::size_t i = 0; i < N; ++i) x[i] = T(ws.plain->x_start[i]);
+    if (ex.initial_state == InitialStateKind::equilibrium) {
+        Eigen::MatrixXd dtheta;
+        if (!equilibrium_sensitivity(j0, j1, ws, dtheta)) {
+            if (problem) *problem = "the equilibrium start has no sensitivity (singular static stiffness)";
+            return SimulationStatus::not_finite;
+        }
+        for (std::size_t i = 0; i < n; ++i)
+            for (std::size_t j = 0; j < cols; ++j)
+                x[i].set_derivative(static_cast<int>(j), dtheta(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)));
+    }
+    const auto a_dir = static_cast<int>(cols), s_dir = static_cast<int>(cols + 1);
+    if (start.shot)
+        for (std::size_t i = 0; i < n; ++i) {
+            x[i].set_derivative(a_dir, 1.0);      // ∂θ_i/∂a
+            x[n + i].set_derivative(s_dir, 1.0);  // ∂ω_i/∂s
+        }
+
+    std::array<T, 8> y_store;  // the outputs at a sample (at most 8 outputs take this path)
+    const auto outputs = [&](std::size_t i, const std::array<T, N>& state, const std::vector<double>& u) {
+        for (std::size_t k = 0; k < ex.outputs.size(); ++k)
+            y_store[k] = dual.model.output(static_cast<std::size_t>(ex.output_indices[k]), state.data(), u.data());
+        return on_scored(i, y_store.data());
+    };
+    std::size_t rhs = 0;
+    std::size_t from = w.start;
+    if (problem_->warms_up(w)) {
+        // The warm-up, watching the encoder node's angle at the shooting's samples.
+        T at_mid;
+        const auto watch = [&](std::size_t i, const std::array<T, N>& state, const std::vector<double>&) {
+            if (i == start.mid) at_mid = state[start.node];
+            return true;
+        };
+        const SimulationStatus status = march_fixed_rk4<N>(dual.model, inputs, w.start, w.first, x, ex.simulation.max_step,
+                                                           ws.buffers.u, ws.buffers.u_stages, rhs, watch);
+        if (status != SimulationStatus::ok) {
+            if (problem) *problem = std::string("warm-up simulation ") + to_string(status);
+            return status;
+        }
+        if (start.shot) {
+            // G = (θ_node(mid), θ_node(first)) − measured: d(a, s)/dp = −(∂G/∂(a, s))⁻¹ ∂G/∂p,
+            // and every state's derivative becomes the total S_p + S_(a,s)·d(a,s)/dp.
+            const T& at_first = x[start.node];
+            const double g00 = at_mid.derivative(a_dir), g01 = at_mid.derivative(s_dir);
+            const double g10 = at_first.derivative(a_dir), g11 = at_first.derivative(s_dir);
+            const double det = g00 * g11 - g01 * g10;
+            if (!std::isfinite(det) || det == 0.0) {
+                if (problem) *problem = "the warm-up shooting has no sensitivity (singular)";
+                return SimulationStatus::not_finite;
+            }
+            Pack<D> da(0.0), ds(0.0);
+            for (std::size_t j = 0; j < cols; ++j) {
+                const double mid_j = at_mid.derivative(static_cast<int>(j)), first_j = at_first.derivative(static_cast<int>(j));
+                da.set(static_cast<int>(j), -(g11 * mid_j - g01 * first_j) / det);
+                ds.set(static_cast<int>(j), -(-g10 * mid_j + g00 * first_j) / det);
+            }
+            for (std::size_t i = 0; i < N; ++i) {
+                const Pack<D>& row = x[i].derivatives();
+                Pack<D> total = row + Pack<D>(row[a_dir]) * da + Pack<D>(row[s_dir]) * ds;
+                total.set(a_dir, 0.0);
+                total.set(s_dir, 0.0);
+                x[i].set_derivatives(total);
+            }
+        }
+        // After a warm-up the first sample is a prediction too: score it.
+        std::size_t hint = w.first;
+        inputs.at(inputs.time()[w.first], hint, ws.buffers.u.data());
+        if (!outputs(w.first, x, ws.buffers.u)) return SimulationStatus::stopped_by_observer;
+        from = w.first;
+    }
+    const auto scored = [&](std::size_t i, const std::array<T, N>& state, const std::vector<double>& u) {
+        return i < w.first ? true : outputs(i, state, u);
+    };
+    const SimulationStatus status = march_fixed_rk4<N>(dual.model, inputs, from, w.last, x, ex.simulation.max_step,
+                                                       ws.buffers.u, ws.buffers.u_stages, rhs, scored);
+    if (status != SimulationStatus::ok && problem) *problem = std::string("simulation ") + to_string(status);
+    return status;
+}
+
+template <class Observer>
+SimulationStatus ForwardSensitivity::simulate(const double* free, const Window& w, std::size_t j0, std::size_t j1,
+                                              SensitivityWorkspace& ws, std::string* problem, Observer&& on_scored,
+                                              const SolvedStart* solved) const {
+    // Fixed-step RK4 over a small state with few enough directions (the block's columns
+    // and the shooting's two): the state itself carries its sensitivities as PackedDual.
+    const Experiment& ex = problem_->experiment();
+    const std::size_t state = ws.model.state_size(), directions = j1 - j0 + 2;
+    if (packed_ && ex.simulation.method == IntegrationMethod::rk4 && state <= kMaxFixedState && state % 2 == 0 &&
+        ex.outputs.size() <= 8 && directions <= 16) {
+        const auto run = [&]<std::size_t N>(std::integral_constant<std::size_t, N>) {
+            return directions <= 8 ? simulate_packed<N, 8>(free, w, j0, j1, ws, problem, on_scored, solved)
+                                   : simulate_packed<N, 16>(free, w, j0, j1, ws, problem, on_scored, solved);
+        };
+        switch (state) {
+            case 2: return run(std::integral_constant<std::size_t, 2>{});
+            case 4: return run(std::integral_constant<std::size_t, 4>{});
+            case 6: return run(std::integral_constant<std::size_t, 6>{});
+            case 8: return run(std::integral_constant<std::size_t, 8>{});
+            case 10: return run(std::integral_constant<std::size_t, 10>{});
+            case 12: return run(std::integral_constant<std::size_t, 12>{});
+            case 14: return run(std::integral_constant<std::size_t, 14>{});
+            case 16: return run(std::integral_constant<std::size_t, 16>{});
+            default: break;
+        }
+    }
+    return simulate_augmented(free, w, j0, j1, ws, problem, on_scored, solved);
+}
+
 bool ForwardSensitivity::jacobian_columns(const double* free, std::size_t j0, std::size_t j1,
-                                          SensitivityWorkspace& ws, Eigen::MatrixXd& J) const {
+                                          SensitivityWorkspace& ws, Eigen::MatrixXd& J,
+                                          const std::vector<SolvedStart>* starts) const {
     const std::size_t m = problem_->dimension();
     for (std::size_t j = 0; j < m; ++j)
         if (!std::isfinite(free[j])) return false;
     const Experiment& ex = problem_->experiment();
     Eigen::Index row = 0;
-    for (const Window& w : ex.estimation) {
-        const auto record = [&](std::size_t, SensitivityWorkspace& s) {
-            for (const Dual& y : s.y) {
+    if (starts && starts->size() != ex.estimation.size()) starts = nullptr;
+    for (std::size_t wi = 0; wi < ex.estimation.size(); ++wi) {
+        const Window& w = ex.estimation[wi];
+        const auto record = [&](std::size_t, const auto* outputs) {
+            for (std::size_t k = 0; k < ex.outputs.size(); ++k) {
+                const auto& y = outputs[k];
                 if (row >= J.rows()) return false;
                 for (std::size_t j = j0; j < j1; ++j)
                     J(row, static_cast<Eigen::Index>(j)) = y.derivative(static_cast<int>(j - j0));
@@ -180,7 +324,8 @@ bool ForwardSensitivity::jacobian_columns(const double* free, std::size_t j0, st
             }
             return true;
         };
-        if (simulate(free, w, j0, j1, ws, nullptr, record) != SimulationStatus::ok) return false;
+        if (simulate(free, w, j0, j1, ws, nullptr, record, starts ? &(*starts)[wi] : nullptr) != SimulationStatus::ok)
+            return false;
     }
     return row == J.rows() && J.middleCols(static_cast<Eigen::Index>(j0), static_cast<Eigen::Index>(j1 - j0)).allFinite();
 }
@@ -195,12 +340,12 @@ WindowSensitivity ForwardSensitivity::window_sensitivity(const double* free, con
     for (std::size_t j0 = 0; j0 < std::max<std::size_t>(m, 1); j0 += kMaxBlock) {
         const std::size_t j1 = std::min(m, j0 + kMaxBlock);
         const bool first_block = j0 == 0;
-        const auto record = [&](std::size_t i, SensitivityWorkspace& s) {
+        const auto record = [&](std::size_t i, const auto* y) {
             if (first_block) out.time.push_back(problem_->inputs().time()[i]);
             for (std::size_t k = 0; k < n_out; ++k) {
-                if (first_block) out.output[k].push_back(s.y[k].value());
+                if (first_block) out.output[k].push_back(y[k].value());
                 for (std::size_t j = j0; j < j1; ++j)
-                    out.dydp[k][j].push_back(s.y[k].derivative(static_cast<int>(j - j0)));
+                    out.dydp[k][j].push_back(y[k].derivative(static_cast<int>(j - j0)));
             }
             return true;
         };

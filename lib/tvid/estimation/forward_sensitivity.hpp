@@ -22,13 +22,30 @@
 
 #include "tvid/estimation/identification_problem.hpp"
 #include "tvid/model/dual.hpp"
+#include "tvid/model/packed_dual.hpp"
 #include "tvid/sim/simulate.hpp"
 
 namespace tvid {
 
+/// The model with PackedDual<D> numbers for the fixed-step RK4 path, built once.
+template <int D>
+struct PackedSensitivityModel {
+    explicit PackedSensitivityModel(const IdentificationProblem& problem)
+        : model(problem.experiment().network), params(problem.experiment().network.parameter_names.size()) {
+        model.set_crank_angle_inputs(&problem.crank_angle_inputs());
+    }
+    NetworkModel<PackedDual<D>> model;
+    std::vector<PackedDual<D>> params;
+};
+
 /// Per-thread scratch space of the sensitivity simulation, built once.
 struct SensitivityWorkspace {
     explicit SensitivityWorkspace(const IdentificationProblem& problem);
+    template <int D>
+    PackedSensitivityModel<D>& packed() {
+        if constexpr (D == 8) return packed8;
+        else return packed16;
+    }
     std::unique_ptr<ProblemWorkspace> plain;  ///< the plain simulation: initial state and warm-up shooting
     NetworkModel<Dual> model;
     SimulationBuffers buffers;
@@ -36,6 +53,8 @@ struct SensitivityWorkspace {
     std::vector<Dual> x, dxdt, y;             ///< state, its rate, outputs
     std::vector<double> z;                    ///< augmented state [x, S]
     std::vector<double> row_mid, row_first;   ///< the encoder node's sensitivity row in the warm-up
+    PackedSensitivityModel<8> packed8;        ///< fixed-step RK4 with up to 8 directions
+    PackedSensitivityModel<16> packed16;      ///< … up to 16
 };
 
 /// One window's outputs and their derivatives for `tvid sensitivity`.
@@ -55,13 +74,18 @@ public:
 
     explicit ForwardSensitivity(const IdentificationProblem& problem) : problem_(&problem) {}
 
+    /// Whether fixed-step RK4 simulations carry their sensitivities as PackedDual (the
+    /// default) or go through the augmented system like every other integrator (to compare).
+    void set_packed(bool on) { packed_ = on; }
+
     std::unique_ptr<SensitivityWorkspace> make_workspace() const;
 
     /// Columns [j0, j1) of the Jacobian ∂r/∂p of the residuals (IdentificationProblem::
     /// residuals order) at free parameter values `free`, written into J. False when a
-    /// simulation fails.
+    /// simulation fails. `starts`: the windows' starts that IdentificationProblem::residuals
+    /// solved at these same values (then the warm-up shooting is not solved again).
     bool jacobian_columns(const double* free, std::size_t j0, std::size_t j1, SensitivityWorkspace& ws,
-                          Eigen::MatrixXd& J) const;
+                          Eigen::MatrixXd& J, const std::vector<SolvedStart>* starts = nullptr) const;
 
     /// Window w's outputs and their derivatives for every free parameter.
     WindowSensitivity window_sensitivity(const double* free, const Window& w, SensitivityWorkspace& ws) const;
@@ -71,15 +95,33 @@ private:
     void set_parameters(const double* free, std::size_t j0, std::size_t j1, int d, SensitivityWorkspace& ws) const;
 
     // Simulates window w with the sensitivities of the columns [j0, j1) and calls
-    // on_scored(i, ws) at every scored sample with ws.y holding the outputs.
+    // on_scored(i, y) at every scored sample, y pointing at the outputs (dual numbers:
+    // value() and derivative(j − j0)). Fixed-step RK4 over a small state takes the
+    // PackedDual path, anything else the augmented system.
     template <class Observer>
     SimulationStatus simulate(const double* free, const Window& w, std::size_t j0, std::size_t j1,
-                              SensitivityWorkspace& ws, std::string* problem, Observer&& on_scored) const;
+                              SensitivityWorkspace& ws, std::string* problem, Observer&& on_scored,
+                              const SolvedStart* solved = nullptr) const;
+    // The state as N PackedDual<D> numbers through the fixed-step RK4.
+    template <std::size_t N, int D, class Observer>
+    SimulationStatus simulate_packed(const double* free, const Window& w, std::size_t j0, std::size_t j1,
+                                     SensitivityWorkspace& ws, std::string* problem, Observer&& on_scored,
+                                     const SolvedStart* solved) const;
+    // The augmented system [x, S] of plain doubles through any odeint stepper.
+    template <class Observer>
+    SimulationStatus simulate_augmented(const double* free, const Window& w, std::size_t j0, std::size_t j1,
+                                        SensitivityWorkspace& ws, std::string* problem, Observer&& on_scored,
+                                        const SolvedStart* solved) const;
+    // The window's start: `solved`, or solved now by IdentificationProblem::start_window.
+    WindowStart window_start(const Window& w, SensitivityWorkspace& ws, std::string* problem,
+                             const SolvedStart* solved) const;
 
-    // The equilibrium start's sensitivity rows (angles) for columns [j0, j1) into ws.z.
-    bool equilibrium_sensitivity(std::size_t j0, std::size_t j1, SensitivityWorkspace& ws) const;
+    // The equilibrium start's sensitivity dθ̄/dp for columns [j0, j1) (nodes × columns),
+    // with ws.model's parameters set for those columns.
+    bool equilibrium_sensitivity(std::size_t j0, std::size_t j1, SensitivityWorkspace& ws, Eigen::MatrixXd& dtheta) const;
 
     const IdentificationProblem* problem_;
+    bool packed_ = true;
 };
 
 }  // namespace tvid

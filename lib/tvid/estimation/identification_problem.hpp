@@ -11,6 +11,7 @@
 
 #include "tvid/experiment/experiment.hpp"
 #include "tvid/model/network_model.hpp"
+#include "tvid/model/packed_dual.hpp"
 #include "tvid/sim/input_channels.hpp"
 #include "tvid/sim/simulate.hpp"
 
@@ -18,8 +19,12 @@ namespace tvid {
 
 /// Per-thread scratch space: a model instance and integrator buffers, built once.
 struct ProblemWorkspace {
-    explicit ProblemWorkspace(const NetworkSpec& spec) : model(spec) {}
+    explicit ProblemWorkspace(const NetworkSpec& spec) : model(spec), tangent_model(spec) {}
     NetworkModel<double> model;
+    /// The model with the warm-up shooting's two directions (angle offset, speed) carried
+    /// along the state, for Newton's method with the exact Jacobian.
+    NetworkModel<PackedDual<2>> tangent_model;
+    std::vector<PackedDual<2>> tangent_params;
     SimulationBuffers buffers;
     std::vector<double> params;  ///< full model parameter vector
     std::vector<double> x;       ///< state
@@ -37,6 +42,15 @@ struct WindowStart {
     bool shot = false;       ///< the warm-up shooting was solved
     std::size_t mid = 0;     ///< its first matching sample
     std::size_t node = 0;    ///< the encoder's node
+};
+
+/// A window's start as a simulation solved it, to set out from again without solving it
+/// again (the sensitivities at the point whose residuals were just computed): what
+/// start_window returned, and the workspace's state at w.start (x_start), where the march
+/// begins (x: at w.first after a warm-up) and the inputs at w.start (u0).
+struct SolvedStart {
+    WindowStart start;
+    std::vector<double> x_start, x, u0;
 };
 
 /// Measured and simulated outputs of one window at its scored samples.
@@ -87,8 +101,10 @@ public:
     double cost(const double* free, ProblemWorkspace& ws, double bound) const;
 
     /// Residuals y* − y of every scored sample of every estimation window and output
-    /// (window by window, sample-major). False when a simulation fails.
-    bool residuals(const double* free, ProblemWorkspace& ws, std::vector<double>& out) const;
+    /// (window by window, sample-major). False when a simulation fails. With `starts`,
+    /// each estimation window's solved start is kept there (one per window).
+    bool residuals(const double* free, ProblemWorkspace& ws, std::vector<double>& out,
+                   std::vector<SolvedStart>* starts = nullptr) const;
 
     /// Simulates one window with the full parameter vector `params` and records every
     /// scored sample.
@@ -97,6 +113,9 @@ public:
     /// Prepares window w with the parameters already set in ws.model: ws.x_start gets the
     /// state at w.start and, after a warm-up, ws.x the state at w.first.
     WindowStart start_window(const Window& w, ProblemWorkspace& ws, std::string* problem) const;
+
+    /// start_window's effect on ws from a start solved before for the same parameters.
+    static WindowStart restore_start(const SolvedStart& solved, ProblemWorkspace& ws);
 
     /// The number of samples of window w that are scored.
     std::size_t scored_samples(const Window& w) const;
@@ -115,10 +134,14 @@ private:
     // on_scored(i, x, u) at every scored sample.
     template <class Observer>
     SimulationStatus simulate_window(const Window& w, ProblemWorkspace& ws, std::string* problem,
-                                     Observer&& on_scored) const;
+                                     Observer&& on_scored, SolvedStart* solved = nullptr) const;
 
     // Measured initial state with a warm-up: leaves ws.x at the window's first sample.
     SimulationStatus shoot_warmup(const Window& w, ProblemWorkspace& ws, bool* solved) const;
+    // The same by Newton's method with the Jacobian from the warm-up simulated with the
+    // two directions (fixed-step RK4, state of N values).
+    template <std::size_t N>
+    SimulationStatus shoot_warmup_newton(const Window& w, ProblemWorkspace& ws, bool* solved) const;
 
     const Experiment* experiment_;
     InputChannels inputs_;

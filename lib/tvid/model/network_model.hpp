@@ -94,8 +94,10 @@ public:
         for (std::size_t i = 0; i < cylinders_.size(); ++i) {
             const auto& e = s.cylinders[i];
             const T bore = v(e.bore);
-            cylinders_[i] = Cylinder{e.node, e.pressure, e.phase, T(0.25 * kPi) * bore * bore, v(e.crank_radius),
-                                     v(e.rod_length), v(e.mass), v(e.p_atm)};
+            cylinders_[i] = Cylinder{e.node,          e.pressure,  e.phase, T(0.25 * kPi) * bore * bore, v(e.crank_radius),
+                                     v(e.rod_length), v(e.mass),   v(e.p_atm),
+                                     !e.crank_radius.is_parameter() && !e.rod_length.is_parameter(),
+                                     e.crank_radius.constant, e.rod_length.constant};
         }
         for (std::size_t i = 0; i < output_offsets_.size(); ++i)
             output_offsets_[i] = v(s.outputs[i].offset);
@@ -192,7 +194,7 @@ public:
             case ElementKind::cylinder: {  // the gas torque
                 const Cylinder& e = cylinders_[i];
                 const T& th = theta[e.node];
-                return gas_force(e, i, th) * slider_crank(th + e.phase, e.r, e.l).ds;
+                return gas_force(e, i, th) * kinematics(e, th).ds;
             }
         }
         return T(0);
@@ -204,7 +206,20 @@ private:
     struct Friction { int node; T c; };
     struct Gear { int a, b; T ratio, k, c; bool has_clearance; ClearanceLaw<T> law; };
     struct Torque { int node, input; T offset, scale; };
-    struct Cylinder { int node, pressure; double phase; T area, r, l, mass, p_atm; };
+    struct Cylinder {
+        int node, pressure;
+        double phase;
+        T area, r, l, mass, p_atm;
+        bool fixed_geometry;  ///< crank radius and rod length are constants: the kinematics in double
+        double r_fixed, l_fixed;
+    };
+
+    // The slider-crank kinematics of cylinder e at its throw angle (plain numbers for the
+    // constant geometry: for a derivative type the same values, with less work).
+    static SliderCrankMotion<T> kinematics(const Cylinder& e, const T& throw_angle) {
+        if (e.fixed_geometry) return slider_crank(throw_angle + e.phase, e.r_fixed, e.l_fixed);
+        return slider_crank(throw_angle + e.phase, e.r, e.l);
+    }
 
     static constexpr double kPi = 3.14159265358979323846;
 
@@ -265,7 +280,7 @@ private:
         for (std::size_t c = 0; c < cylinders_.size(); ++c) {
             const Cylinder& e = cylinders_[c];
             const T& th = theta[e.node];
-            const SliderCrankMotion<T> k = slider_crank(th + e.phase, e.r, e.l);
+            const SliderCrankMotion<T> k = kinematics(e, th);
             cylinder_lever_[c] = k.ds;
             const T gas = gas_force(e, c, th) * k.ds;  // seed 000 eq. 4, pressure force
             keep(gas);

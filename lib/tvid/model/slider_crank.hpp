@@ -21,16 +21,18 @@ struct SliderCrankMotion {
 };
 
 template <class T, class R>
-SliderCrankMotion<T> slider_crank(const T& phi, const R& r, const R& l) {
+[[gnu::always_inline]] inline SliderCrankMotion<T> slider_crank(const T& phi, const R& r, const R& l) {
     using std::cos, std::sin, std::sqrt;
     const T sn = sin(phi), cs = cos(phi);
     const T sin2 = 2 * sn * cs, cos2 = cs * cs - sn * sn;
     const T d = l * l - r * r * sn * sn;
     const T root = sqrt(d);
+    const T inverse_root = 1 / root;  // one division for the three quotients
+    const auto r2 = r * r;
     SliderCrankMotion<T> m;
     m.s = r * (1 - cs) + l - root;
-    m.ds = r * sn + r * r * sin2 / (2 * root);
-    m.dds = r * cs + r * r * cos2 / root + r * r * r * r * sin2 * sin2 / (4 * d * root);
+    m.ds = r * sn + r2 * sin2 * inverse_root * 0.5;
+    m.dds = r * cs + r2 * cos2 * inverse_root + r2 * r2 * sin2 * sin2 * (inverse_root * inverse_root * inverse_root) * 0.25;
     return m;
 }
 

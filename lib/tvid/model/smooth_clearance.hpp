@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "tvid/model/dual.hpp"
+#include "tvid/model/packed_dual.hpp"
 #include "tvid/simd/elementary_functions.hpp"
 #include "tvid/simd/pack.hpp"
 #include "tvid/simd/select.hpp"

@@ -5,7 +5,14 @@
 namespace tvid {
 
 CrankAngleChannels::CrankAngleChannels(std::vector<double> angle, std::vector<std::vector<double>> values)
-    : angle_(std::move(angle)), values_(std::move(values)) {}
+    : angle_(std::move(angle)), values_(std::move(values)) {
+    slopes_.resize(values_.size());
+    for (std::size_t k = 0; k < values_.size(); ++k) {
+        const std::vector<double>& v = values_[k];
+        for (std::size_t i = 0; i + 1 < v.size() && i + 1 < angle_.size(); ++i)
+            slopes_[k].push_back((v[i + 1] - v[i]) / (angle_[i + 1] - angle_[i]));
+    }
+}
 
 std::size_t CrankAngleChannels::interval(double x, std::size_t& cursor) const {
     const std::size_t n = angle_.size();

@@ -34,8 +34,7 @@ public:
         const std::vector<double>& v = values_[k];
         if (x <= angle_.front()) return T(v.front());
         if (x >= angle_.back()) return T(v.back());
-        const double slope = (v[i + 1] - v[i]) / (angle_[i + 1] - angle_[i]);
-        return v[i] + slope * (a - angle_[i]);
+        return v[i] + slopes_[k][i] * (a - angle_[i]);
     }
 
     /// Channel k at the angles of the lanes of a pack, each lane with its own cursor.
@@ -52,6 +51,7 @@ private:
 
     std::vector<double> angle_;
     std::vector<std::vector<double>> values_;
+    std::vector<std::vector<double>> slopes_;  ///< (v[i+1] − v[i]) / (angle[i+1] − angle[i]), computed once
 };
 
 /// A caller's cursor into the angle grid for scalar type T: one per lane for a pack.

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "tvid/model/network_model.hpp"
+#include "tvid/model/packed_dual.hpp"
 #include "tvid/sim/input_channels.hpp"
 #include "tvid/sim/simulation_status.hpp"
 
@@ -33,14 +34,25 @@ bool fixed_state_is_sane(const std::array<double, N>& x, SimulationStatus& statu
     return true;
 }
 
-/// RK4 from sample `start` to `last` (N = x.size()), `substeps` per sample interval from
-/// `max_step` (0: one step per interval), calling observer(i, x, u) at every sample as
-/// march_samples does. Returns the status; `rhs` counts the right-hand sides.
-template <std::size_t N, class Observer>
-SimulationStatus march_fixed_state_rk4(NetworkModel<double>& model, const InputChannels& inputs, std::size_t start,
-                                       std::size_t last, std::vector<double>& x_out, double max_step,
-                                       std::vector<double>& u, std::vector<double>& u_stage, std::size_t& rhs,
-                                       Observer&& observer) {
+/// The same for a state with sensitivities: the values as above, the derivatives finite.
+template <std::size_t N, int D>
+bool fixed_state_is_sane(const std::array<PackedDual<D>, N>& x, SimulationStatus& status) {
+    for (std::size_t i = 0; i < N; ++i) {
+        if (!x[i].all_finite()) { status = SimulationStatus::not_finite; return false; }
+        if (std::abs(x[i].value()) > kDivergenceLimit) { status = SimulationStatus::diverged; return false; }
+    }
+    return true;
+}
+
+/// RK4 over the fixed-size state x (scalar type T: double, or PackedDual for the
+/// sensitivities) from sample `start` to `last`, `substeps` per sample interval from
+/// `max_step` (0: one step per interval), calling observer(i, x, u) at every sample i in
+/// (start, last] with u the inputs at time[i]; the observer returns false to stop.
+/// Returns the status; `rhs` counts the right-hand sides.
+template <std::size_t N, class T, class Observer>
+SimulationStatus march_fixed_rk4(NetworkModel<T>& model, const InputChannels& inputs, std::size_t start,
+                                 std::size_t last, std::array<T, N>& x, double max_step, std::vector<double>& u,
+                                 std::vector<double>& u_stage, std::size_t& rhs, Observer&& observer) {
     const std::vector<double>& time = inputs.time();
     const std::size_t n_in = inputs.count();
     u.resize(n_in);
@@ -48,8 +60,7 @@ SimulationStatus march_fixed_state_rk4(NetworkModel<double>& model, const InputC
     double* u0 = u_stage.data();          // at the stage start
     double* um = u_stage.data() + n_in;   // half a step on
     double* u1 = u_stage.data() + 2 * n_in;  // a step on
-    std::array<double, N> x, xt, k1, k2, k3, k4;
-    for (std::size_t j = 0; j < N; ++j) x[j] = x_out[j];
+    std::array<T, N> xt, k1, k2, k3, k4;
     SimulationStatus status = SimulationStatus::ok;
     std::size_t hint = start;
     for (std::size_t i = start; i < last; ++i) {
@@ -81,11 +92,29 @@ SimulationStatus march_fixed_state_rk4(NetworkModel<double>& model, const InputC
             for (std::size_t j = 0; j < N; ++j) x[j] = x[j] + sixth * k1[j] + third * k2[j] + third * k3[j] + sixth * k4[j];
             rhs += 4;
         }
-        for (std::size_t j = 0; j < N; ++j) x_out[j] = x[j];
         if (!fixed_state_is_sane(x, status)) return status;
         for (std::size_t k = 0; k < n_in; ++k) u[k] = inputs.value(k, i + 1);
-        if (!observer(i + 1, x_out, u)) return SimulationStatus::stopped_by_observer;
+        if (!observer(i + 1, x, u)) return SimulationStatus::stopped_by_observer;
     }
+    return status;
+}
+
+/// march_fixed_rk4 for a double state held in a vector (N = x.size()), calling
+/// observer(i, x, u) with that vector, as march_samples does.
+template <std::size_t N, class Observer>
+SimulationStatus march_fixed_state_rk4(NetworkModel<double>& model, const InputChannels& inputs, std::size_t start,
+                                       std::size_t last, std::vector<double>& x_out, double max_step,
+                                       std::vector<double>& u, std::vector<double>& u_stage, std::size_t& rhs,
+                                       Observer&& observer) {
+    std::array<double, N> x;
+    for (std::size_t j = 0; j < N; ++j) x[j] = x_out[j];
+    const auto copy_out = [&](std::size_t i, const std::array<double, N>& state, const std::vector<double>& inputs_now) {
+        for (std::size_t j = 0; j < N; ++j) x_out[j] = state[j];
+        return observer(i, x_out, inputs_now);
+    };
+    const SimulationStatus status = march_fixed_rk4<N>(model, inputs, start, last, x, max_step, u, u_stage, rhs, copy_out);
+    if (status != SimulationStatus::ok && status != SimulationStatus::stopped_by_observer)
+        for (std::size_t j = 0; j < N; ++j) x_out[j] = x[j];
     return status;
 }
 
