@@ -8,6 +8,7 @@ both with its own polynomial kernels, written once for double and for packs of d
 script produces their coefficients (needs Debian's python3-mpmath):
 
   exp:   e^r = 1 + r + r^2 Q(r)        for |r| <= ln(2)/2, Q of degree 9
+  sin:   sin(r) = r + r^3 S(r^2), cos(r) = 1 - r^2/2 + r^4 C(r^2) for |r| <= pi/4, S and C of degree 5
   log1p: log(1+f) = 2 atanh(s) = 2s + s z P(z),   s = f / (2 + f), z = s^2,
          for f in [sqrt(1/2) - 1, sqrt(2) - 1], so z <= ((sqrt 2 - 1)/(sqrt 2 + 1))^2; P of degree 6
 
@@ -87,6 +88,44 @@ def log1p_coefficients():
     return c, err
 
 
+def sincos_coefficients():
+    """sin(r) = r + r^3 S(r^2), cos(r) = 1 - r^2/2 + r^4 C(r^2) on |r| <= pi/4, S and C of degree 5."""
+    z_max = (mp.pi / 4) ** 2
+
+    def s_of(z):
+        if z < mp.mpf("1e-30"):
+            return -mp.mpf(1) / 6 + z / 120
+        r = mp.sqrt(z)
+        return (mp.sin(r) - r) / (r * z)
+
+    def c_of(z):
+        if z < mp.mpf("1e-30"):
+            return mp.mpf(1) / 24 - z / 720
+        r = mp.sqrt(z)
+        return (mp.cos(r) - 1 + z / 2) / (z * z)
+
+    s_c = [as_double(x) for x in chebyshev_interpolant(s_of, mp.mpf(0), z_max, 5)]
+    c_c = [as_double(x) for x in chebyshev_interpolant(c_of, mp.mpf(0), z_max, 5)]
+    s_err = max_relative_error(mp.sin, lambda r: r + r ** 3 * horner([mp.mpf(x) for x in s_c], r * r),
+                               mp.mpf("1e-9"), mp.pi / 4)
+    c_err = max_relative_error(mp.cos, lambda r: 1 - r * r / 2 + r ** 4 * horner([mp.mpf(x) for x in c_c], r * r),
+                               mp.mpf(0), mp.pi / 4)
+    return s_c, c_c, s_err, c_err
+
+
+def pi_over_2_split():
+    """pi/2 = p1 + p2 + p3, p1 and p2 with 33 significant bits (k * p1, k * p2 exact for |k| < 2^20)."""
+    half_pi = mp.pi / 2
+    scale = mp.mpf(2) ** 33
+    p1 = mp.floor(half_pi * scale + mp.mpf(1) / 2) / scale
+    rest = half_pi - p1
+    e = mp.floor(mp.log(abs(rest), 2))
+    scale2 = mp.mpf(2) ** (32 - e)
+    p2 = mp.floor(rest * scale2 + mp.mpf(1) / 2) / scale2
+    p3 = half_pi - p1 - p2
+    return float(p1), float(p2), float(p3)
+
+
 def reciprocal_line():
     """alpha - beta*u, the line closest to 1/u on [sqrt 2, 2] in relative error (equioscillation)."""
     a, b = mp.sqrt(2), mp.mpf(2)
@@ -116,6 +155,8 @@ def main():
     log_c, log_err = log1p_coefficients()
     hi, lo = ln2_split()
     alpha, beta, line_err = reciprocal_line()
+    s_c, c_c, s_err, c_err = sincos_coefficients()
+    p1, p2, p3 = pi_over_2_split()
     print("// exp: e^r = 1 + r + r^2 Q(r), |r| <= ln2/2; Q's coefficients, constant term first")
     print("// (polynomial relative error %.2e before rounding of the evaluation)" % exp_err)
     for c in exp_c:
@@ -126,6 +167,12 @@ def main():
         print("    %s," % c.hex())
     print("// log1p on [0, 1]: 1/u ~ alpha - beta u on [sqrt 2, 2] (relative error %.4f), for the rounding correction" % line_err)
     print("    alpha = %s, beta = %s" % (alpha.hex(), beta.hex()))
+    print("// sin(r) = r + r^3 S(r^2) (relative error %.2e), cos(r) = 1 - r^2/2 + r^4 C(r^2) (%.2e), |r| <= pi/4" % (s_err, c_err))
+    print("    S: " + ", ".join(c.hex() for c in s_c))
+    print("    C: " + ", ".join(c.hex() for c in c_c))
+    print("// pi/2 = p1 + p2 + p3")
+    print("    p1 = %s, p2 = %s, p3 = %s" % (p1.hex(), p2.hex(), p3.hex()))
+    print("    2/pi = %s" % float(2 / mp.pi).hex())
     print("// ln 2 = ln2_hi + ln2_lo")
     print("    ln2_hi = %s, ln2_lo = %s" % (hi.hex(), lo.hex()))
     print("    log2(e) = %s" % float(1 / mp.log(2)).hex())

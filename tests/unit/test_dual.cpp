@@ -20,8 +20,10 @@ TEST_CASE("dual numbers carry exact first derivatives", "[dual]") {
     const double dfdx = std::cos(xv) * yv + std::exp(xv) / yv - 1.5 / std::sqrt(xv) + 2 / ((1 - xv) * (1 - xv)) -
                         2 * xv / (1 + xv * xv);
     const double dfdy = std::sin(xv) - std::exp(xv) / (yv * yv) + 1 - std::tanh(yv) * std::tanh(yv);
-    // The value is the double computation's, with tvid's own exp and log1p.
-    CHECK(f.value() == std::sin(xv) * yv + math::exp(xv) / yv - std::sqrt(xv) * 3 + 2 / (1 - xv) + std::tanh(yv) -
+    // The value is the double computation's, with tvid's own sin, exp and log1p.
+    double sin_x = 0.0, cos_x = 0.0;
+    math::sincos(xv, sin_x, cos_x);
+    CHECK(f.value() == sin_x * yv + math::exp(xv) / yv - std::sqrt(xv) * 3 + 2 / (1 - xv) + std::tanh(yv) -
                            math::log1p(xv * xv));
     CHECK(f.derivative(0) == Approx(dfdx).epsilon(1e-14));
     CHECK(f.derivative(1) == Approx(dfdy).epsilon(1e-14));
@@ -96,7 +98,6 @@ TEST_CASE("PackedDual numbers give the double values and Dual's derivatives", "[
     const Dual d = f(x, y);
     const PackedDual<4> p = f(px, py);
     CHECK(p.value() == d.value());
-    CHECK(p.value() == f(0.7, -1.3));
     for (int i = 0; i < 2; ++i) CHECK(p.derivative(i) == Approx(d.derivative(i)).epsilon(1e-15));
     CHECK(p.derivative(2) == 0.0);
     CHECK(p.derivative(3) == 0.0);

@@ -123,6 +123,32 @@ TEST_CASE("log1p on [0, 1] in pairs sharing a division is within 2 ulp", "[eleme
     CHECK(worst <= 2.0);
 }
 
+TEST_CASE("sincos is within about an ulp where it reduces by pi/2, the C library's beyond", "[elementary]") {
+    double worst_sin = 0.0, worst_cos = 0.0;
+    for (const auto& range : {std::pair{-8e5, 8e5}, std::pair{-130.0, 130.0}, std::pair{-1.0, 1.0}}) {
+        for (double x : samples(range.first, range.second, 200000, 31)) {
+            double s = 0.0, c = 0.0;
+            math::sincos(x, s, c);
+            worst_sin = std::max(worst_sin, ulps(s, std::sin(static_cast<long double>(x))));
+            worst_cos = std::max(worst_cos, ulps(c, std::cos(static_cast<long double>(x))));
+        }
+    }
+    INFO("worst sin " << worst_sin << " ulp, cos " << worst_cos << " ulp");
+    CHECK(worst_sin <= 1.5);
+    CHECK(worst_cos <= 1.5);
+    double s = 0.0, c = 0.0;
+    math::sincos(0.0, s, c);
+    CHECK((s == 0.0 && c == 1.0));
+    math::sincos(-0.0, s, c);
+    CHECK(std::signbit(s));
+    for (double x : {1e6, -3.7e9, 1e300}) {
+        math::sincos(x, s, c);
+        CHECK((s == std::sin(x) && c == std::cos(x)));
+    }
+    math::sincos(std::numeric_limits<double>::infinity(), s, c);
+    CHECK((std::isnan(s) && std::isnan(c)));
+}
+
 TEST_CASE("every lane of a pack computes the bits of the scalar functions", "[elementary][pack]") {
     std::vector<double> xs = samples(-750.0, 712.0, 4096, 21);
     std::vector<double> ys = samples(-1.2, 3.0, 4096, 22);
@@ -139,10 +165,15 @@ TEST_CASE("every lane of a pack computes the bits of the scalar functions", "[el
             Pack<W> pa, pb;
             math::log1p_unit_pair(pack_of<W>(us, at), pack_of<W>(us, xs.size() - W - at), pa, pb);
             const Pack<W> f = muladd(pack_of<W>(xs, at), pack_of<W>(ys, at), pack_of<W>(us, at));
+            Pack<W> ps, pc;
+            math::sincos(pack_of<W>(xs, at) * Pack<W>(1e3), ps, pc);  // some beyond the reduction's range
             for (int lane = 0; lane < W; ++lane) {
                 const std::size_t i = at + static_cast<std::size_t>(lane);
                 double a = 0.0, b = 0.0;
                 math::log1p_unit_pair(us[i], us[xs.size() - W - at + static_cast<std::size_t>(lane)], a, b);
+                double s = 0.0, c = 0.0;
+                math::sincos(xs[i] * 1e3, s, c);
+                if (!same_bits(ps[lane], s) || !same_bits(pc[lane], c)) ++mismatches;
                 if (!same_bits(e[lane], math::exp(xs[i])) || !same_bits(l[lane], math::log1p(ys[i])) ||
                     !same_bits(pa[lane], a) || !same_bits(pb[lane], b) || !same_bits(f[lane], muladd(xs[i], ys[i], us[i])))
                     ++mismatches;

@@ -99,10 +99,16 @@ bool IdentificationProblem::initial_state(std::size_t start, ProblemWorkspace& w
 
 template <std::size_t N>
 SimulationStatus IdentificationProblem::shoot_warmup_newton(const Window& w, ProblemWorkspace& ws, bool* solved) const {
-    // As shoot_warmup, with the exact Jacobian of the miss: each simulation of the warm-up
-    // carries ∂x/∂a and ∂x/∂s (PackedDual directions 0 and 1), so Newton's method converges
-    // quadratically, typically in three simulations, the last of which leaves the state at
-    // w.first (the values are the plain simulation's, bit for bit).
+    // As shoot_warmup, with the exact Jacobian of the miss: a simulation of the warm-up that
+    // carries ∂x/∂a and ∂x/∂s (PackedDual directions 0 and 1) gives it, so Newton's method
+    // converges quadratically. The measured start misses by up to tenths of a radian, so:
+    //  1. Newton on a coarse simulation (one RK4 step per sample where the experiment asks
+    //     for substeps) from the measured start, to within 1e-7 rad: cheap, and only a
+    //     guess, never the result (given up if it fails, e.g. unstable for a stiff candidate);
+    //  2. from there a Newton step with the full simulation and its tangents;
+    //  3. chord steps with that Jacobian on plain simulations until the miss is below the
+    //     tolerance. Typically one tangent and one or two plain full simulations; the last
+    //     leaves the state at w.first (tangent and plain runs compute the same values).
     using T = PackedDual<2>;
     const std::size_t n = N / 2;
     const auto node = static_cast<std::size_t>(experiment_->angle_node);
@@ -113,23 +119,22 @@ SimulationStatus IdentificationProblem::shoot_warmup_newton(const Window& w, Pro
     ws.tangent_model.set_parameters(ws.tangent_params.data());
     ws.x0 = ws.x;
     SimulationStatus status = SimulationStatus::ok;
-    std::array<T, N> x;
     double e[2], jac[2][2];
-    auto miss = [&](double a, double s) {
-        for (std::size_t i = 0; i < n; ++i) {
-            x[i] = T(ws.x0[i] + a);
-            x[i].set_derivative(0, 1.0);  // ∂θ_i/∂a
-            x[n + i] = T(s);
-            x[n + i].set_derivative(1, 1.0);  // ∂ω_i/∂s
+    auto start_state = [&](double a, double s, std::size_t i) { return i < n ? ws.x0[i] + a : s; };
+    auto tangent_miss = [&](double a, double s, double max_step) {
+        std::array<T, N> x;
+        for (std::size_t i = 0; i < N; ++i) {
+            x[i] = T(start_state(a, s, i));
+            x[i].set_derivative(i < n ? 0 : 1, 1.0);  // ∂θ_i/∂a, ∂ω_i/∂s
+            ws.x_start[i] = x[i].value();
         }
-        for (std::size_t i = 0; i < N; ++i) ws.x_start[i] = x[i].value();
         T at_mid;
         const auto watch = [&](std::size_t i, const std::array<T, N>& state, const std::vector<double>&) {
             if (i == mid) at_mid = state[node];
             return true;
         };
-        status = march_fixed_rk4<N>(ws.tangent_model, inputs_, w.start, w.first, x, experiment_->simulation.max_step,
-                                    ws.buffers.u, ws.buffers.u_stages, ws.buffers.rhs_evaluations, watch);
+        status = march_fixed_rk4<N>(ws.tangent_model, inputs_, w.start, w.first, x, max_step, ws.buffers.u,
+                                    ws.buffers.u_stages, ws.buffers.rhs_evaluations, watch);
         for (std::size_t i = 0; i < N; ++i) ws.x[i] = x[i].value();
         e[0] = at_mid.value() - angle[mid];
         e[1] = x[node].value() - angle[w.first];
@@ -137,24 +142,63 @@ SimulationStatus IdentificationProblem::shoot_warmup_newton(const Window& w, Pro
         jac[1][0] = x[node].derivative(0), jac[1][1] = x[node].derivative(1);
         return status == SimulationStatus::ok && std::isfinite(e[0]) && std::isfinite(e[1]);
     };
+    auto plain_miss = [&](double a, double s) {
+        std::array<double, N> x;
+        for (std::size_t i = 0; i < N; ++i) x[i] = ws.x_start[i] = start_state(a, s, i);
+        double at_mid = 0.0;
+        const auto watch = [&](std::size_t i, const std::array<double, N>& state, const std::vector<double>&) {
+            if (i == mid) at_mid = state[node];
+            return true;
+        };
+        status = march_fixed_rk4<N>(ws.model, inputs_, w.start, w.first, x, experiment_->simulation.max_step,
+                                    ws.buffers.u, ws.buffers.u_stages, ws.buffers.rhs_evaluations, watch);
+        for (std::size_t i = 0; i < N; ++i) ws.x[i] = x[i];
+        e[0] = at_mid - angle[mid];
+        e[1] = x[node] - angle[w.first];
+        return status == SimulationStatus::ok && std::isfinite(e[0]) && std::isfinite(e[1]);
+    };
+    auto newton_step = [&](double& a, double& s) {
+        const double det = jac[0][0] * jac[1][1] - jac[0][1] * jac[1][0];
+        if (!std::isfinite(det) || det == 0.0) return false;
+        a -= (jac[1][1] * e[0] - jac[0][1] * e[1]) / det;
+        s -= (-jac[1][0] * e[0] + jac[0][0] * e[1]) / det;
+        return std::isfinite(a) && std::isfinite(s);
+    };
+    const double tolerance = 1e-12 + 1e-15 * std::abs(angle[w.first]);
+    const auto below = [&](double limit) { return std::abs(e[0]) < limit && std::abs(e[1]) < limit; };
     double a = 0.0, s = ws.x0[n];
     *solved = false;
     ws.x_start = ws.x;
-    const double tolerance = 1e-12 + 1e-15 * std::abs(angle[w.first]);
-    for (int it = 0; it < 8; ++it) {
-        if (!miss(a, s)) return status;
-        if (std::abs(e[0]) < tolerance && std::abs(e[1]) < tolerance) break;
-        const double det = jac[0][0] * jac[1][1] - jac[0][1] * jac[1][0];
-        if (!std::isfinite(det) || det == 0.0) {  // no handle on the rigid motion: keep the start so far
-            if (it == 0) return status;
-            break;
+
+    // 1. The guess from the coarse simulation.
+    if (experiment_->simulation.max_step > 0.0) {
+        double ca = a, cs = s;
+        bool usable = false;
+        for (int it = 0; it < 8; ++it) {
+            if (!tangent_miss(ca, cs, 0.0)) break;
+            if (below(1e-7)) {
+                usable = true;
+                break;
+            }
+            if (!newton_step(ca, cs)) break;
         }
-        *solved = true;
-        a -= (jac[1][1] * e[0] - jac[0][1] * e[1]) / det;
-        s -= (-jac[1][0] * e[0] + jac[0][0] * e[1]) / det;
-        if (it == 7) miss(a, s);
+        if (usable) a = ca, s = cs;
+        status = SimulationStatus::ok;
     }
-    *solved = *solved || (std::abs(e[0]) < tolerance && std::abs(e[1]) < tolerance);
+    // 2. Newton with the full simulation's tangents.
+    if (!tangent_miss(a, s, experiment_->simulation.max_step)) return status;
+    if (below(tolerance)) {
+        *solved = true;
+        return status;
+    }
+    if (!newton_step(a, s)) return status;  // no handle on the rigid motion: keep the start so far
+    *solved = true;
+    // 3. Chord steps with that Jacobian.
+    for (int it = 0; it < 8; ++it) {
+        if (!plain_miss(a, s)) return status;
+        if (below(tolerance) || !newton_step(a, s)) break;
+        if (it == 7) plain_miss(a, s);
+    }
     return status;  // ws.x: the state at w.first
 }
 

@@ -109,8 +109,17 @@ public:
     friend bool operator==(const Dual& a, const Dual& b) { return a.v_ == b.v_; }
     friend bool operator!=(const Dual& a, const Dual& b) { return a.v_ != b.v_; }
 
-    friend Dual sin(const Dual& a) { return scaled(std::sin(a.v_), std::cos(a.v_), a); }
-    friend Dual cos(const Dual& a) { return scaled(std::cos(a.v_), -std::sin(a.v_), a); }
+    // sin and cos with tvid's own values (math::sincos), as the double code computes them.
+    friend Dual sin(const Dual& a) {
+        double s = 0.0, c = 0.0;
+        math::sincos(a.v_, s, c);
+        return scaled(s, c, a);
+    }
+    friend Dual cos(const Dual& a) {
+        double s = 0.0, c = 0.0;
+        math::sincos(a.v_, s, c);
+        return scaled(c, -s, a);
+    }
     friend Dual sqrt(const Dual& a) {
         const double r = std::sqrt(a.v_);
         return scaled(r, 0.5 / r, a);
@@ -142,6 +151,12 @@ private:
 namespace math {
 inline Dual exp(const Dual& a) { return Dual::exponential(a); }
 inline Dual log1p(const Dual& a) { return Dual::log_one_plus(a); }
+inline void sincos(const Dual& x, Dual& sin_x, Dual& cos_x) {
+    double s = 0.0, c = 0.0;
+    sincos(x.value(), s, c);
+    sin_x = Dual::scaled(s, c, x);
+    cos_x = Dual::scaled(c, -s, x);
+}
 inline void log1p_unit_pair(const Dual& x, const Dual& y, Dual& log_x, Dual& log_y) {
     double lx = 0.0, ly = 0.0;
     log1p_unit_pair(x.value(), y.value(), lx, ly);

@@ -82,8 +82,16 @@ public:
     friend bool operator==(const PackedDual& a, const PackedDual& b) { return a.v_ == b.v_; }
     friend bool operator!=(const PackedDual& a, const PackedDual& b) { return a.v_ != b.v_; }
 
-    [[gnu::always_inline]] friend PackedDual sin(const PackedDual& a) { return {std::sin(a.v_), a.d_ * Directions(std::cos(a.v_))}; }
-    [[gnu::always_inline]] friend PackedDual cos(const PackedDual& a) { return {std::cos(a.v_), a.d_ * Directions(-std::sin(a.v_))}; }
+    [[gnu::always_inline]] friend PackedDual sin(const PackedDual& a) {
+        double s = 0.0, c = 0.0;
+        math::sincos(a.v_, s, c);
+        return {s, a.d_ * Directions(c)};
+    }
+    [[gnu::always_inline]] friend PackedDual cos(const PackedDual& a) {
+        double s = 0.0, c = 0.0;
+        math::sincos(a.v_, s, c);
+        return {c, a.d_ * Directions(-s)};
+    }
     [[gnu::always_inline]] friend PackedDual sqrt(const PackedDual& a) {
         const double r = std::sqrt(a.v_);
         return {r, a.d_ * Directions(0.5 / r)};
@@ -115,6 +123,13 @@ PackedDual<D> exp(const PackedDual<D>& a) {
 template <int D>
 PackedDual<D> log1p(const PackedDual<D>& a) {
     return {log1p(a.value()), a.derivatives() * Pack<D>(1.0 / (1.0 + a.value()))};
+}
+template <int D>
+void sincos(const PackedDual<D>& x, PackedDual<D>& sin_x, PackedDual<D>& cos_x) {
+    double s = 0.0, c = 0.0;
+    sincos(x.value(), s, c);
+    sin_x = {s, x.derivatives() * Pack<D>(c)};
+    cos_x = {c, x.derivatives() * Pack<D>(-s)};
 }
 template <int D>
 void log1p_unit_pair(const PackedDual<D>& x, const PackedDual<D>& y, PackedDual<D>& log_x, PackedDual<D>& log_y) {

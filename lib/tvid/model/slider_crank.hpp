@@ -11,6 +11,10 @@
 
 #include <cmath>
 
+#include "tvid/model/dual.hpp"
+#include "tvid/model/packed_dual.hpp"
+#include "tvid/simd/elementary_functions.hpp"
+
 namespace tvid {
 
 template <class T>
@@ -22,8 +26,9 @@ struct SliderCrankMotion {
 
 template <class T, class R>
 [[gnu::always_inline]] inline SliderCrankMotion<T> slider_crank(const T& phi, const R& r, const R& l) {
-    using std::cos, std::sin, std::sqrt;
-    const T sn = sin(phi), cs = cos(phi);
+    using std::sqrt;
+    T sn, cs;
+    math::sincos(phi, sn, cs);
     const T sin2 = 2 * sn * cs, cos2 = cs * cs - sn * sn;
     const T d = l * l - r * r * sn * sn;
     const T root = sqrt(d);

@@ -6,7 +6,8 @@
 // final evaluation scores the winner). The C library has no vector log1p, and its vector
 // exp is not bound to agree with its scalar one.
 //
-// Both are branch-free polynomial kernels; their coefficients come from
+// sincos is written the same way (the crank angles of the engine model).
+// All are branch-free polynomial kernels; their coefficients come from
 // scripts/derive_elementary_coefficients.py. Accuracy (tests/unit/test_elementary_functions.cpp,
 // against long double): exp within 1 ulp, log1p within 1 ulp. Special values follow the
 // C library: exp(±inf) = inf, 0; exp overflows to inf above 709.78 and rounds to 0 below
@@ -15,6 +16,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <utility>
@@ -38,6 +40,7 @@ struct Representation<double> {
     static Bits shift_right_logical(Bits b, int n) {
         return static_cast<Bits>(static_cast<std::uint64_t>(b) >> n);
     }
+    static Bits shift_left(Bits b, int n) { return static_cast<Bits>(static_cast<std::uint64_t>(b) << n); }
 };
 
 template <int W>
@@ -47,6 +50,7 @@ struct Representation<Pack<W>> {
     static Pack<W> value(const Bits& b) { return Pack<W>::from_bits(b); }
     static Bits constant(std::int64_t c) { return Bits(c); }
     static Bits shift_right_logical(const Bits& b, int n) { return b.shift_right_logical(n); }
+    static Bits shift_left(const Bits& b, int n) { return b << n; }
 };
 
 inline double choose(bool c, double a, double b) { return c ? a : b; }
@@ -152,6 +156,66 @@ template <class T>
     return choose(x != x, x, result);                  // NaN stays NaN
 }
 
+// sin(r) = r + r³·S(r²), cos(r) = 1 − r²/2 + r⁴·C(r²) on |r| <= π/4.
+inline constexpr double kSinS[] = {-0x1.5555555555555p-3, 0x1.1111111110bb2p-7,  -0x1.a01a019e83aaep-13,
+                                   0x1.71de37968a100p-19, -0x1.ae600b02b6262p-26, 0x1.5e0b19f8b1451p-33};
+inline constexpr double kCosC[] = {0x1.5555555555555p-5,  -0x1.6c16c16c16967p-10, 0x1.a01a019f4eb01p-16,
+                                   -0x1.27e4fa17da09ep-22, 0x1.1eeb68e93b64cp-29, -0x1.907da367a37cbp-37};
+inline constexpr double kTwoOverPi = 0x1.45f306dc9c883p-1;
+// π/2 = p1 + p2 + p3; p1 and p2 with 33 significant bits, so k·p1 and k·p2 are exact for |k| < 2^20.
+inline constexpr double kHalfPi1 = 0x1.921fb54480000p+0, kHalfPi2 = -0x1.e973dcb400000p-35,
+                        kHalfPi3 = 0x1.3198a2e037073p-69;
+/// Beyond this |x| the reduction by π/2 loses digits: the C library's sin and cos take over.
+inline constexpr double kSinCosReducible = 8.0e5;
+
+template <class T>
+[[gnu::always_inline]] inline T polynomial(const T& x, const double (&c)[6]) {
+    const T x2 = x * x;
+    const T p01 = muladd(x, T(c[1]), T(c[0])), p23 = muladd(x, T(c[3]), T(c[2])), p45 = muladd(x, T(c[5]), T(c[4]));
+    return muladd(x2 * x2, p45, muladd(x2, p23, p01));
+}
+template <class T>
+[[gnu::always_inline]] inline T polynomial(const T& x, const double (&c)[5]) {
+    const T x2 = x * x;
+    const T p01 = muladd(x, T(c[1]), T(c[0])), p23 = muladd(x, T(c[3]), T(c[2]));
+    return muladd(x2 * x2, T(c[4]), muladd(x2, p23, p01));
+}
+
+inline constexpr double kSinTail[] = {kSinS[1], kSinS[2], kSinS[3], kSinS[4], kSinS[5]};
+
+// sin x and cos x for |x| <= kSinCosReducible: x = k·π/2 + r, |r| <= π/4, with r as a head
+// and a tail (Cody–Waite in three parts, the rounding of the second kept), then the
+// quadrant k mod 4 picks ±sin r or ±cos r. The kernels on r = h + l (l the tail):
+//   sin r = h − ((z·(l/2 − v·S') − l) − v·S1),  v = z·h, S = S1 + z·S'(z)
+//   cos r = w + (((1 − w) − z/2) + (z²·C(z) − h·l)),  w = 1 − z/2 (its rounding kept)
+template <class T>
+[[gnu::always_inline]] inline void sincos_kernel(const T& x, T& sin_x, T& cos_x) {
+    using R = Representation<T>;
+    using Bits = typename R::Bits;
+    const T t = muladd(x, T(kTwoOverPi), T(kShifter));
+    const T kd = t - T(kShifter);
+    const Bits k = R::bits(t) - R::bits(T(kShifter));
+    const T r1 = muladd(-kd, T(kHalfPi1), x);  // exact
+    const T w2 = kd * T(kHalfPi2);             // exact (33 + 20 bits)
+    const T r2 = r1 - w2;
+    const T tail = ((r1 - r2) - w2) - kd * T(kHalfPi3);
+    const T h = r2 + tail;
+    const T l = (r2 - h) + tail;
+    const T z = h * h;
+    const T v = z * h;
+    const T sin_r = h - ((z * (T(0.5) * l - v * polynomial(z, kSinTail)) - l) - v * T(kSinS[0]));
+    const T half_z = T(0.5) * z;
+    const T w = T(1.0) - half_z;
+    const T cos_r = w + (((T(1.0) - w) - half_z) + ((z * z) * polynomial(z, kCosC) - h * l));
+    // Quadrant q = k mod 4: sin x = sin r, cos r, −sin r, −cos r; cos x = cos r, −sin r, −cos r, sin r.
+    const Bits q = k & R::constant(3);
+    const auto swap = R::value((q & R::constant(1)) + R::bits(T(kShifter))) - T(kShifter) > T(0.5);
+    const Bits sin_sign = R::shift_left(q & R::constant(2), 62);
+    const Bits cos_sign = R::shift_left((q + R::constant(1)) & R::constant(2), 62);
+    sin_x = choose(x == T(0.0), x, R::value(R::bits(choose(swap, cos_r, sin_r)) ^ sin_sign));  // sin ±0 = ±0
+    cos_x = R::value(R::bits(choose(swap, sin_r, cos_r)) ^ cos_sign);
+}
+
 inline constexpr double kSqrt2Minus1 = 0.41421356237309503;  // √2 − 1, rounded up
 // 1/u ≈ α − β·u on [√2, 2] within 1.5 % (the rounding correction of log1p on [0, 1]).
 inline constexpr double kReciprocalAlpha = 0x1.30672e53c83b2p+0;
@@ -193,6 +257,28 @@ template <class T>
     const T q = T(1.0) / (px.d * py.d);
     log_x = detail::unit_log1p_finish(px, px.f * (py.d * q));
     log_y = detail::unit_log1p_finish(py, py.f * (px.d * q));
+}
+
+/// sin x and cos x together, within about an ulp; as std::sin and std::cos beyond
+/// |x| = 8e5 (where reducing by π/2 in double would lose digits) and for ±inf and NaN.
+inline void sincos(double x, double& sin_x, double& cos_x) {
+    if (!(std::abs(x) <= detail::kSinCosReducible)) {
+        sin_x = std::sin(x);
+        cos_x = std::cos(x);
+        return;
+    }
+    detail::sincos_kernel(x, sin_x, cos_x);
+}
+template <int W>
+[[gnu::always_inline]] inline void sincos(const Pack<W>& x, Pack<W>& sin_x, Pack<W>& cos_x) {
+    detail::sincos_kernel(x, sin_x, cos_x);
+    const Mask<W> beyond = !(abs(x) <= Pack<W>(detail::kSinCosReducible));
+    if (beyond.any()) [[unlikely]]
+        for (int lane = 0; lane < W; ++lane)
+            if (beyond[lane]) {
+                sin_x.set(lane, std::sin(x[lane]));
+                cos_x.set(lane, std::cos(x[lane]));
+            }
 }
 
 inline double exp(double x) { return detail::exp_kernel(x); }

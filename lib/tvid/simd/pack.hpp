@@ -100,6 +100,7 @@ public:
     TVID_PACK_INLINE friend PackBits operator-(const PackBits& a, const PackBits& b) { return map(a, b, [](auto x, auto y) { return x - y; }); }
     TVID_PACK_INLINE friend PackBits operator&(const PackBits& a, const PackBits& b) { return map(a, b, [](auto x, auto y) { return x & y; }); }
     TVID_PACK_INLINE friend PackBits operator|(const PackBits& a, const PackBits& b) { return map(a, b, [](auto x, auto y) { return x | y; }); }
+    TVID_PACK_INLINE friend PackBits operator^(const PackBits& a, const PackBits& b) { return map(a, b, [](auto x, auto y) { return x ^ y; }); }
     TVID_PACK_INLINE friend PackBits operator~(const PackBits& a) {
         PackBits r;
         TVID_FOR_PARTS(i) r.p_[i] = ~a.p_[i];
@@ -254,10 +255,6 @@ public:
     TVID_PACK_INLINE friend Pack min(const Pack& a, const Pack& b) { return select(b < a, b, a); }
     // IEEE square root, lane by lane (correctly rounded, so equal to std::sqrt).
     TVID_PACK_INLINE friend Pack sqrt(const Pack& a) { return lanewise(a, [](double x) { return std::sqrt(x); }); }
-    // The trigonometric functions of the slider-crank, lane by lane with the C library's
-    // functions: the same values as the scalar code.
-    TVID_PACK_INLINE friend Pack sin(const Pack& a) { return lanewise(a, [](double x) { return std::sin(x); }); }
-    TVID_PACK_INLINE friend Pack cos(const Pack& a) { return lanewise(a, [](double x) { return std::cos(x); }); }
 
 private:
     TVID_PACK_INLINE static Part fused(const Part& a, const Part& b, const Part& c) {
