@@ -31,16 +31,15 @@ namespace detail {
 template <class T>
 struct Representation;
 
+// A scalar's bits are unsigned so that sums wrap around modulo 2^64 like the pack lanes'.
 template <>
 struct Representation<double> {
-    using Bits = std::int64_t;
-    static Bits bits(double x) { return std::bit_cast<std::int64_t>(x); }
+    using Bits = std::uint64_t;
+    static Bits bits(double x) { return std::bit_cast<Bits>(x); }
     static double value(Bits b) { return std::bit_cast<double>(b); }
-    static Bits constant(std::int64_t c) { return c; }
-    static Bits shift_right_logical(Bits b, int n) {
-        return static_cast<Bits>(static_cast<std::uint64_t>(b) >> n);
-    }
-    static Bits shift_left(Bits b, int n) { return static_cast<Bits>(static_cast<std::uint64_t>(b) << n); }
+    static Bits constant(std::int64_t c) { return static_cast<Bits>(c); }
+    static Bits shift_right_logical(Bits b, int n) { return b >> n; }
+    static Bits shift_left(Bits b, int n) { return b << n; }
 };
 
 template <int W>

@@ -96,8 +96,14 @@ public:
     const Part& part(int i) const { return p_[i]; }
     std::int64_t operator[](int lane) const { return p_[lane / L::lanes][lane % L::lanes]; }
 
-    TVID_PACK_INLINE friend PackBits operator+(const PackBits& a, const PackBits& b) { return map(a, b, [](auto x, auto y) { return x + y; }); }
-    TVID_PACK_INLINE friend PackBits operator-(const PackBits& a, const PackBits& b) { return map(a, b, [](auto x, auto y) { return x - y; }); }
+    // Sums and differences wrap around modulo 2^64, as the bit manipulations expect (a NaN's
+    // bits plus an offset, say): computed on unsigned lanes, where that is defined.
+    TVID_PACK_INLINE friend PackBits operator+(const PackBits& a, const PackBits& b) {
+        return map(a, b, [](auto x, auto y) { return as_signed(as_unsigned(x) + as_unsigned(y)); });
+    }
+    TVID_PACK_INLINE friend PackBits operator-(const PackBits& a, const PackBits& b) {
+        return map(a, b, [](auto x, auto y) { return as_signed(as_unsigned(x) - as_unsigned(y)); });
+    }
     TVID_PACK_INLINE friend PackBits operator&(const PackBits& a, const PackBits& b) { return map(a, b, [](auto x, auto y) { return x & y; }); }
     TVID_PACK_INLINE friend PackBits operator|(const PackBits& a, const PackBits& b) { return map(a, b, [](auto x, auto y) { return x | y; }); }
     TVID_PACK_INLINE friend PackBits operator^(const PackBits& a, const PackBits& b) { return map(a, b, [](auto x, auto y) { return x ^ y; }); }
@@ -108,7 +114,7 @@ public:
     }
     TVID_PACK_INLINE friend PackBits operator<<(const PackBits& a, int n) {
         PackBits r;
-        TVID_FOR_PARTS(i) r.p_[i] = a.p_[i] << n;
+        TVID_FOR_PARTS(i) r.p_[i] = as_signed(as_unsigned(a.p_[i]) << n);
         return r;
     }
     /// Shift right filling with zeros (AVX2 has no arithmetic shift of 64-bit lanes).
@@ -121,6 +127,8 @@ public:
     }
 
 private:
+    TVID_PACK_INLINE static typename L::Unsigned as_unsigned(Part x) { return std::bit_cast<typename L::Unsigned>(x); }
+    TVID_PACK_INLINE static Part as_signed(typename L::Unsigned x) { return std::bit_cast<Part>(x); }
     template <class F>
     TVID_PACK_INLINE static PackBits map(const PackBits& a, const PackBits& b, F f) {
         PackBits r;
