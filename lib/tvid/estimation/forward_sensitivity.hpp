@@ -24,6 +24,7 @@
 #include "tvid/model/dual.hpp"
 #include "tvid/model/packed_dual.hpp"
 #include "tvid/sim/simulate.hpp"
+#include "tvid/util/function_ref.hpp"
 
 namespace tvid {
 
@@ -102,15 +103,18 @@ private:
     SimulationStatus simulate(const double* free, const Window& w, std::size_t j0, std::size_t j1,
                               SensitivityWorkspace& ws, std::string* problem, Observer&& on_scored,
                               const SolvedStart* solved = nullptr) const;
-    // The state as N PackedDual<D> numbers through the fixed-step RK4.
-    template <std::size_t N, int D, class Observer>
+    // The state as N PackedDual<D> numbers through the fixed-step RK4 (instantiated for
+    // every even N up to kMaxFixedState in forward_sensitivity_packed_d*.cpp).
+    template <int D>
+    using PackedObserver = FunctionRef<bool(std::size_t, const PackedDual<D>*)>;
+    template <std::size_t N, int D>
     SimulationStatus simulate_packed(const double* free, const Window& w, std::size_t j0, std::size_t j1,
-                                     SensitivityWorkspace& ws, std::string* problem, Observer&& on_scored,
+                                     SensitivityWorkspace& ws, std::string* problem, PackedObserver<D> on_scored,
                                      const SolvedStart* solved) const;
     // The augmented system [x, S] of plain doubles through any odeint stepper.
-    template <class Observer>
     SimulationStatus simulate_augmented(const double* free, const Window& w, std::size_t j0, std::size_t j1,
-                                        SensitivityWorkspace& ws, std::string* problem, Observer&& on_scored,
+                                        SensitivityWorkspace& ws, std::string* problem,
+                                        FunctionRef<bool(std::size_t, const Dual*)> on_scored,
                                         const SolvedStart* solved) const;
     // The window's start: `solved`, or solved now by IdentificationProblem::start_window.
     WindowStart window_start(const Window& w, SensitivityWorkspace& ws, std::string* problem,

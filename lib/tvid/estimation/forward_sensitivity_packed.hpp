@@ -1,0 +1,117 @@
+#pragma once
+// The body of ForwardSensitivity::simulate_packed, included by the files that instantiate
+// it (one per width D, so that the two compile side by side): the window simulated with
+// every state a PackedDual<D>, the block's columns and the warm-up shooting's two
+// directions carried through the fixed-step RK4.
+
+#include <array>
+#include <cmath>
+#include <string>
+
+#include "tvid/estimation/forward_sensitivity.hpp"
+#include "tvid/sim/fixed_state_rk4.hpp"
+
+namespace tvid {
+
+template <std::size_t N, int D>
+SimulationStatus ForwardSensitivity::simulate_packed(const double* free, const Window& w, std::size_t j0,
+                                                     std::size_t j1, SensitivityWorkspace& ws, std::string* problem,
+                                                     PackedObserver<D> on_scored, const SolvedStart* solved) const {
+    using T = PackedDual<D>;
+    PackedSensitivityModel<D>& dual = ws.packed<D>();
+    const Experiment& ex = problem_->experiment();
+    const InputChannels& inputs = problem_->inputs();
+    const std::size_t cols = j1 - j0, n = N / 2;
+    // The plain start (equilibrium, or the warm-up shooting) and the Dual model for the
+    // equilibrium's sensitivity, as the augmented path sets them.
+    set_parameters(free, j0, j1, static_cast<int>(cols), ws);
+    const WindowStart start = window_start(w, ws, problem, solved);
+    if (start.status != SimulationStatus::ok) return start.status;
+
+    // Parameters: the block's columns are directions 0 … cols−1; a shot warm-up's angle
+    // offset a and speed s are directions cols and cols + 1.
+    const std::vector<std::size_t>& index = problem_->free_indices();
+    for (std::size_t i = 0; i < dual.params.size(); ++i) dual.params[i] = T(ws.plain->params[i]);
+    for (std::size_t j = j0; j < j1; ++j) dual.params[index[j]] = T::variable(free[j], static_cast<int>(j - j0));
+    dual.model.set_parameters(dual.params.data());
+    std::array<T, N> x;
+    for (std::size_t i = 0; i < N; ++i) x[i] = T(ws.plain->x_start[i]);
+    if (ex.initial_state == InitialStateKind::equilibrium) {
+        Eigen::MatrixXd dtheta;
+        if (!equilibrium_sensitivity(j0, j1, ws, dtheta)) {
+            if (problem) *problem = "the equilibrium start has no sensitivity (singular static stiffness)";
+            return SimulationStatus::not_finite;
+        }
+        for (std::size_t i = 0; i < n; ++i)
+            for (std::size_t j = 0; j < cols; ++j)
+                x[i].set_derivative(static_cast<int>(j), dtheta(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)));
+    }
+    const auto a_dir = static_cast<int>(cols), s_dir = static_cast<int>(cols + 1);
+    if (start.shot)
+        for (std::size_t i = 0; i < n; ++i) {
+            x[i].set_derivative(a_dir, 1.0);      // ∂θ_i/∂a
+            x[n + i].set_derivative(s_dir, 1.0);  // ∂ω_i/∂s
+        }
+
+    std::array<T, 8> y_store;  // the outputs at a sample (at most 8 outputs take this path)
+    const auto outputs = [&](std::size_t i, const std::array<T, N>& state, const std::vector<double>& u) {
+        for (std::size_t k = 0; k < ex.outputs.size(); ++k)
+            y_store[k] = dual.model.output(static_cast<std::size_t>(ex.output_indices[k]), state.data(), u.data());
+        return on_scored(i, y_store.data());
+    };
+    std::size_t rhs = 0;
+    std::size_t from = w.start;
+    if (problem_->warms_up(w)) {
+        // The warm-up, watching the encoder node's angle at the shooting's samples.
+        T at_mid;
+        const auto watch = [&](std::size_t i, const std::array<T, N>& state, const std::vector<double>&) {
+            if (i == start.mid) at_mid = state[start.node];
+            return true;
+        };
+        const SimulationStatus status = march_fixed_rk4<N>(dual.model, inputs, w.start, w.first, x, ex.simulation.max_step,
+                                                           ws.buffers.u, ws.buffers.u_stages, rhs, watch);
+        if (status != SimulationStatus::ok) {
+            if (problem) *problem = std::string("warm-up simulation ") + to_string(status);
+            return status;
+        }
+        if (start.shot) {
+            // G = (θ_node(mid), θ_node(first)) − measured: d(a, s)/dp = −(∂G/∂(a, s))⁻¹ ∂G/∂p,
+            // and every state's derivative becomes the total S_p + S_(a,s)·d(a,s)/dp.
+            const T& at_first = x[start.node];
+            const double g00 = at_mid.derivative(a_dir), g01 = at_mid.derivative(s_dir);
+            const double g10 = at_first.derivative(a_dir), g11 = at_first.derivative(s_dir);
+            const double det = g00 * g11 - g01 * g10;
+            if (!std::isfinite(det) || det == 0.0) {
+                if (problem) *problem = "the warm-up shooting has no sensitivity (singular)";
+                return SimulationStatus::not_finite;
+            }
+            Pack<D> da(0.0), ds(0.0);
+            for (std::size_t j = 0; j < cols; ++j) {
+                const double mid_j = at_mid.derivative(static_cast<int>(j)), first_j = at_first.derivative(static_cast<int>(j));
+                da.set(static_cast<int>(j), -(g11 * mid_j - g01 * first_j) / det);
+                ds.set(static_cast<int>(j), -(-g10 * mid_j + g00 * first_j) / det);
+            }
+            for (std::size_t i = 0; i < N; ++i) {
+                const Pack<D>& row = x[i].derivatives();
+                Pack<D> total = row + Pack<D>(row[a_dir]) * da + Pack<D>(row[s_dir]) * ds;
+                total.set(a_dir, 0.0);
+                total.set(s_dir, 0.0);
+                x[i].set_derivatives(total);
+            }
+        }
+        // After a warm-up the first sample is a prediction too: score it.
+        std::size_t hint = w.first;
+        inputs.at(inputs.time()[w.first], hint, ws.buffers.u.data());
+        if (!outputs(w.first, x, ws.buffers.u)) return SimulationStatus::stopped_by_observer;
+        from = w.first;
+    }
+    const auto scored = [&](std::size_t i, const std::array<T, N>& state, const std::vector<double>& u) {
+        return i < w.first ? true : outputs(i, state, u);
+    };
+    const SimulationStatus status = march_fixed_rk4<N>(dual.model, inputs, from, w.last, x, ex.simulation.max_step,
+                                                       ws.buffers.u, ws.buffers.u_stages, rhs, scored);
+    if (status != SimulationStatus::ok && problem) *problem = std::string("simulation ") + to_string(status);
+    return status;
+}
+
+}  // namespace tvid
