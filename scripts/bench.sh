@@ -4,9 +4,10 @@
 # Figures only: nothing passes or fails on time.
 #
 # Usage: scripts/bench.sh [--quick] [--repeats N] [--build DIR]
-#   default  (a) the paper swarm on 1 and 2 threads, the baseline over 25 iterations of the
-#            same swarm, (b) the engine LM fit, (c) the batch over every usable engine cycle
-#            (cycles 2-7, minutes), (d) window length 1x/4x/16x, 3 repeats
+#   default  (a) the paper swarm on 1 and 2 threads, without the stop at the personal best,
+#            and one candidate at a time instead of SIMD groups; the baseline over 25
+#            iterations of the same swarm, (b) the engine LM fit, (c) the batch over every
+#            usable engine cycle (cycles 2-7, minutes), (d) window length 1x/4x/16x, 3 repeats
 #   --quick  1 repeat (or --repeats N after it), the engine batch over cycles 2-3 only
 # The baseline's wall time for the whole swarm is extrapolated from its simulations per
 # second (it is one thread, one candidate at a time; its time per simulation is steady).
@@ -60,6 +61,7 @@ run "$repeats" cvt-pso "$bench" cvt-pso --threads 2
 run "$repeats" cvt-pso-1thread "$bench" cvt-pso --threads 1
 for r in 1 4 16; do run "$repeats" "cvt-window-x$r" "$bench" cvt-window --repeat "$r" --threads 1; done
 run "$repeats" cvt-pso-unbounded "$bench" cvt-pso --threads 2 --unbounded
+run "$repeats" cvt-pso-scalar "$bench" cvt-pso --threads 2 --scalar
 if [ "$quick" = 1 ]; then
   run 1 engine-lm "$bench" engine-lm --threads 2
   batch 2-3
@@ -93,6 +95,9 @@ if "cvt-baseline-25it" in rows and "cvt-pso" in rows:
         print(f"right-hand sides saved by stopping at the personal best: {100*saved:.1f} %")
     base_cpu = med(rows["cvt-baseline-25it"], "cpu_ns_per_rhs") * med(rows["cvt-baseline-25it"], "rhs") / med(rows["cvt-baseline-25it"], "sims")
     print(f"CPU time per simulation, baseline / cvt-pso: {base_cpu * sims / (med(rows['cvt-pso'], 'cpu_s') * 1e9):.2f}x")
+    if "cvt-pso-scalar" in rows:
+        print(f"speed-up of the SIMD groups over one candidate at a time (same swarm, 2 threads): "
+              f"{med(rows['cvt-pso-scalar'],'wall_s')/wall:.2f}x")
     if "cvt-pso-1thread" in rows:
         one = rows["cvt-pso-1thread"]
         print(f"speed-up from 1 to 2 threads: {med(one,'wall_s')/wall:.2f}x wall; parallel efficiency "
