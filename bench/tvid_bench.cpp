@@ -106,8 +106,15 @@ int cvt_pso(const Args& a) {
     const PsoSummary s = run_pso(ex.estimation_settings.pso, search_box(problem), used);
     const double wall = seconds_since(t0);
     const std::string name = std::string(a.threads == 1 ? "cvt-pso-1thread" : "cvt-pso") + (a.scalar ? "-scalar" : "");
+    // In SIMD groups: the share of the lanes' right-hand sides that a candidate needed.
+    std::string note = cost_note(s.best_cost);
+    if (evaluator.batching()) {
+        char use[32];
+        std::snprintf(use, sizeof use, ",lanes_used=%.3f", evaluator.lanes_used());
+        note += use;
+    }
     print_row({name, wall, static_cast<double>(s.evaluations),
-               static_cast<double>(evaluator.rhs_evaluations()), evaluator.threads(), cost_note(s.best_cost)});
+               static_cast<double>(evaluator.rhs_evaluations()), evaluator.threads(), note});
     return 0;
 }
 

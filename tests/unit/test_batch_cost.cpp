@@ -2,15 +2,18 @@
 // IdentificationProblem::cost gives each alone, bit for bit: with and without a bound,
 // for candidates that fail, that are not finite, in full and in partial groups, on the
 // CVT preset, the engine block (cylinders, warm-up shooting, substeps) and a custom
-// network with every other element kind. The swarm then takes the same path with and
-// without the groups.
+// network with every other element kind, also when a whole batch is scored at once on two
+// threads with the groups formed anew from the survivors. The swarm then takes the same
+// path with and without the groups.
 #include <catch2/catch.hpp>
 
+#include <atomic>
 #include <bit>
 #include <cmath>
 #include <cstdint>
 #include <fstream>
 #include <limits>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <random>
 #include <sstream>
@@ -63,6 +66,32 @@ std::size_t mismatches(const IdentificationProblem& problem, const std::vector<d
         if (!same_bits(alone, costs[i])) {
             ++differ;
             UNSCOPED_INFO("candidate " << i << ": alone " << alone << ", in a group " << costs[i] << ", bound " << bounds[i]);
+        }
+    }
+    return differ;
+}
+
+// Scores all of `points` in one call on `threads` threads, with the groups formed anew
+// as the windows go on, and counts the candidates whose costs differ in any bit from
+// their costs alone.
+std::size_t mismatches_at_once(const IdentificationProblem& problem, const std::vector<double>& points,
+                               const std::vector<double>& bounds, int threads) {
+    const std::size_t m = problem.dimension(), count = points.size() / m;
+    std::vector<std::unique_ptr<BatchWorkspace>> owned;
+    std::vector<BatchWorkspace*> workspaces;
+    for (int t = 0; t < threads; ++t) {
+        owned.push_back(std::make_unique<BatchWorkspace>(problem));
+        workspaces.push_back(owned.back().get());
+    }
+    std::vector<double> costs(count);
+    REQUIRE(batch_costs(problem, points.data(), count, bounds.data(), workspaces, nullptr, costs.data()));
+    auto scalar = problem.make_workspace();
+    std::size_t differ = 0;
+    for (std::size_t i = 0; i < count; ++i) {
+        const double alone = problem.cost(points.data() + i * m, *scalar, bounds[i]);
+        if (!same_bits(alone, costs[i])) {
+            ++differ;
+            UNSCOPED_INFO("candidate " << i << ": alone " << alone << ", regrouped " << costs[i] << ", bound " << bounds[i]);
         }
     }
     return differ;
@@ -150,6 +179,53 @@ TEST_CASE("CVT candidates cost the same bits in SIMD groups as alone, with and w
     CHECK(mismatches(problem, points, bounds, kBatchLanes) == 0);
     CHECK(mismatches(problem, points, bounds, 5) == 0);  // partial groups
     CHECK(mismatches(problem, points, bounds, 1) == 0);
+    CHECK(mismatches_at_once(problem, points, unbounded, 1) == 0);
+    CHECK(mismatches_at_once(problem, points, bounds, 1) == 0);
+    CHECK(mismatches_at_once(problem, points, bounds, 2) == 0);
+}
+
+TEST_CASE("the groups are formed anew from the candidates still live as the window goes on", "[batch][cvt]") {
+    const Experiment ex = load_experiment(test::source_dir() / "configs/cvt_tipin.yaml");
+    const IdentificationProblem problem(ex);
+    const std::size_t m = problem.dimension();
+    const Window& w = ex.estimation.at(0);
+    // One window simulation of one pack: a right-hand side at its start, then 4 a sample.
+    const std::size_t window_packs = 1 + 4 * (w.last - w.start);
+    const std::size_t count = 2 * kBatchLanes;
+    const std::vector<double> points = points_in_box(problem, count, 21);
+
+    // Every candidate but the first of each group of 16 is cut at its first sample (a
+    // bound of 0): fixed groups would both run to the end for their one survivor.
+    std::vector<double> bounds(count, 0.0);
+    bounds[0] = bounds[kBatchLanes] = kInf;
+    BatchWorkspace ws(problem);
+    std::vector<double> costs(count);
+    batch_costs(problem, points.data(), count, bounds.data(), ws, costs.data());
+    const double pieces = static_cast<double>(kRegroupPieces);
+    // Both groups run the first of the pieces, then the two survivors share one group.
+    CHECK(static_cast<double>(ws.pack_rhs_evaluations) <= (1.0 + 1.5 / pieces) * static_cast<double>(window_packs));
+    CHECK(static_cast<double>(ws.pack_rhs_evaluations) >= static_cast<double>(window_packs));
+    auto scalar = problem.make_workspace();
+    for (std::size_t i = 0; i < count; ++i) CHECK(same_bits(costs[i], problem.cost(points.data() + i * m, *scalar, bounds[i])));
+    CHECK(costs[1] < costs[0]);  // a cut candidate stops at its partial sum
+
+    // Unbounded, the two groups run the whole window.
+    BatchWorkspace full(problem);
+    batch_costs(problem, points.data(), count, nullptr, full, costs.data());
+    CHECK(full.pack_rhs_evaluations >= 2 * window_packs);
+}
+
+TEST_CASE("a stop request ends a regrouped batch and says so", "[batch][cvt]") {
+    const Experiment ex = load_experiment(test::source_dir() / "configs/cvt_tipin.yaml");
+    const IdentificationProblem problem(ex);
+    const std::vector<double> points = points_in_box(problem, 40, 4);
+    BatchWorkspace ws(problem);
+    BatchWorkspace* const one[] = {&ws};
+    std::vector<double> costs(40, 0.0);
+    const std::atomic<bool> stop{true};
+    CHECK_FALSE(batch_costs(problem, points.data(), 40, nullptr, one, &stop, costs.data()));
+    for (double c : costs) CHECK(c == kInf);
+    CHECK(ws.pack_rhs_evaluations == 0);
 }
 
 TEST_CASE("a group counts the right-hand sides its candidates' own simulations need", "[batch][cvt]") {
@@ -179,6 +255,7 @@ TEST_CASE("engine candidates (cylinders, warm-up shooting, substeps) cost the sa
     REQUIRE(std::isfinite(second));
     const std::vector<double> bounds = {kInf, 0.5 * second, kInf};
     CHECK(mismatches(problem, points, bounds, kBatchLanes) == 0);
+    CHECK(mismatches_at_once(problem, points, bounds, 2) == 0);
 }
 
 TEST_CASE("a custom network with every element kind but the cylinder costs the same bits in a group",
@@ -194,6 +271,7 @@ TEST_CASE("a custom network with every element kind but the cylinder costs the s
         points[4 * problem.dimension()] = 1e-7;  // a motor inertia that makes RK4 diverge
         CHECK(mismatches(problem, points, std::vector<double>(21, kInf), kBatchLanes) == 0);
         CHECK(mismatches(problem, points, mixed_bounds(problem, points), kBatchLanes) == 0);
+        CHECK(mismatches_at_once(problem, points, mixed_bounds(problem, points), 2) == 0);
     }
 }
 

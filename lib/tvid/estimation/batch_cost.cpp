@@ -1,5 +1,8 @@
 #include "tvid/estimation/batch_cost.hpp"
 
+#include <omp.h>
+
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
@@ -22,138 +25,220 @@ bool all_finite(const double* v, std::size_t n) {
     return true;
 }
 
-// The lanes' scores over the estimation windows, as IdentificationProblem::cost keeps
-// them for one candidate: the total of the finished windows, and each lane's result once
-// it is known (a cut at the bound, a failure, or the full cost).
-struct LaneScores {
-    P total = P(0.0);
-    std::array<double, W> result{};
-    Lanes live{false};  ///< lanes still being scored
+// Every candidate's score as IdentificationProblem::cost keeps it for one candidate,
+// between the pieces of a window: its state, the sums so far, and its result once it is
+// known (a cut at the bound, a failure, or the full cost).
+struct CandidateScores {
+    std::size_t state_size = 0, parameter_count = 0;
+    std::vector<double> parameters;  ///< full model parameter vectors, one after the other
+    std::vector<double> state;       ///< the state where the last piece ended
+    std::vector<double> total, window_sum, bound, result;
+    std::vector<std::size_t> scored;  ///< samples of the current window scored so far
+    std::vector<char> live;           ///< still being scored
 
-    void finish(int lane, double cost) {
-        result[static_cast<std::size_t>(lane)] = cost;
-        live.set(lane, false);
+    void finish(std::size_t c, double cost) {
+        result[c] = cost;
+        live[c] = 0;
     }
 };
 
+// Packs of up to W candidates: which candidate each lane holds (lanes past `size` repeat
+// the first, so that they compute nothing unusual, and are not scored).
+struct Group {
+    std::array<std::size_t, W> candidate{};
+    std::size_t size = 0;
+};
+
 template <std::size_t N>
-void batch_costs_fixed(const IdentificationProblem& problem, const double* candidates, std::size_t count,
-                       const double* bounds, BatchWorkspace& ws, double* costs) {
-    const Experiment& ex = problem.experiment();
-    const std::size_t m = problem.dimension();
-    const double inf = std::numeric_limits<double>::infinity();
-    const bool l1 = ex.estimation_settings.cost == CostKind::l1;
-    const std::size_t n_out = ex.outputs.size();
+class RegroupedScoring {
+public:
+    RegroupedScoring(const IdentificationProblem& problem, std::span<BatchWorkspace* const> workspaces,
+                     const std::atomic<bool>* stop)
+        : problem_(problem), ex_(problem.experiment()), workspaces_(workspaces), stop_(stop) {}
 
-    // Lanes: a candidate with a non-finite value costs +inf unsimulated, as in cost(); it
-    // and the unused lanes simulate a finite candidate's parameters so that they compute
-    // nothing unusual.
-    LaneScores scores;
-    std::size_t stand_in = count;
-    for (std::size_t l = 0; l < count; ++l) {
-        if (all_finite(candidates + l * m, m)) {
-            scores.live.set(static_cast<int>(l), true);
-            if (stand_in == count) stand_in = l;
-        } else {
-            scores.result[l] = inf;
+    bool run(const double* candidates, std::size_t count, const double* bounds, double* costs) {
+        const double inf = std::numeric_limits<double>::infinity();
+        const std::size_t m = problem_.dimension();
+        CandidateScores& s = scores_;
+        s.state_size = N;
+        s.parameter_count = ex_.network.parameter_names.size();
+        s.parameters.assign(count * s.parameter_count, 0.0);
+        s.state.assign(count * N, 0.0);
+        s.total.assign(count, 0.0);
+        s.window_sum.assign(count, 0.0);
+        s.scored.assign(count, 0);
+        s.result.assign(count, inf);
+        s.bound.assign(count, inf);
+        s.live.assign(count, 0);
+        // A candidate with a non-finite value costs +inf unsimulated, as in cost().
+        for (std::size_t c = 0; c < count; ++c) {
+            if (bounds) s.bound[c] = bounds[c];
+            if (!all_finite(candidates + c * m, m)) continue;
+            s.live[c] = 1;
+            problem_.full_parameters(candidates + c * m, workspaces_[0]->scalar->params);
+            std::copy(workspaces_[0]->scalar->params.begin(), workspaces_[0]->scalar->params.end(),
+                      s.parameters.begin() + static_cast<std::ptrdiff_t>(c * s.parameter_count));
         }
-    }
-    auto lane_source = [&](std::size_t l) {
-        return l < count && scores.live[static_cast<int>(l)] ? candidates + l * m : candidates + stand_in * m;
-    };
-    if (stand_in < count) {
-        problem.full_parameters(lane_source(0), ws.scalar->params);
-        for (std::size_t i = 0; i < ws.params.size(); ++i) ws.params[i] = P(ws.scalar->params[i]);
-        const std::vector<std::size_t>& free = problem.free_indices();
-        for (std::size_t l = 0; l < static_cast<std::size_t>(W); ++l)
-            for (std::size_t j = 0; j < m; ++j) ws.params[free[j]].set(static_cast<int>(l), lane_source(l)[j]);
-        ws.model.set_parameters(ws.params.data());
-    }
-
-    P bound(inf);
-    Lanes bounded(false);
-    for (std::size_t l = 0; l < count; ++l)
-        if (bounds && bounds[l] < inf) {
-            bound.set(static_cast<int>(l), bounds[l]);
-            bounded.set(static_cast<int>(l), true);
+        bool complete = true;
+        for (const Window& w : ex_.estimation) {
+            if (!complete || !any_live()) break;
+            start_window(w);
+            const std::size_t from = problem_.warms_up(w) ? w.first : w.start;
+            const std::size_t length = w.last > from ? w.last - from : 0;
+            const std::size_t pieces = std::clamp<std::size_t>(length / kRegroupMinSamples, 1, kRegroupPieces);
+            for (std::size_t k = 0; k < pieces && complete; ++k) {
+                const std::size_t a = from + length * k / pieces, b = from + length * (k + 1) / pieces;
+                complete = march_piece(w, a, b, k == 0 && problem_.warms_up(w));
+            }
+            // The candidates that ran to the end add the window's share (l1: its mean).
+            const bool l1 = ex_.estimation_settings.cost == CostKind::l1;
+            for (std::size_t c = 0; c < count; ++c)
+                if (s.live[c])
+                    s.total[c] = s.total[c] + (l1 ? s.window_sum[c] / static_cast<double>(s.scored[c]) : s.window_sum[c]);
         }
+        for (std::size_t c = 0; c < count; ++c) {
+            if (s.live[c]) s.result[c] = complete && std::isfinite(s.total[c]) ? s.total[c] : inf;
+            costs[c] = s.result[c];
+        }
+        return complete;
+    }
 
-    std::array<P, N> x;
-    for (const Window& w : ex.estimation) {
-        if (!scores.live.any()) break;
-        // Each lane's start, from the scalar model with that lane's parameters.
-        for (std::size_t j = 0; j < N; ++j) x[j] = P(0.0);
-        for (int l = 0; l < W; ++l) {
-            if (!scores.live[l]) continue;
-            ProblemWorkspace& s = *ws.scalar;
-            problem.full_parameters(lane_source(static_cast<std::size_t>(l)), s.params);
-            s.model.set_parameters(s.params.data());
-            if (problem.start_window(w, s, nullptr).status != SimulationStatus::ok) {
-                scores.finish(l, inf);
+private:
+    bool any_live() const {
+        return std::any_of(scores_.live.begin(), scores_.live.end(), [](char l) { return l != 0; });
+    }
+
+    // Each live candidate's start of window w from the scalar model with its parameters
+    // (equilibrium or warm-up shooting), on all threads.
+    void start_window(const Window& w) {
+        CandidateScores& s = scores_;
+        const auto count = static_cast<long long>(s.live.size());
+#pragma omp parallel for schedule(dynamic, 4) num_threads(static_cast<int>(workspaces_.size()))
+        for (long long ci = 0; ci < count; ++ci) {
+            const auto c = static_cast<std::size_t>(ci);
+            if (!s.live[c]) continue;
+            ProblemWorkspace& ws = *workspaces_[static_cast<std::size_t>(omp_get_thread_num())]->scalar;
+            ws.params.assign(s.parameters.begin() + static_cast<std::ptrdiff_t>(c * s.parameter_count),
+                             s.parameters.begin() + static_cast<std::ptrdiff_t>((c + 1) * s.parameter_count));
+            ws.model.set_parameters(ws.params.data());
+            s.window_sum[c] = 0.0;
+            s.scored[c] = 0;
+            if (problem_.start_window(w, ws, nullptr).status != SimulationStatus::ok) {
+                s.finish(c, std::numeric_limits<double>::infinity());
                 continue;
             }
-            for (std::size_t j = 0; j < N; ++j) x[j].set(l, s.x[j]);
+            std::copy_n(ws.x.begin(), N, s.state.begin() + static_cast<std::ptrdiff_t>(c * N));
         }
-        // Lanes without a start of their own copy a live one's.
-        int model_lane = -1;
-        for (int l = 0; l < W && model_lane < 0; ++l)
-            if (scores.live[l]) model_lane = l;
-        if (model_lane < 0) break;
-        for (int l = 0; l < W; ++l)
-            if (!scores.live[l])
-                for (std::size_t j = 0; j < N; ++j) x[j].set(l, x[j][model_lane]);
+    }
 
-        const auto n_scored = static_cast<double>(problem.scored_samples(w));
-        P window_sum(0.0);
+    // Samples a to b of window w for every live candidate, in groups formed anew from the
+    // live ones (`score_first`: score sample a before marching, the warm-up's first
+    // matching sample). False if a stop request skipped a group.
+    bool march_piece(const Window& w, std::size_t a, std::size_t b, bool score_first) {
+        std::vector<std::size_t>& ids = live_ids_;
+        ids.clear();
+        for (std::size_t c = 0; c < scores_.live.size(); ++c)
+            if (scores_.live[c]) ids.push_back(c);
+        if (ids.empty()) return true;
+        const auto groups = static_cast<long long>((ids.size() + W - 1) / W);
+        std::atomic<bool> skipped{false};
+#pragma omp parallel for schedule(dynamic, 1) num_threads(static_cast<int>(workspaces_.size()))
+        for (long long g = 0; g < groups; ++g) {
+            if (stop_ && stop_->load(std::memory_order_relaxed)) {
+                skipped.store(true, std::memory_order_relaxed);
+                continue;
+            }
+            Group group;
+            const auto first = static_cast<std::size_t>(g) * W;
+            group.size = std::min<std::size_t>(W, ids.size() - first);
+            for (std::size_t l = 0; l < static_cast<std::size_t>(W); ++l)
+                group.candidate[l] = ids[first + (l < group.size ? l : 0)];
+            march_group(*workspaces_[static_cast<std::size_t>(omp_get_thread_num())], group, w, a, b, score_first);
+        }
+        return !skipped.load();
+    }
+
+    void march_group(BatchWorkspace& ws, const Group& group, const Window& w, std::size_t a, std::size_t b,
+                     bool score_first) {
+        CandidateScores& s = scores_;
+        const double inf = std::numeric_limits<double>::infinity();
+        const bool l1 = ex_.estimation_settings.cost == CostKind::l1;
+        const std::size_t n_out = ex_.outputs.size();
+        // The group's lanes from the candidates' scores.
+        std::array<P, N> x;
+        P total, window_sum, bound;
+        Lanes live(false), bounded(false);
+        for (int l = 0; l < W; ++l) {
+            const std::size_t c = group.candidate[static_cast<std::size_t>(l)];
+            for (std::size_t i = 0; i < s.parameter_count; ++i) ws.params[i].set(l, s.parameters[c * s.parameter_count + i]);
+            for (std::size_t j = 0; j < N; ++j) x[j].set(l, s.state[c * N + j]);
+            total.set(l, s.total[c]);
+            window_sum.set(l, s.window_sum[c]);
+            bound.set(l, s.bound[c]);
+            if (static_cast<std::size_t>(l) < group.size) {
+                live.set(l, true);
+                bounded.set(l, s.bound[c] < inf);
+            }
+        }
+        ws.model.set_parameters(ws.params.data());
+        const auto lane_finish = [&](int l, double cost) {
+            s.finish(group.candidate[static_cast<std::size_t>(l)], cost);
+            live.set(l, false);
+        };
+
+        const auto n_scored = static_cast<double>(problem_.scored_samples(w));
         std::size_t scored = 0;
         // Adds sample i's terms and stops the lanes whose partial cost reaches their bound.
         // `after_derivative`: the model's last derivative() was at this sample (the march's).
         auto score = [&](std::size_t i, const std::array<P, N>& xs, const double* u, bool after_derivative) {
             for (std::size_t k = 0; k < n_out; ++k) {
-                const auto output = static_cast<std::size_t>(ex.output_indices[k]);
+                const auto output = static_cast<std::size_t>(ex_.output_indices[k]);
                 const P y = after_derivative ? ws.model.output_after_derivative(output, xs.data())
                                              : ws.model.output(output, xs.data(), u);
-                const P e = y - P(problem.measured(k)[i]);
+                const P e = y - P(problem_.measured(k)[i]);
                 window_sum = window_sum + (l1 ? abs(e) : e * e);
             }
             ++scored;
-            const Lanes watched = bounded & scores.live;
+            const Lanes watched = bounded & live;
             if (!watched.any()) return;
-            const P partial = scores.total + (l1 ? window_sum / P(n_scored) : window_sum);
+            const P partial = total + (l1 ? window_sum / P(n_scored) : window_sum);
             const Lanes cut = watched & (partial >= bound);
             for (int l = 0; l < W; ++l)
-                if (cut[l]) scores.finish(l, partial[l]);
+                if (cut[l]) lane_finish(l, partial[l]);
         };
-
-        std::size_t from = w.start;
-        if (problem.warms_up(w)) {
-            from = w.first;
-            std::size_t hint = w.first;
-            ws.u.resize(problem.inputs().count());
-            problem.inputs().at(problem.inputs().time()[w.first], hint, ws.u.data());
-            score(w.first, x, ws.u.data(), false);
+        if (score_first) {
+            std::size_t hint = a;
+            ws.u.resize(problem_.inputs().count());
+            problem_.inputs().at(problem_.inputs().time()[a], hint, ws.u.data());
+            score(a, x, ws.u.data(), false);
         }
         const auto observe = [&](std::size_t i, const std::array<P, N>& xs, const std::vector<double>& u,
                                  const Lanes& sane) {
             for (int l = 0; l < W; ++l)
-                if (scores.live[l] && !sane[l]) scores.finish(l, inf);  // diverged or not finite
-            if (i >= w.first && scores.live.any()) score(i, xs, u.data(), true);
-            return scores.live;
+                if (live[l] && !sane[l]) lane_finish(l, inf);  // diverged or not finite
+            if (i >= w.first && live.any()) score(i, xs, u.data(), true);
+            return live;
         };
-        Lanes active = scores.live;
-        march_batch_rk4<N, W>(ws.model, problem.inputs(), from, w.last, x, ex.simulation.max_step, ws.u, ws.u_stage,
-                              active, ws.rhs_evaluations, observe);
-        // The lanes that ran to the end add the window's share (l1: its mean).
-        const P share = l1 ? window_sum / P(static_cast<double>(scored)) : window_sum;
-        scores.total = select(scores.live, scores.total + share, scores.total);
-    }
-    for (int l = 0; l < W; ++l)
-        if (scores.live[l]) {
-            const double total = scores.total[l];
-            scores.result[static_cast<std::size_t>(l)] = std::isfinite(total) ? total : inf;
+        Lanes active = live;
+        march_batch_rk4<N, W>(ws.model, problem_.inputs(), a, b, x, ex_.simulation.max_step, ws.u, ws.u_stage, active,
+                              ws.rhs_evaluations, ws.pack_rhs_evaluations, observe);
+        // The lanes still live carry their state and sums to the next piece.
+        for (int l = 0; l < W; ++l) {
+            if (!live[l]) continue;
+            const std::size_t c = group.candidate[static_cast<std::size_t>(l)];
+            for (std::size_t j = 0; j < N; ++j) s.state[c * N + j] = x[j][l];
+            s.window_sum[c] = window_sum[l];
+            s.scored[c] += scored;
         }
-    for (std::size_t l = 0; l < count; ++l) costs[l] = scores.result[l];
-}
+    }
+
+    const IdentificationProblem& problem_;
+    const Experiment& ex_;
+    std::span<BatchWorkspace* const> workspaces_;
+    const std::atomic<bool>* stop_;
+    CandidateScores scores_;
+    std::vector<std::size_t> live_ids_;
+};
 
 }  // namespace
 
@@ -170,11 +255,12 @@ bool batch_supported(const IdentificationProblem& problem) {
     return ex.simulation.method == IntegrationMethod::rk4 && n >= 2 && n <= kMaxFixedState && n % 2 == 0;
 }
 
-void batch_costs(const IdentificationProblem& problem, const double* candidates, std::size_t count,
-                 const double* bounds, BatchWorkspace& ws, double* costs) {
-    if (count == 0) return;
+bool batch_costs(const IdentificationProblem& problem, const double* candidates, std::size_t count,
+                 const double* bounds, std::span<BatchWorkspace* const> workspaces, const std::atomic<bool>* stop,
+                 double* costs) {
+    if (count == 0) return true;
     const auto run = [&]<std::size_t N>(std::integral_constant<std::size_t, N>) {
-        batch_costs_fixed<N>(problem, candidates, count, bounds, ws, costs);
+        return RegroupedScoring<N>(problem, workspaces, stop).run(candidates, count, bounds, costs);
     };
     switch (problem.experiment().network.state_size()) {
         case 2: return run(std::integral_constant<std::size_t, 2>{});
@@ -189,8 +275,15 @@ void batch_costs(const IdentificationProblem& problem, const double* candidates,
     }
     // Not batchable: one candidate at a time.
     for (std::size_t l = 0; l < count; ++l)
-        costs[l] = problem.cost(candidates + l * problem.dimension(), *ws.scalar,
+        costs[l] = problem.cost(candidates + l * problem.dimension(), *workspaces[0]->scalar,
                                 bounds ? bounds[l] : std::numeric_limits<double>::infinity());
+    return true;
+}
+
+void batch_costs(const IdentificationProblem& problem, const double* candidates, std::size_t count,
+                 const double* bounds, BatchWorkspace& ws, double* costs) {
+    BatchWorkspace* const one[] = {&ws};
+    batch_costs(problem, candidates, count, bounds, one, nullptr, costs);
 }
 
 }  // namespace tvid

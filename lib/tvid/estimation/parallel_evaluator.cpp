@@ -18,7 +18,10 @@ ParallelEvaluator::ParallelEvaluator(const IdentificationProblem& problem, int t
     : problem_(&problem), threads_(resolve_thread_count(threads)), stop_(stop) {
     for (int t = 0; t < threads_; ++t) workspaces_.push_back(problem.make_workspace());
     if (batch_supported(problem))
-        for (int t = 0; t < threads_; ++t) batch_workspaces_.push_back(std::make_unique<BatchWorkspace>(problem));
+        for (int t = 0; t < threads_; ++t) {
+            batch_workspaces_.push_back(std::make_unique<BatchWorkspace>(problem));
+            batch_lanes_.push_back(batch_workspaces_.back().get());
+        }
     batching_ = !batch_workspaces_.empty();
 }
 
@@ -31,22 +34,7 @@ void ParallelEvaluator::evaluate_bounded(const double* candidates, std::size_t c
     const double inf = std::numeric_limits<double>::infinity();
     std::atomic<bool> skipped{false};
     if (batching_) {
-        const std::size_t lanes = kBatchLanes;
-        const auto groups = static_cast<long long>((count + lanes - 1) / lanes);
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads_)
-        for (long long g = 0; g < groups; ++g) {
-            const std::size_t first = static_cast<std::size_t>(g) * lanes;
-            const std::size_t size = std::min(lanes, count - first);
-            if (stop_ && stop_->load(std::memory_order_relaxed)) {
-                for (std::size_t i = first; i < first + size; ++i) costs[i] = inf;
-                skipped.store(true, std::memory_order_relaxed);
-                continue;
-            }
-            BatchWorkspace& ws = *batch_workspaces_[static_cast<std::size_t>(omp_get_thread_num())];
-            batch_costs(*problem_, candidates + first * dimension, size, bounds ? bounds + first : nullptr, ws,
-                        costs + first);
-        }
-        stopped_ = skipped.load();
+        stopped_ = !batch_costs(*problem_, candidates, count, bounds, batch_lanes_, stop_, costs);
         return;
     }
     const auto n = static_cast<long long>(count);
@@ -68,6 +56,15 @@ std::size_t ParallelEvaluator::rhs_evaluations() const {
     for (const auto& ws : workspaces_) total += ws->buffers.rhs_evaluations;
     for (const auto& ws : batch_workspaces_) total += ws->rhs_evaluations + ws->scalar->buffers.rhs_evaluations;
     return total;
+}
+
+double ParallelEvaluator::lanes_used() const {
+    double needed = 0.0, done = 0.0;
+    for (const auto& ws : batch_workspaces_) {
+        needed += static_cast<double>(ws->rhs_evaluations);
+        done += static_cast<double>(ws->pack_rhs_evaluations) * kBatchLanes;
+    }
+    return done > 0.0 ? needed / done : 0.0;
 }
 
 }  // namespace tvid

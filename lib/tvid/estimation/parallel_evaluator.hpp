@@ -3,9 +3,10 @@
 // owns a workspace built once; every candidate's cost is computed from its own inputs
 // only, so costs are identical for any thread count. Where the problem allows it
 // (fixed-step RK4, batch_cost.hpp) the candidates go in groups of kBatchLanes through one
-// simulation in SIMD lanes, each lane costing exactly what its candidate costs alone.
-// Given a stop flag, a batch stops within one simulation per thread once the flag is set
-// (see stopped()).
+// simulation in SIMD lanes, each lane costing exactly what its candidate costs alone, and
+// the groups are formed anew from the surviving candidates as the windows go on. Given a
+// stop flag, a batch stops within one simulation (or one piece of a window, in groups) per
+// thread once the flag is set (see stopped()).
 
 #include <atomic>
 #include <memory>
@@ -36,6 +37,10 @@ public:
     void set_batching(bool on) { batching_ = on && !batch_workspaces_.empty(); }
     /// Right-hand sides evaluated so far, summed over the threads' workspaces (for benchmarks).
     std::size_t rhs_evaluations() const;
+    /// Of the right-hand sides the SIMD groups' lanes evaluated so far, the share that a
+    /// candidate needed (the rest: lanes whose candidate was done while its group went on,
+    /// and the empty lanes of the last group); 0 before any group ran.
+    double lanes_used() const;
 
 private:
     const IdentificationProblem* problem_;
@@ -44,6 +49,7 @@ private:
     bool stopped_ = false;
     std::vector<std::unique_ptr<ProblemWorkspace>> workspaces_;
     std::vector<std::unique_ptr<BatchWorkspace>> batch_workspaces_;  ///< empty when the problem cannot batch
+    std::vector<BatchWorkspace*> batch_lanes_;                       ///< the same, as batch_costs takes them
     bool batching_ = false;
 };
 

@@ -36,11 +36,12 @@ Mask<W> sane_lanes(const std::array<Pack<W>, N>& x) {
 /// (start, last] with u the inputs at time[i]; it returns the lanes still needed. `active`
 /// holds the lanes needed at the start and is left with those needed at the end; `rhs`
 /// grows by the right-hand sides of the needed lanes (what their scalar simulations would
-/// have evaluated).
+/// have evaluated), `pack_rhs` by those of the packs (the work done: W lanes each).
 template <std::size_t N, int W, class Observer>
 void march_batch_rk4(NetworkModel<Pack<W>>& model, const InputChannels& inputs, std::size_t start, std::size_t last,
                      std::array<Pack<W>, N>& x, double max_step, std::vector<double>& u,
-                     std::vector<double>& u_stage, Mask<W>& active, std::size_t& rhs, Observer&& observer) {
+                     std::vector<double>& u_stage, Mask<W>& active, std::size_t& rhs, std::size_t& pack_rhs,
+                     Observer&& observer) {
     using P = Pack<W>;
     const std::vector<double>& time = inputs.time();
     const std::size_t n_in = inputs.count();
@@ -56,6 +57,7 @@ void march_batch_rk4(NetworkModel<Pack<W>>& model, const InputChannels& inputs, 
     if (needed > 0 && start < last) {
         for (std::size_t k = 0; k < n_in; ++k) u[k] = inputs.value(k, start);
         model.derivative(x.data(), u.data(), k1.data());
+        ++pack_rhs;
     }
     for (std::size_t i = start; i < last && needed > 0; ++i) {
         const double t0 = time[i], h = time[i + 1] - t0;
@@ -86,6 +88,7 @@ void march_batch_rk4(NetworkModel<Pack<W>>& model, const InputChannels& inputs, 
             for (std::size_t j = 0; j < N; ++j) x[j] = x[j] + sixth * k1[j] + third * k2[j] + third * k3[j] + sixth * k4[j];
         }
         rhs += 4 * static_cast<std::size_t>(substeps) * needed;
+        pack_rhs += 4 * static_cast<std::size_t>(substeps);
         for (std::size_t k = 0; k < n_in; ++k) u[k] = inputs.value(k, i + 1);
         model.derivative(x.data(), u.data(), k1.data());  // the next step's first stage, at sample i + 1
         active = observer(i + 1, x, u, sane_lanes(x)) & active;
