@@ -5,7 +5,9 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <condition_variable>
 #include <limits>
+#include <mutex>
 #include <type_traits>
 
 #include "tvid/sim/batch_rk4.hpp"
@@ -49,12 +51,102 @@ struct Group {
     std::size_t size = 0;
 };
 
+// A piece of a window: samples a to b of estimation window `window`.
+struct Stage {
+    std::size_t window = 0, a = 0, b = 0;
+    bool score_first = false;  ///< score sample a before marching (the warm-up's first matching sample)
+    bool ends_window = false;
+};
+
+// Which candidates wait for which stage. A group is formed from 16 candidates waiting
+// for the same stage, or from fewer at the lowest stage still occupied (no more can
+// arrive there); so no thread waits for the others at the end of a stage, as a barrier
+// would make it.
+class StageQueues {
+public:
+    explicit StageQueues(std::size_t stages) : ready_(stages), occupied_(stages, 0) {}
+
+    /// Before the threads start: candidate c waits for stage 0.
+    void add(std::size_t c) {
+        ready_[0].push_back(c);
+        ++occupied_[0];
+        ++remaining_;
+    }
+
+    /// The next group and its stage; false when every candidate is done or `stop` is set.
+    bool take(Group& group, std::size_t& stage, const std::atomic<bool>* stop) {
+        std::unique_lock<std::mutex> lock(mutex_);
+        for (;;) {
+            if (stop && stop->load(std::memory_order_relaxed)) stopped_ = true;
+            if (stopped_ || remaining_ == 0) {
+                changed_.notify_all();
+                return false;
+            }
+            // A full group, the furthest stage first (so that the candidates move on);
+            // else whatever waits at the lowest occupied stage.
+            for (std::size_t k = ready_.size(); k-- > 0;)
+                if (ready_[k].size() >= static_cast<std::size_t>(W)) return pop(k, group, stage);
+            for (std::size_t k = 0; k < ready_.size(); ++k)
+                if (occupied_[k] > 0) {
+                    if (!ready_[k].empty()) return pop(k, group, stage);
+                    break;
+                }
+            changed_.wait(lock);
+        }
+    }
+
+    /// The group of `stage` is done; `next` of its candidates go on to the next stage.
+    void done(const Group& group, std::size_t stage, std::span<const std::size_t> next) {
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            occupied_[stage] -= group.size;
+            remaining_ -= group.size - next.size();
+            for (std::size_t c : next) {
+                ready_[stage + 1].push_back(c);
+                ++occupied_[stage + 1];
+            }
+        }
+        changed_.notify_all();
+    }
+
+    bool stopped() const { return stopped_; }
+
+private:
+    bool pop(std::size_t k, Group& group, std::size_t& stage) {
+        std::vector<std::size_t>& r = ready_[k];
+        group.size = std::min<std::size_t>(W, r.size());
+        for (std::size_t l = 0; l < static_cast<std::size_t>(W); ++l)
+            group.candidate[l] = r[r.size() - (l < group.size ? l : 0) - 1];
+        r.resize(r.size() - group.size);
+        stage = k;
+        return true;
+    }
+
+    std::mutex mutex_;
+    std::condition_variable changed_;
+    std::vector<std::vector<std::size_t>> ready_;  ///< candidates waiting for each stage
+    std::vector<std::size_t> occupied_;            ///< candidates waiting for or running each stage
+    std::size_t remaining_ = 0;                    ///< candidates not done
+    bool stopped_ = false;
+};
+
 template <std::size_t N>
 class RegroupedScoring {
 public:
     RegroupedScoring(const IdentificationProblem& problem, std::span<BatchWorkspace* const> workspaces,
                      const std::atomic<bool>* stop)
-        : problem_(problem), ex_(problem.experiment()), workspaces_(workspaces), stop_(stop) {}
+        : problem_(problem), ex_(problem.experiment()), workspaces_(workspaces), stop_(stop) {
+        // Each window in pieces of kRegroupMinSamples samples or more, at most kRegroupPieces.
+        for (std::size_t wi = 0; wi < ex_.estimation.size(); ++wi) {
+            const Window& w = ex_.estimation[wi];
+            const std::size_t from = problem_.warms_up(w) ? w.first : w.start;
+            const std::size_t length = w.last > from ? w.last - from : 0;
+            const std::size_t pieces = std::clamp<std::size_t>(length / kRegroupMinSamples, 1, kRegroupPieces);
+            for (std::size_t k = 0; k < pieces; ++k)
+                stages_.push_back({wi, from + length * k / pieces, from + length * (k + 1) / pieces,
+                                   k == 0 && problem_.warms_up(w), k + 1 == pieces});
+        }
+    }
 
     bool run(const double* candidates, std::size_t count, const double* bounds, double* costs) {
         const double inf = std::numeric_limits<double>::infinity();
@@ -80,21 +172,29 @@ public:
                       s.parameters.begin() + static_cast<std::ptrdiff_t>(c * s.parameter_count));
         }
         bool complete = true;
-        for (const Window& w : ex_.estimation) {
-            if (!complete || !any_live()) break;
-            start_window(w);
-            const std::size_t from = problem_.warms_up(w) ? w.first : w.start;
-            const std::size_t length = w.last > from ? w.last - from : 0;
-            const std::size_t pieces = std::clamp<std::size_t>(length / kRegroupMinSamples, 1, kRegroupPieces);
-            for (std::size_t k = 0; k < pieces && complete; ++k) {
-                const std::size_t a = from + length * k / pieces, b = from + length * (k + 1) / pieces;
-                complete = march_piece(w, a, b, k == 0 && problem_.warms_up(w));
-            }
-            // The candidates that ran to the end add the window's share (l1: its mean).
-            const bool l1 = ex_.estimation_settings.cost == CostKind::l1;
+        if (!stages_.empty()) {
+            // The first window's starts, on all threads; then the stages.
+            const auto n = static_cast<long long>(count);
+            const int threads = static_cast<int>(workspaces_.size());
+#pragma omp parallel for schedule(dynamic, 4) num_threads(threads)
+            for (long long c = 0; c < n; ++c)
+                if (s.live[static_cast<std::size_t>(c)])
+                    start_window(static_cast<std::size_t>(c), 0, *workspaces_[static_cast<std::size_t>(omp_get_thread_num())]->scalar);
+            StageQueues queues(stages_.size());
             for (std::size_t c = 0; c < count; ++c)
-                if (s.live[c])
-                    s.total[c] = s.total[c] + (l1 ? s.window_sum[c] / static_cast<double>(s.scored[c]) : s.window_sum[c]);
+                if (s.live[c]) queues.add(c);
+#pragma omp parallel num_threads(threads)
+            {
+                BatchWorkspace& ws = *workspaces_[static_cast<std::size_t>(omp_get_thread_num())];
+                std::vector<std::size_t> next;
+                Group group;
+                std::size_t stage = 0;
+                while (queues.take(group, stage, stop_)) {
+                    march_stage(ws, group, stage, next);
+                    queues.done(group, stage, next);
+                }
+            }
+            complete = !queues.stopped();
         }
         for (std::size_t c = 0; c < count; ++c) {
             if (s.live[c]) s.result[c] = complete && std::isfinite(s.total[c]) ? s.total[c] : inf;
@@ -104,58 +204,43 @@ public:
     }
 
 private:
-    bool any_live() const {
-        return std::any_of(scores_.live.begin(), scores_.live.end(), [](char l) { return l != 0; });
-    }
-
-    // Each live candidate's start of window w from the scalar model with its parameters
-    // (equilibrium or warm-up shooting), on all threads.
-    void start_window(const Window& w) {
+    // Candidate c's start of window `wi` from the scalar model with its parameters
+    // (equilibrium or warm-up shooting); a candidate without one costs +inf.
+    void start_window(std::size_t c, std::size_t wi, ProblemWorkspace& ws) {
         CandidateScores& s = scores_;
-        const auto count = static_cast<long long>(s.live.size());
-#pragma omp parallel for schedule(dynamic, 4) num_threads(static_cast<int>(workspaces_.size()))
-        for (long long ci = 0; ci < count; ++ci) {
-            const auto c = static_cast<std::size_t>(ci);
-            if (!s.live[c]) continue;
-            ProblemWorkspace& ws = *workspaces_[static_cast<std::size_t>(omp_get_thread_num())]->scalar;
-            ws.params.assign(s.parameters.begin() + static_cast<std::ptrdiff_t>(c * s.parameter_count),
-                             s.parameters.begin() + static_cast<std::ptrdiff_t>((c + 1) * s.parameter_count));
-            ws.model.set_parameters(ws.params.data());
-            s.window_sum[c] = 0.0;
-            s.scored[c] = 0;
-            if (problem_.start_window(w, ws, nullptr).status != SimulationStatus::ok) {
-                s.finish(c, std::numeric_limits<double>::infinity());
-                continue;
-            }
-            std::copy_n(ws.x.begin(), N, s.state.begin() + static_cast<std::ptrdiff_t>(c * N));
+        ws.params.assign(s.parameters.begin() + static_cast<std::ptrdiff_t>(c * s.parameter_count),
+                         s.parameters.begin() + static_cast<std::ptrdiff_t>((c + 1) * s.parameter_count));
+        ws.model.set_parameters(ws.params.data());
+        s.window_sum[c] = 0.0;
+        s.scored[c] = 0;
+        if (problem_.start_window(ex_.estimation[wi], ws, nullptr).status != SimulationStatus::ok) {
+            s.finish(c, std::numeric_limits<double>::infinity());
+            return;
         }
+        std::copy_n(ws.x.begin(), N, s.state.begin() + static_cast<std::ptrdiff_t>(c * N));
     }
 
-    // Samples a to b of window w for every live candidate, in groups formed anew from the
-    // live ones (`score_first`: score sample a before marching, the warm-up's first
-    // matching sample). False if a stop request skipped a group.
-    bool march_piece(const Window& w, std::size_t a, std::size_t b, bool score_first) {
-        std::vector<std::size_t>& ids = live_ids_;
-        ids.clear();
-        for (std::size_t c = 0; c < scores_.live.size(); ++c)
-            if (scores_.live[c]) ids.push_back(c);
-        if (ids.empty()) return true;
-        const auto groups = static_cast<long long>((ids.size() + W - 1) / W);
-        std::atomic<bool> skipped{false};
-#pragma omp parallel for schedule(dynamic, 1) num_threads(static_cast<int>(workspaces_.size()))
-        for (long long g = 0; g < groups; ++g) {
-            if (stop_ && stop_->load(std::memory_order_relaxed)) {
-                skipped.store(true, std::memory_order_relaxed);
-                continue;
+    // One stage for the candidates of `group`; `next` receives those that go on to the
+    // next stage (at the end of a window: with their window's share added and the next
+    // window's start solved).
+    void march_stage(BatchWorkspace& ws, const Group& group, std::size_t k, std::vector<std::size_t>& next) {
+        const Stage& stage = stages_[k];
+        march_group(ws, group, ex_.estimation[stage.window], stage.a, stage.b, stage.score_first);
+        CandidateScores& s = scores_;
+        const bool l1 = ex_.estimation_settings.cost == CostKind::l1;
+        next.clear();
+        for (std::size_t l = 0; l < group.size; ++l) {
+            const std::size_t c = group.candidate[l];
+            if (!s.live[c]) continue;
+            if (stage.ends_window) {
+                // The candidates that ran to the end add the window's share (l1: its mean).
+                s.total[c] = s.total[c] + (l1 ? s.window_sum[c] / static_cast<double>(s.scored[c]) : s.window_sum[c]);
+                if (k + 1 == stages_.size()) continue;
+                start_window(c, stages_[k + 1].window, *ws.scalar);
+                if (!s.live[c]) continue;
             }
-            Group group;
-            const auto first = static_cast<std::size_t>(g) * W;
-            group.size = std::min<std::size_t>(W, ids.size() - first);
-            for (std::size_t l = 0; l < static_cast<std::size_t>(W); ++l)
-                group.candidate[l] = ids[first + (l < group.size ? l : 0)];
-            march_group(*workspaces_[static_cast<std::size_t>(omp_get_thread_num())], group, w, a, b, score_first);
+            if (k + 1 < stages_.size()) next.push_back(c);
         }
-        return !skipped.load();
     }
 
     void march_group(BatchWorkspace& ws, const Group& group, const Window& w, std::size_t a, std::size_t b,
@@ -237,7 +322,7 @@ private:
     std::span<BatchWorkspace* const> workspaces_;
     const std::atomic<bool>* stop_;
     CandidateScores scores_;
-    std::vector<std::size_t> live_ids_;
+    std::vector<Stage> stages_;
 };
 
 }  // namespace

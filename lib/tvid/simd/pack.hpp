@@ -89,11 +89,11 @@ public:
     static constexpr int parts = L::parts;
 
     PackBits() = default;
-    explicit PackBits(std::int64_t x) {
+    TVID_PACK_INLINE explicit PackBits(std::int64_t x) {
         TVID_FOR_PARTS(i) p_[i] = detail::VectorTypes<L::lanes>::broadcast(x);
     }
-    Part& part(int i) { return p_[i]; }
-    const Part& part(int i) const { return p_[i]; }
+    TVID_PACK_INLINE Part& part(int i) { return p_[i]; }
+    TVID_PACK_INLINE const Part& part(int i) const { return p_[i]; }
     std::int64_t operator[](int lane) const { return p_[lane / L::lanes][lane % L::lanes]; }
 
     // Sums and differences wrap around modulo 2^64, as the bit manipulations expect (a NaN's
@@ -147,11 +147,11 @@ public:
     static constexpr int parts = L::parts;
 
     Mask() = default;
-    explicit Mask(bool all) {
+    TVID_PACK_INLINE explicit Mask(bool all) {
         TVID_FOR_PARTS(i) p_[i] = detail::VectorTypes<L::lanes>::broadcast(std::int64_t{all ? -1 : 0});
     }
-    Part& part(int i) { return p_[i]; }
-    const Part& part(int i) const { return p_[i]; }
+    TVID_PACK_INLINE Part& part(int i) { return p_[i]; }
+    TVID_PACK_INLINE const Part& part(int i) const { return p_[i]; }
 
     bool operator[](int lane) const { return p_[lane / L::lanes][lane % L::lanes] != 0; }
     void set(int lane, bool value) { p_[lane / L::lanes][lane % L::lanes] = value ? -1 : 0; }
@@ -199,16 +199,16 @@ public:
     static constexpr int parts = L::parts;
 
     Pack() = default;
-    Pack(double x) {  // NOLINT: a constant converts implicitly, as for double
+    TVID_PACK_INLINE Pack(double x) {  // NOLINT: a constant converts implicitly, as for double
         TVID_FOR_PARTS(i) p_[i] = detail::VectorTypes<L::lanes>::broadcast(x);
     }
     template <class I, std::enable_if_t<std::is_integral_v<I>, int> = 0>
-    Pack(I x) : Pack(static_cast<double>(x)) {}  // NOLINT
+    TVID_PACK_INLINE Pack(I x) : Pack(static_cast<double>(x)) {}  // NOLINT
 
-    double operator[](int lane) const { return p_[lane / L::lanes][lane % L::lanes]; }
-    void set(int lane, double x) { p_[lane / L::lanes][lane % L::lanes] = x; }
-    Part& part(int i) { return p_[i]; }
-    const Part& part(int i) const { return p_[i]; }
+    TVID_PACK_INLINE double operator[](int lane) const { return p_[lane / L::lanes][lane % L::lanes]; }
+    TVID_PACK_INLINE void set(int lane, double x) { p_[lane / L::lanes][lane % L::lanes] = x; }
+    TVID_PACK_INLINE Part& part(int i) { return p_[i]; }
+    TVID_PACK_INLINE const Part& part(int i) const { return p_[i]; }
 
     TVID_PACK_INLINE Bits bits() const {
         Bits b;
