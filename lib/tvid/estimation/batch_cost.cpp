@@ -31,7 +31,7 @@ bool all_finite(const double* v, std::size_t n) {
 // between the pieces of a window: its state, the sums so far, and its result once it is
 // known (a cut at the bound, a failure, or the full cost).
 struct CandidateScores {
-    std::size_t state_size = 0, parameter_count = 0;
+    std::size_t parameter_count = 0;
     std::vector<double> parameters;  ///< full model parameter vectors, one after the other
     std::vector<double> state;       ///< the state where the last piece ended
     std::vector<double> total, window_sum, bound, result;
@@ -152,7 +152,6 @@ public:
         const double inf = std::numeric_limits<double>::infinity();
         const std::size_t m = problem_.dimension();
         CandidateScores& s = scores_;
-        s.state_size = N;
         s.parameter_count = ex_.network.parameter_names.size();
         s.parameters.assign(count * s.parameter_count, 0.0);
         s.state.assign(count * N, 0.0);
