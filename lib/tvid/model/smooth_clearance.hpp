@@ -105,7 +105,7 @@ struct ClearanceLaw {
 
     /// Transmitted torque F(θ, θ') for twist θ and twist rate θ':
     /// smooth: Fσ = Gσ(θ) + Hσ(θ)·θ' (eqs. 8–10); non-smooth: eq. 7.
-    T torque(const T& theta, const T& theta_rate) const {
+    [[gnu::always_inline]] T torque(const T& theta, const T& theta_rate) const {
         if (!smooth)
             return select(theta < -mu, k_minus * (theta + mu) + c_minus * theta_rate,
                           select(theta > mu, k_plus * (theta - mu) + c_plus * theta_rate, T(0)));
