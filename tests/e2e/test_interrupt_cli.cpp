@@ -105,17 +105,20 @@ TEST_CASE("SIGTERM during a Levenberg-Marquardt fit writes the best so far, mark
     TempDir tmp;
     const auto out = tmp.path() / "report";
     const std::string config = (source_dir() / "configs/engine_idle.yaml").string();
-    // One engine LM iteration with the sensitivity Jacobian takes ~0.5 s; the windows of
-    // the report (one estimation, six validation cycles) take ~1 s more.
+    // The signal ends the simulations in flight at their next sample, so the optimizer,
+    // whose clock started after the process did, stops within 4 s and a moment. The report
+    // then simulates the estimation cycle and six validation cycles again: about 0.5 s in an
+    // optimized build, several seconds under the sanitizers on a busy machine.
     TvidProcess fit({"fit", config, "-o", out.string(), "--threads", "2"});
     const double seconds = interrupt_after(fit, 4.0, SIGTERM);
     const RunResult& r = fit.result();
     INFO(r.err);
     CHECK(r.exit_code == 130);
-    CHECK(seconds < 4.0);
+    CHECK(seconds < 30.0);
     check_interrupted_report(out, config, 100, 0);  // on a busy machine it may still be at the start
     const json s = json::parse(read_text(out / "summary.json"));
     CHECK(s["optimizer"]["name"] == "lm");
+    CHECK(s["optimizer_time_s"].get<double>() < 4.5);
 }
 
 TEST_CASE("a second Ctrl-C exits at once with 130 and leaves no torn file", "[e2e][interrupt]") {

@@ -4,10 +4,13 @@
 #include <catch2/catch.hpp>
 #include <atomic>
 #include <cmath>
+#include <chrono>
 #include <limits>
+#include <thread>
 
 #include "support/test_files.hpp"
 #include "tvid/estimation/experiment_least_squares.hpp"
+#include "tvid/estimation/forward_sensitivity.hpp"
 #include "tvid/estimation/parallel_evaluator.hpp"
 #include "tvid/experiment/experiment.hpp"
 #include "tvid/fit/fit_run.hpp"
@@ -155,6 +158,77 @@ TEST_CASE("the parallel evaluator skips the rest of a batch once the stop flag i
     stop = false;
     CHECK(least_squares.residuals(x.data(), r.data()));
     CHECK_FALSE(least_squares.stopped());
+}
+
+TEST_CASE("a stop request ends the engine's simulations at their next sample, warm-up and sensitivities included",
+          "[stop][lm]") {
+    // Each engine residual evaluation shoots a two-cycle warm-up before its cycle, and each
+    // Jacobian carries the 10 sensitivity columns through both: seconds of work on long
+    // windows, which a Ctrl-C must not wait for. A workspace whose flag is up does at most
+    // the steps to its next sample.
+    const Experiment ex = load_experiment(test::source_dir() / "configs/engine_idle_clean.yaml");
+    const IdentificationProblem problem(ex);
+    const std::vector<double> x = problem.initial();
+    std::atomic<bool> stop{false};
+
+    auto ws = problem.make_workspace();
+    ws->stop = &stop;
+    std::vector<double> out;
+    REQUIRE(problem.residuals(x.data(), *ws, out));
+    const std::size_t whole = ws->buffers.rhs_evaluations;
+    CHECK(whole > 100000);  // coarse and full shooting, then the scored cycle
+    stop = true;
+    ws->buffers.rhs_evaluations = 0;
+    CHECK_FALSE(problem.residuals(x.data(), *ws, out));
+    CHECK(ws->buffers.rhs_evaluations <= 64);  // a coarse step and one sample's 7 substeps, 4 stages each
+
+    const ForwardSensitivity sensitivity(problem);
+    auto sws = sensitivity.make_workspace();
+    sws->plain->stop = &stop;
+    Eigen::MatrixXd J(static_cast<Eigen::Index>(estimation_residual_count(ex)), static_cast<Eigen::Index>(x.size()));
+    CHECK_FALSE(sensitivity.jacobian_columns(x.data(), 0, x.size(), *sws, J));
+    stop = false;
+    CHECK(sensitivity.jacobian_columns(x.data(), 0, x.size(), *sws, J));
+    CHECK(problem.residuals(x.data(), *ws, out));
+}
+
+TEST_CASE("a stop request raised during an engine evaluation ends it and the least-squares problem says stopped",
+          "[stop][lm]") {
+    // Six engine cycles scored at once: in an optimized build the residuals take about half
+    // a second and a sensitivity Jacobian longer. The flag goes up 20 ms into each, from
+    // another thread, after the checks made before a simulation starts.
+    const Experiment ex = load_experiment(
+        test::source_dir() / "configs/engine_idle_clean.yaml",
+        {{"windows.estimation", "[{cycle: 2}, {cycle: 3}, {cycle: 4}, {cycle: 5}, {cycle: 6}, {cycle: 7}]"}});
+    const IdentificationProblem problem(ex);
+    std::vector<double> x = problem.initial();
+    std::atomic<bool> stop{false};
+    ExperimentLeastSquares least_squares(problem, 2, JacobianKind::sensitivity, &stop);
+    std::vector<double> r(least_squares.residual_count());
+    Eigen::MatrixXd J(static_cast<Eigen::Index>(r.size()), static_cast<Eigen::Index>(x.size()));
+    const auto raise_soon = [&stop] {
+        return std::thread([&stop] {
+            std::this_thread::sleep_for(std::chrono::milliseconds(20));
+            stop = true;
+        });
+    };
+
+    // The Jacobian at the point just evaluated: its column blocks start at once.
+    REQUIRE(least_squares.residuals(x.data(), r.data()));
+    std::thread raiser = raise_soon();
+    const bool jacobian_done = least_squares.jacobian(x.data(), r.data(), J);
+    raiser.join();
+    CHECK_FALSE(jacobian_done);
+    CHECK(least_squares.stopped());
+
+    // Residuals at a new point.
+    stop = false;
+    x[0] *= 1.01;
+    raiser = raise_soon();
+    const bool residuals_done = least_squares.residuals(x.data(), r.data());
+    raiser.join();
+    CHECK_FALSE(residuals_done);
+    CHECK(least_squares.stopped());
 }
 
 TEST_CASE("run_fit with a stop request returns the best so far, marked interrupted", "[stop][fit]") {

@@ -33,7 +33,11 @@ ExperimentLeastSquares::ExperimentLeastSquares(const IdentificationProblem& prob
       residual_count_(estimation_residual_count(problem.experiment())), stop_(stop) {
     for (int t = 0; t < threads_; ++t) {
         workspaces_.push_back(problem.make_workspace());
-        if (kind_ == JacobianKind::sensitivity) sensitivity_workspaces_.push_back(sensitivity_.make_workspace());
+        workspaces_.back()->stop = stop;  // an interrupt ends the simulations in flight, not only the next ones
+        if (kind_ == JacobianKind::sensitivity) {
+            sensitivity_workspaces_.push_back(sensitivity_.make_workspace());
+            sensitivity_workspaces_.back()->plain->stop = stop;
+        }
     }
     const std::size_t m = problem.dimension();
     plus_.assign(m, std::vector<double>(residual_count_));
@@ -46,8 +50,10 @@ bool ExperimentLeastSquares::residuals(const double* x, double* r) {
     if (stopped_) return false;
     ++simulations_;
     last_valid_ = false;
-    if (!problem_->residuals(x, *workspaces_[0], buffer_, &last_starts_) || buffer_.size() != residual_count_)
+    if (!problem_->residuals(x, *workspaces_[0], buffer_, &last_starts_) || buffer_.size() != residual_count_) {
+        stopped_ = stop_requested();  // ended by the stop, or failed on its own
         return false;
+    }
     std::copy(buffer_.begin(), buffer_.end(), r);
     last_point_.assign(x, x + problem_->dimension());
     last_valid_ = true;

@@ -7,7 +7,8 @@
 // Each column is computed from its own inputs, so the Jacobian is the same for any thread
 // count (with an adaptive integrator the sensitivity blocks are fixed, not per thread,
 // because the step control sees the whole block). Given a stop flag, an evaluation
-// started after it is set returns false at once and stopped() says why.
+// started after it is set returns false at once, one in flight ends at its simulations'
+// next sample, and stopped() says why.
 
 #include <atomic>
 #include <memory>

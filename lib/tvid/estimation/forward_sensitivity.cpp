@@ -123,7 +123,7 @@ SimulationStatus ForwardSensitivity::simulate_augmented(const double* free, cons
         const auto watch = [&](std::size_t i, const std::vector<double>& z, const std::vector<double>&) {
             if (i == start.mid) ws.row_mid.assign(z.begin() + static_cast<std::ptrdiff_t>(state + node * d),
                                                   z.begin() + static_cast<std::ptrdiff_t>(state + node * d + d));
-            return true;
+            return !ws.plain->stop_requested();
         };
         const SimulationStatus status =
             march_samples(warm, problem_->inputs(), w.start, w.first, ws.z, state, ex.simulation, ws.buffers, watch);
@@ -165,6 +165,7 @@ SimulationStatus ForwardSensitivity::simulate_augmented(const double* free, cons
     }
     SensitivitySystem system(ws.model, problem_->inputs(), ws.buffers.u, ws.x, ws.dxdt, static_cast<int>(d));
     const auto scored = [&](std::size_t i, const std::vector<double>& z, const std::vector<double>& u) {
+        if (ws.plain->stop_requested()) return false;
         return i < w.first ? true : outputs(i, z, u);
     };
     const SimulationStatus status =

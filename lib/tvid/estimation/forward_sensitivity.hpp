@@ -47,7 +47,8 @@ struct SensitivityWorkspace {
         if constexpr (D == 8) return packed8;
         else return packed16;
     }
-    std::unique_ptr<ProblemWorkspace> plain;  ///< the plain simulation: initial state and warm-up shooting
+    std::unique_ptr<ProblemWorkspace> plain;  ///< the plain simulation: initial state and warm-up shooting;
+                                              ///< its stop flag ends the sensitivity simulations too
     NetworkModel<Dual> model;
     SimulationBuffers buffers;
     std::vector<Dual> params;                 ///< full model parameter vector, the block's columns seeded

@@ -66,7 +66,7 @@ SimulationStatus ForwardSensitivity::simulate_packed(const double* free, const W
         T at_mid;
         const auto watch = [&](std::size_t i, const std::array<T, N>& state, const std::vector<double>&) {
             if (i == start.mid) at_mid = state[start.node];
-            return true;
+            return !ws.plain->stop_requested();
         };
         const SimulationStatus status = march_fixed_rk4<N>(dual.model, inputs, w.start, w.first, x, ex.simulation.max_step,
                                                            ws.buffers.u, ws.buffers.u_stages, rhs, watch);
@@ -106,6 +106,7 @@ SimulationStatus ForwardSensitivity::simulate_packed(const double* free, const W
         from = w.first;
     }
     const auto scored = [&](std::size_t i, const std::array<T, N>& state, const std::vector<double>& u) {
+        if (ws.plain->stop_requested()) return false;
         return i < w.first ? true : outputs(i, state, u);
     };
     const SimulationStatus status = march_fixed_rk4<N>(dual.model, inputs, from, w.last, x, ex.simulation.max_step,

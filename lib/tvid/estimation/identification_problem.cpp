@@ -131,7 +131,7 @@ SimulationStatus IdentificationProblem::shoot_warmup_newton(const Window& w, Pro
         T at_mid;
         const auto watch = [&](std::size_t i, const std::array<T, N>& state, const std::vector<double>&) {
             if (i == mid) at_mid = state[node];
-            return true;
+            return !ws.stop_requested();
         };
         status = march_fixed_rk4<N>(ws.tangent_model, inputs_, w.start, w.first, x, max_step, ws.buffers.u,
                                     ws.buffers.u_stages, ws.buffers.rhs_evaluations, watch);
@@ -148,7 +148,7 @@ SimulationStatus IdentificationProblem::shoot_warmup_newton(const Window& w, Pro
         double at_mid = 0.0;
         const auto watch = [&](std::size_t i, const std::array<double, N>& state, const std::vector<double>&) {
             if (i == mid) at_mid = state[node];
-            return true;
+            return !ws.stop_requested();
         };
         status = march_fixed_rk4<N>(ws.model, inputs_, w.start, w.first, x, experiment_->simulation.max_step,
                                     ws.buffers.u, ws.buffers.u_stages, ws.buffers.rhs_evaluations, watch);
@@ -245,7 +245,7 @@ SimulationStatus IdentificationProblem::shoot_warmup(const Window& w, ProblemWor
         double at_mid = 0.0;
         const auto watch = [&](std::size_t i, const std::vector<double>& x, const std::vector<double>&) {
             if (i == mid) at_mid = x[node];
-            return true;
+            return !ws.stop_requested();
         };
         status = simulate_samples(ws.model, inputs_, w.start, w.first, ws.x, experiment_->simulation, ws.buffers, watch);
         e[0] = at_mid - angle[mid];
@@ -256,7 +256,9 @@ SimulationStatus IdentificationProblem::shoot_warmup(const Window& w, ProblemWor
     *solved = false;
     ws.x_start = ws.x;
     if (mid <= w.start) {  // too short to shoot: a plain warm-up from the measured state
-        const auto plain = [](std::size_t, const std::vector<double>&, const std::vector<double>&) { return true; };
+        const auto plain = [&](std::size_t, const std::vector<double>&, const std::vector<double>&) {
+            return !ws.stop_requested();
+        };
         return simulate_samples(ws.model, inputs_, w.start, w.first, ws.x, experiment_->simulation, ws.buffers, plain);
     }
     if (!miss(a, s, e)) return status;
@@ -318,6 +320,7 @@ SimulationStatus IdentificationProblem::simulate_window(const Window& w, Problem
         if (!on_scored(w.first, ws.x, ws.buffers.u)) return SimulationStatus::stopped_by_observer;
     }
     const auto scored = [&](std::size_t i, const std::vector<double>& x, const std::vector<double>& u) {
+        if (ws.stop_requested()) return false;
         return i < w.first ? true : on_scored(i, x, u);  // warm-up: simulated, not scored
     };
     const SimulationStatus status =

@@ -3,6 +3,7 @@
 // parameter vector, simulates every window from its initial state and scores the
 // simulated outputs against the measured ones. Independent of any optimizer.
 
+#include <atomic>
 #include <cstddef>
 #include <limits>
 #include <memory>
@@ -31,6 +32,10 @@ struct ProblemWorkspace {
     std::vector<double> u0;      ///< inputs at the window start
     std::vector<double> x0;      ///< initial state of a warm-up being shot
     std::vector<double> x_start; ///< the state at the window start a simulation set out from
+    /// Set by an optimizer that can be interrupted: once the flag is up, a simulation on this
+    /// workspace (warm-up shooting included) ends at its next sample as stopped_by_observer.
+    const std::atomic<bool>* stop = nullptr;
+    bool stop_requested() const { return stop && stop->load(std::memory_order_relaxed); }
 };
 
 /// How a window's simulation starts: from ws.x_start at sample `start`, possibly through a
