@@ -48,27 +48,34 @@ std::vector<double> points_in_box(const IdentificationProblem& problem, std::siz
     return points;
 }
 
+// Counts the candidates whose `costs` differ in any bit from their costs scored alone.
+std::size_t differ_from_alone(const IdentificationProblem& problem, const std::vector<double>& points,
+                              const std::vector<double>& bounds, const std::vector<double>& costs) {
+    const std::size_t m = problem.dimension();
+    auto scalar = problem.make_workspace();
+    std::size_t differ = 0;
+    for (std::size_t i = 0; i < costs.size(); ++i) {
+        const double alone = problem.cost(points.data() + i * m, *scalar, bounds[i]);
+        if (!same_bits(alone, costs[i])) {
+            ++differ;
+            UNSCOPED_INFO("candidate " << i << ": alone " << alone << ", batched " << costs[i] << ", bound " << bounds[i]);
+        }
+    }
+    return differ;
+}
+
 // Scores `points` one at a time and in groups of up to `group` with the given bounds, and
 // counts the candidates whose costs differ in any bit.
 std::size_t mismatches(const IdentificationProblem& problem, const std::vector<double>& points,
                        const std::vector<double>& bounds, std::size_t group) {
     const std::size_t m = problem.dimension(), count = points.size() / m;
-    auto scalar = problem.make_workspace();
     BatchWorkspace batch(problem);
     std::vector<double> costs(count);
     for (std::size_t first = 0; first < count; first += group) {
         const std::size_t size = std::min(group, count - first);
         batch_costs(problem, points.data() + first * m, size, bounds.data() + first, batch, costs.data() + first);
     }
-    std::size_t differ = 0;
-    for (std::size_t i = 0; i < count; ++i) {
-        const double alone = problem.cost(points.data() + i * m, *scalar, bounds[i]);
-        if (!same_bits(alone, costs[i])) {
-            ++differ;
-            UNSCOPED_INFO("candidate " << i << ": alone " << alone << ", in a group " << costs[i] << ", bound " << bounds[i]);
-        }
-    }
-    return differ;
+    return differ_from_alone(problem, points, bounds, costs);
 }
 
 // Scores all of `points` in one call on `threads` threads, with the groups formed anew
@@ -85,16 +92,7 @@ std::size_t mismatches_at_once(const IdentificationProblem& problem, const std::
     }
     std::vector<double> costs(count);
     REQUIRE(batch_costs(problem, points.data(), count, bounds.data(), workspaces, nullptr, costs.data()));
-    auto scalar = problem.make_workspace();
-    std::size_t differ = 0;
-    for (std::size_t i = 0; i < count; ++i) {
-        const double alone = problem.cost(points.data() + i * m, *scalar, bounds[i]);
-        if (!same_bits(alone, costs[i])) {
-            ++differ;
-            UNSCOPED_INFO("candidate " << i << ": alone " << alone << ", regrouped " << costs[i] << ", bound " << bounds[i]);
-        }
-    }
-    return differ;
+    return differ_from_alone(problem, points, bounds, costs);
 }
 
 // Bounds that cut the candidates early, late, exactly at the end, or not at all.
