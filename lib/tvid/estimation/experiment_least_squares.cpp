@@ -50,7 +50,11 @@ bool ExperimentLeastSquares::residuals(const double* x, double* r) {
     if (stopped_) return false;
     ++simulations_;
     last_valid_ = false;
-    if (!problem_->residuals(x, *workspaces_[0], buffer_, &last_starts_) || buffer_.size() != residual_count_) {
+    ProblemWorkspace& ws = *workspaces_[0];
+    ws.shooting_guesses = guesses_;
+    const bool ok = problem_->residuals(x, ws, buffer_, &last_starts_);
+    ws.shooting_guesses.clear();
+    if (!ok || buffer_.size() != residual_count_) {
         stopped_ = stop_requested();  // ended by the stop, or failed on its own
         return false;
     }
@@ -69,9 +73,21 @@ bool ExperimentLeastSquares::jacobian(const double* x, double* r, Eigen::MatrixX
     } else if (!residuals(x, r)) {
         return false;
     }
+    keep_guesses();
     const bool ok = kind_ == JacobianKind::sensitivity ? sensitivity_jacobian(x, J) : finite_difference_jacobian(x, r, J);
     stopped_ = !ok && stop_requested();
     return ok;
+}
+
+void ExperimentLeastSquares::keep_guesses() {
+    const std::vector<Window>& windows = problem_->experiment().estimation;
+    guesses_.clear();
+    for (std::size_t wi = 0; wi < last_starts_.size() && wi < windows.size(); ++wi)
+        if (const WindowStart& s = last_starts_[wi].start; s.shot) {
+            ShootingGuess g{windows[wi].start, windows[wi].first, s.offset, s.speed};
+            std::copy(&s.miss_jacobian[0][0], &s.miss_jacobian[0][0] + 4, &g.miss_jacobian[0][0]);
+            guesses_.push_back(g);
+        }
 }
 
 bool ExperimentLeastSquares::sensitivity_jacobian(const double* x, Eigen::MatrixXd& J) {
@@ -120,6 +136,7 @@ bool ExperimentLeastSquares::finite_difference_jacobian(const double* x, const d
         step[j] = up - down;
         point[j] = up;
         std::vector<double> out;
+        ws.shooting_guesses = guesses_;  // the start solved at x: every column's guess, whichever thread runs it
         bool good = problem_->residuals(point.data(), ws, out) && out.size() == residual_count_;
         if (good) std::copy(out.begin(), out.end(), plus_[j].begin());
         point[j] = down;
@@ -129,6 +146,7 @@ bool ExperimentLeastSquares::finite_difference_jacobian(const double* x, const d
         } else if (good) {
             std::copy(r, r + residual_count_, minus_[j].begin());
         }
+        ws.shooting_guesses.clear();
         ok[j] = good ? 1 : 0;
     }
     simulations_ += 2 * columns;

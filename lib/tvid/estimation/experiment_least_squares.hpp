@@ -54,6 +54,12 @@ private:
     std::vector<double> last_point_;
     std::vector<SolvedStart> last_starts_;
     bool last_valid_ = false;
+    // The warm-up shootings' solutions at the point of the last Jacobian: the first guesses
+    // of the shootings at the next points (the solver's trial steps and the difference
+    // columns), which lie near it. Set only by jacobian(), so they depend on the solver's
+    // path alone, never on which thread evaluated what.
+    std::vector<ShootingGuess> guesses_;
+    void keep_guesses();
     long long simulations_ = 0;
     const std::atomic<bool>* stop_ = nullptr;
     bool stopped_ = false;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <type_traits>
 
 #include "tvid/model/equilibrium.hpp"
@@ -98,7 +99,7 @@ bool IdentificationProblem::initial_state(std::size_t start, ProblemWorkspace& w
 }
 
 template <std::size_t N>
-SimulationStatus IdentificationProblem::shoot_warmup_newton(const Window& w, ProblemWorkspace& ws, bool* solved) const {
+SimulationStatus IdentificationProblem::shoot_warmup_newton(const Window& w, ProblemWorkspace& ws, WindowStart& start) const {
     // As shoot_warmup, with the exact Jacobian of the miss: a simulation of the warm-up that
     // carries ∂x/∂a and ∂x/∂s (PackedDual directions 0 and 1) gives it, so Newton's method
     // converges quadratically. The measured start misses by up to tenths of a radian, so:
@@ -109,6 +110,10 @@ SimulationStatus IdentificationProblem::shoot_warmup_newton(const Window& w, Pro
     //  3. chord steps with that Jacobian on plain simulations until the miss is below the
     //     tolerance. Typically one tangent and one or two plain full simulations; the last
     //     leaves the state at w.first (tangent and plain runs compute the same values).
+    // With a guess from nearby parameters (ws.shooting_guesses: a least-squares solver's
+    // trial point near the point of its last Jacobian) step 1 starts from the guess
+    // instead: when the full simulation misses by less than the coarse guess would, the
+    // coarse Newton is skipped, otherwise done as without a guess.
     using T = PackedDual<2>;
     const std::size_t n = N / 2;
     const auto node = static_cast<std::size_t>(experiment_->angle_node);
@@ -120,8 +125,10 @@ SimulationStatus IdentificationProblem::shoot_warmup_newton(const Window& w, Pro
     ws.x0 = ws.x;
     SimulationStatus status = SimulationStatus::ok;
     double e[2], jac[2][2];
+    double simulated_a = 0.0, simulated_s = 0.0;  // the start of the last simulation: where ws.x comes from
     auto start_state = [&](double a, double s, std::size_t i) { return i < n ? ws.x0[i] + a : s; };
     auto tangent_miss = [&](double a, double s, double max_step) {
+        simulated_a = a, simulated_s = s;
         std::array<T, N> x;
         for (std::size_t i = 0; i < N; ++i) {
             x[i] = T(start_state(a, s, i));
@@ -140,9 +147,11 @@ SimulationStatus IdentificationProblem::shoot_warmup_newton(const Window& w, Pro
         e[1] = x[node].value() - angle[w.first];
         jac[0][0] = at_mid.derivative(0), jac[0][1] = at_mid.derivative(1);
         jac[1][0] = x[node].derivative(0), jac[1][1] = x[node].derivative(1);
+        if (max_step == experiment_->simulation.max_step) std::copy(&jac[0][0], &jac[0][0] + 4, &start.miss_jacobian[0][0]);
         return status == SimulationStatus::ok && std::isfinite(e[0]) && std::isfinite(e[1]);
     };
     auto plain_miss = [&](double a, double s) {
+        simulated_a = a, simulated_s = s;
         std::array<double, N> x;
         for (std::size_t i = 0; i < N; ++i) x[i] = ws.x_start[i] = start_state(a, s, i);
         double at_mid = 0.0;
@@ -165,18 +174,71 @@ SimulationStatus IdentificationProblem::shoot_warmup_newton(const Window& w, Pro
         return std::isfinite(a) && std::isfinite(s);
     };
     const double tolerance = 1e-12 + 1e-15 * std::abs(angle[w.first]);
+    const double coarse_tolerance = 1e-7;  // how close the coarse Newton's guess gets
     const auto below = [&](double limit) { return std::abs(e[0]) < limit && std::abs(e[1]) < limit; };
+    const auto solution_at_last_simulation = [&] {
+        start.offset = simulated_a;
+        start.speed = simulated_s;
+    };
     double a = 0.0, s = ws.x0[n];
-    *solved = false;
+    start.shot = false;
     ws.x_start = ws.x;
 
+    // 2. and 3., from a full simulation with tangents just run at (a, s).
+    const auto finish_from_tangents = [&]() {
+        start.shot = below(tolerance);
+        if (!start.shot && !newton_step(a, s)) return status;  // no handle on the rigid motion: keep the start so far
+        start.shot = true;
+        for (int it = 0; it < 8 && !below(tolerance); ++it) {
+            if (!plain_miss(a, s)) break;
+            if (below(tolerance) || !newton_step(a, s)) break;
+            if (it == 7) plain_miss(a, s);
+        }
+        solution_at_last_simulation();
+        return status;  // ws.x: the state at w.first
+    };
+
+    // 1'. From a guess at nearby parameters: chord steps with the Jacobian of the miss
+    // computed there, on plain simulations, while each cuts the miss at least tenfold (the
+    // map differs little between nearby parameters: mostly the rigid motion's a + s·t).
+    for (const ShootingGuess& g : ws.shooting_guesses) {
+        if (g.start != w.start || g.first != w.first || !std::isfinite(g.offset) || !std::isfinite(g.speed)) continue;
+        a = g.offset, s = g.speed;
+        std::copy(&g.miss_jacobian[0][0], &g.miss_jacobian[0][0] + 4, &jac[0][0]);
+        double last_miss = std::numeric_limits<double>::infinity(), last_e[2] = {0, 0}, step[2] = {0, 0};
+        for (int it = 0; it < 6 && plain_miss(a, s); ++it) {
+            const double miss = std::max(std::abs(e[0]), std::abs(e[1]));
+            if (it > 0) {  // Broyden's update: the Jacobian takes the secant of the last step
+                const double de[2] = {e[0] - last_e[0], e[1] - last_e[1]};
+                const double norm2 = step[0] * step[0] + step[1] * step[1];
+                for (int r = 0; r < 2 && norm2 > 0; ++r) {
+                    const double f = (de[r] - jac[r][0] * step[0] - jac[r][1] * step[1]) / norm2;
+                    jac[r][0] += f * step[0], jac[r][1] += f * step[1];
+                }
+            }
+            if (below(tolerance)) {
+                start.shot = true;
+                solution_at_last_simulation();
+                std::copy(&jac[0][0], &jac[0][0] + 4, &start.miss_jacobian[0][0]);
+                return status;
+            }
+            if (!(miss < 0.1 * last_miss)) break;
+            last_miss = miss, last_e[0] = e[0], last_e[1] = e[1], step[0] = a, step[1] = s;
+            if (!newton_step(a, s)) break;
+            step[0] = a - step[0], step[1] = s - step[1];
+        }
+        if (ws.stop_requested()) return status;
+        a = 0.0, s = ws.x0[n];  // too far, or failed there: as without a guess
+        status = SimulationStatus::ok;
+        break;
+    }
     // 1. The guess from the coarse simulation.
     if (experiment_->simulation.max_step > 0.0) {
         double ca = a, cs = s;
         bool usable = false;
         for (int it = 0; it < 8; ++it) {
             if (!tangent_miss(ca, cs, 0.0)) break;
-            if (below(1e-7)) {
+            if (below(coarse_tolerance)) {
                 usable = true;
                 break;
             }
@@ -187,27 +249,15 @@ SimulationStatus IdentificationProblem::shoot_warmup_newton(const Window& w, Pro
     }
     // 2. Newton with the full simulation's tangents.
     if (!tangent_miss(a, s, experiment_->simulation.max_step)) return status;
-    if (below(tolerance)) {
-        *solved = true;
-        return status;
-    }
-    if (!newton_step(a, s)) return status;  // no handle on the rigid motion: keep the start so far
-    *solved = true;
-    // 3. Chord steps with that Jacobian.
-    for (int it = 0; it < 8; ++it) {
-        if (!plain_miss(a, s)) return status;
-        if (below(tolerance) || !newton_step(a, s)) break;
-        if (it == 7) plain_miss(a, s);
-    }
-    return status;  // ws.x: the state at w.first
+    return finish_from_tangents();
 }
 
-SimulationStatus IdentificationProblem::shoot_warmup(const Window& w, ProblemWorkspace& ws, bool* solved) const {
+SimulationStatus IdentificationProblem::shoot_warmup(const Window& w, ProblemWorkspace& ws, WindowStart& start) const {
     const std::size_t state = ws.model.state_size();
     if (experiment_->simulation.method == IntegrationMethod::rk4 && state <= kMaxFixedState && state % 2 == 0 &&
         w.start + (w.first - w.start) / 2 > w.start) {
         const auto run = [&]<std::size_t N>(std::integral_constant<std::size_t, N>) {
-            return shoot_warmup_newton<N>(w, ws, solved);
+            return shoot_warmup_newton<N>(w, ws, start);
         };
         switch (state) {
             case 2: return run(std::integral_constant<std::size_t, 2>{});
@@ -253,7 +303,7 @@ SimulationStatus IdentificationProblem::shoot_warmup(const Window& w, ProblemWor
         return status == SimulationStatus::ok && std::isfinite(e[0]) && std::isfinite(e[1]);
     };
     double a = 0.0, s = ws.x0[n], e[2], ea[2], es[2];
-    *solved = false;
+    start.shot = false;
     ws.x_start = ws.x;
     if (mid <= w.start) {  // too short to shoot: a plain warm-up from the measured state
         const auto plain = [&](std::size_t, const std::vector<double>&, const std::vector<double>&) {
@@ -273,10 +323,11 @@ SimulationStatus IdentificationProblem::shoot_warmup(const Window& w, ProblemWor
         return status;
     }
     const double tolerance = 1e-12 + 1e-15 * std::abs(angle[w.first]);
-    *solved = true;
+    start.shot = true;
     for (int it = 0; it < 6; ++it) {
         a -= (j11 * e[0] - j01 * e[1]) / det;
         s -= (-j10 * e[0] + j00 * e[1]) / det;
+        start.offset = a, start.speed = s;
         if (!miss(a, s, e)) return status;
         if (std::abs(e[0]) < tolerance && std::abs(e[1]) < tolerance) break;
     }
@@ -291,7 +342,7 @@ WindowStart IdentificationProblem::start_window(const Window& w, ProblemWorkspac
     }
     ws.x_start = ws.x;
     if (experiment_->initial_state == InitialStateKind::measured && w.start < w.first) {
-        start.status = shoot_warmup(w, ws, &start.shot);
+        start.status = shoot_warmup(w, ws, start);
         start.mid = w.start + (w.first - w.start) / 2;
         start.node = static_cast<std::size_t>(experiment_->angle_node);
         if (start.status != SimulationStatus::ok && problem)

@@ -19,6 +19,14 @@
 namespace tvid {
 
 /// Per-thread scratch space: a model instance and integrator buffers, built once.
+/// A warm-up shooting's solution (common angle offset a, common speed s) at other parameters,
+/// as the first guess of the shooting of the window with the same start and first samples.
+struct ShootingGuess {
+    std::size_t start = 0, first = 0;
+    double offset = 0.0, speed = 0.0;
+    double miss_jacobian[2][2] = {{0, 0}, {0, 0}};  ///< ∂(miss at mid, at first)/∂(offset, speed) there
+};
+
 struct ProblemWorkspace {
     explicit ProblemWorkspace(const NetworkSpec& spec) : model(spec), tangent_model(spec) {}
     NetworkModel<double> model;
@@ -36,6 +44,9 @@ struct ProblemWorkspace {
     /// workspace (warm-up shooting included) ends at its next sample as stopped_by_observer.
     const std::atomic<bool>* stop = nullptr;
     bool stop_requested() const { return stop && stop->load(std::memory_order_relaxed); }
+    /// Set by a least-squares solver between its evaluations: the shootings of the point it
+    /// last took a Jacobian at, where the next trial point is near (empty: none).
+    std::vector<ShootingGuess> shooting_guesses;
 };
 
 /// How a window's simulation starts: from ws.x_start at sample `start`, possibly through a
@@ -45,6 +56,11 @@ struct ProblemWorkspace {
 struct WindowStart {
     SimulationStatus status = SimulationStatus::ok;
     bool shot = false;       ///< the warm-up shooting was solved
+    double offset = 0.0;     ///< its solution: the common angle offset added to the measured angles
+    double speed = 0.0;      ///< and the common speed
+    /// The Jacobian of the encoder's miss (at mid, at first) in (offset, speed) that the
+    /// shooting last computed (all 0 when it computed none).
+    double miss_jacobian[2][2] = {{0, 0}, {0, 0}};
     std::size_t mid = 0;     ///< its first matching sample
     std::size_t node = 0;    ///< the encoder's node
 };
@@ -142,11 +158,11 @@ private:
                                      Observer&& on_scored, SolvedStart* solved = nullptr) const;
 
     // Measured initial state with a warm-up: leaves ws.x at the window's first sample.
-    SimulationStatus shoot_warmup(const Window& w, ProblemWorkspace& ws, bool* solved) const;
+    SimulationStatus shoot_warmup(const Window& w, ProblemWorkspace& ws, WindowStart& start) const;
     // The same by Newton's method with the Jacobian from the warm-up simulated with the
     // two directions (fixed-step RK4, state of N values).
     template <std::size_t N>
-    SimulationStatus shoot_warmup_newton(const Window& w, ProblemWorkspace& ws, bool* solved) const;
+    SimulationStatus shoot_warmup_newton(const Window& w, ProblemWorkspace& ws, WindowStart& start) const;
 
     const Experiment* experiment_;
     InputChannels inputs_;

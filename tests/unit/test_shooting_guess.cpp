@@ -1,0 +1,183 @@
+// The engine's warm-up shooting started from a guess: the solution (angle offset, speed)
+// and miss Jacobian of the shooting at nearby parameters, as ExperimentLeastSquares
+// passes them from the point of its last Jacobian to the next trial point. The guess
+// must save simulations and reach the same start to within the shooting's tolerance; a
+// guess that does not converge, or one for another window, must leave the result exactly
+// as without it; and the least-squares problem must give the same numbers on 1 and 2
+// threads.
+#include <catch2/catch.hpp>
+#include <algorithm>
+#include <cmath>
+
+#include "support/test_files.hpp"
+#include "tvid/estimation/experiment_least_squares.hpp"
+#include "tvid/estimation/identification_problem.hpp"
+#include "tvid/experiment/experiment.hpp"
+
+using namespace tvid;
+
+namespace {
+
+struct Shot {
+    bool ok = false;
+    std::vector<double> residuals;
+    std::vector<SolvedStart> starts;
+    std::size_t rhs = 0;
+};
+
+Shot shoot(const IdentificationProblem& problem, const std::vector<double>& x,
+           const std::vector<ShootingGuess>& guesses = {}) {
+    auto ws = problem.make_workspace();
+    ws->shooting_guesses = guesses;
+    Shot s;
+    s.ok = problem.residuals(x.data(), *ws, s.residuals, &s.starts);
+    s.rhs = ws->buffers.rhs_evaluations;
+    return s;
+}
+
+ShootingGuess guess_from(const Window& w, const SolvedStart& solved) {
+    ShootingGuess g{w.start, w.first, solved.start.offset, solved.start.speed};
+    std::copy(&solved.start.miss_jacobian[0][0], &solved.start.miss_jacobian[0][0] + 4, &g.miss_jacobian[0][0]);
+    return g;
+}
+
+double largest_difference(const std::vector<double>& a, const std::vector<double>& b) {
+    double d = 0.0;
+    for (std::size_t i = 0; i < a.size(); ++i) d = std::max(d, std::abs(a[i] - b[i]));
+    return d;
+}
+
+double largest_magnitude(const std::vector<double>& a) {
+    double m = 0.0;
+    for (double v : a) m = std::max(m, std::abs(v));
+    return m;
+}
+
+}  // namespace
+
+TEST_CASE("a warm-up shot from the solution at nearby parameters reaches the same start with fewer simulations",
+          "[shooting][engine]") {
+    const Experiment ex = load_experiment(test::source_dir() / "configs/engine_idle_clean.yaml");
+    const IdentificationProblem problem(ex);
+    const Window& w = ex.estimation.at(0);
+    const std::vector<double> x = problem.initial();
+    const Shot here = shoot(problem, x);
+    REQUIRE(here.ok);
+    REQUIRE(here.starts.at(0).start.shot);
+    const ShootingGuess guess = guess_from(w, here.starts[0]);
+    CHECK(guess.miss_jacobian[1][0] != 0.0);  // the Jacobian of the last full shooting simulation was kept
+
+    // A trial point as LM takes them near convergence: every parameter 0.1 % off.
+    std::vector<double> near = x;
+    for (std::size_t j = 0; j < near.size(); ++j) near[j] *= j % 2 == 0 ? 1.001 : 0.999;
+    const Shot alone = shoot(problem, near);
+    const Shot guessed = shoot(problem, near, {guess});
+    REQUIRE(alone.ok);
+    REQUIRE(guessed.ok);
+    REQUIRE(guessed.starts.at(0).start.shot);
+    // Without a guess: coarse and full simulations with tangents (about twice the work per
+    // right-hand side), then plain ones; from the guess: plain simulations only.
+    INFO("right-hand sides: " << guessed.rhs << " from the guess, " << alone.rhs << " without");
+    CHECK(guessed.rhs < alone.rhs);
+    // The solution moved with the parameters, and both shootings found it.
+    const WindowStart& a = alone.starts[0].start;
+    const WindowStart& g = guessed.starts[0].start;
+    CHECK(std::abs(a.offset - here.starts[0].start.offset) > 1e-9);
+    CHECK(g.offset == Approx(a.offset).margin(1e-10));
+    CHECK(g.speed == Approx(a.speed).epsilon(1e-10));
+    // Residuals equal to far below anything a fit can see (the shooting's tolerance is 1e-12 rad).
+    REQUIRE(guessed.residuals.size() == alone.residuals.size());
+    CHECK(largest_difference(guessed.residuals, alone.residuals) < 1e-8 * largest_magnitude(alone.residuals));
+}
+
+TEST_CASE("a shooting guess from parameters further off still reaches the same start",
+          "[shooting][engine]") {
+    const Experiment ex = load_experiment(test::source_dir() / "configs/engine_idle_clean.yaml");
+    const IdentificationProblem problem(ex);
+    const std::vector<double> x = problem.initial();
+    const Shot here = shoot(problem, x);
+    REQUIRE(here.ok);
+    for (const double off : {0.01, 0.1}) {
+        std::vector<double> far = x;
+        for (std::size_t j = 0; j < far.size(); ++j) far[j] *= j % 2 == 0 ? 1.0 + off : 1.0 - off;
+        const Shot alone = shoot(problem, far);
+        const Shot guessed = shoot(problem, far, {guess_from(ex.estimation.at(0), here.starts.at(0))});
+        INFO("parameters " << off * 100 << " % off");
+        REQUIRE(alone.ok);
+        REQUIRE(guessed.ok);
+        CHECK(guessed.starts.at(0).start.offset == Approx(alone.starts.at(0).start.offset).margin(1e-10));
+        CHECK(largest_difference(guessed.residuals, alone.residuals) < 1e-8 * largest_magnitude(alone.residuals));
+    }
+}
+
+TEST_CASE("a shooting guess that does not converge, or belongs to another window, changes nothing",
+          "[shooting][engine]") {
+    const Experiment ex = load_experiment(test::source_dir() / "configs/engine_idle_clean.yaml");
+    const IdentificationProblem problem(ex);
+    const Window& w = ex.estimation.at(0);
+    const std::vector<double> x = problem.initial();
+    const Shot here = shoot(problem, x);
+    REQUIRE(here.ok);
+
+    SECTION("a miss Jacobian of the wrong sign: the chord steps diverge, the shooting starts over") {
+        ShootingGuess wrong = guess_from(w, here.starts.at(0));
+        wrong.offset += 1e-3;
+        for (auto& row : wrong.miss_jacobian)
+            for (double& v : row) v = -v;
+        const Shot s = shoot(problem, x, {wrong});
+        REQUIRE(s.ok);
+        CHECK(s.residuals == here.residuals);  // bit for bit: the shooting as without a guess
+        CHECK(s.rhs > here.rhs);               // after the attempt
+    }
+    SECTION("a singular miss Jacobian") {
+        ShootingGuess flat = guess_from(w, here.starts.at(0));
+        flat.offset += 1e-3;
+        for (auto& row : flat.miss_jacobian)
+            for (double& v : row) v = 0.0;
+        const Shot s = shoot(problem, x, {flat});
+        REQUIRE(s.ok);
+        CHECK(s.residuals == here.residuals);
+    }
+    SECTION("a guess for a window that starts elsewhere is not used") {
+        ShootingGuess other = guess_from(w, here.starts.at(0));
+        other.start += 1;
+        const Shot s = shoot(problem, x, {other});
+        REQUIRE(s.ok);
+        CHECK(s.residuals == here.residuals);
+        CHECK(s.rhs == here.rhs);
+    }
+}
+
+TEST_CASE("least squares with shooting guesses give the same residuals and Jacobians on 1 and 2 threads",
+          "[shooting][engine][lm]") {
+    const Experiment ex = load_experiment(test::source_dir() / "configs/engine_idle_clean.yaml");
+    const IdentificationProblem problem(ex);
+    const std::vector<double> x = problem.initial();
+    std::vector<double> trial = x;
+    for (std::size_t j = 0; j < trial.size(); ++j) trial[j] *= 1.0 + 0.002 * static_cast<double>(j + 1);
+    const auto n = static_cast<Eigen::Index>(estimation_residual_count(ex));
+    const auto m = static_cast<Eigen::Index>(x.size());
+
+    struct Run {
+        std::vector<double> r, r_trial;
+        Eigen::MatrixXd J, J_trial;
+    };
+    auto run = [&](int threads) {
+        ExperimentLeastSquares ls(problem, threads, JacobianKind::sensitivity);
+        Run out{std::vector<double>(static_cast<std::size_t>(n)), std::vector<double>(static_cast<std::size_t>(n)),
+                Eigen::MatrixXd(n, m), Eigen::MatrixXd(n, m)};
+        REQUIRE(ls.jacobian(x.data(), out.r.data(), out.J));        // keeps the guesses
+        REQUIRE(ls.residuals(trial.data(), out.r_trial.data()));    // shoots from them
+        REQUIRE(ls.jacobian(trial.data(), out.r_trial.data(), out.J_trial));
+        return out;
+    };
+    const Run one = run(1), two = run(2);
+    CHECK(one.r == two.r);
+    CHECK(one.r_trial == two.r_trial);
+    CHECK(one.J == two.J);
+    CHECK(one.J_trial == two.J_trial);
+    // And the trial's residuals are those of the shooting without a guess, to its tolerance.
+    const Shot alone = shoot(problem, trial);
+    REQUIRE(alone.ok);
+    CHECK(largest_difference(one.r_trial, alone.residuals) < 1e-8 * largest_magnitude(alone.residuals));
+}
