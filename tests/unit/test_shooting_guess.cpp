@@ -35,11 +35,19 @@ Shot shoot(const IdentificationProblem& problem, const std::vector<double>& x,
     return s;
 }
 
-ShootingGuess guess_from(const Window& w, const SolvedStart& solved) {
-    ShootingGuess g{w.start, w.first, solved.start.offset, solved.start.speed};
-    std::copy(&solved.start.miss_jacobian[0][0], &solved.start.miss_jacobian[0][0] + 4, &g.miss_jacobian[0][0]);
-    return g;
-}
+// The noise-free engine experiment, its prior and its estimation window shot from the prior.
+struct EngineAtPrior {
+    Experiment ex = load_experiment(test::source_dir() / "configs/engine_idle_clean.yaml");
+    IdentificationProblem problem{ex};
+    std::vector<double> x = problem.initial();
+    Shot here = shoot(problem, x);
+    /// The guess ExperimentLeastSquares would keep from `here`.
+    ShootingGuess guess() const {
+        const Window& w = ex.estimation.at(0);
+        const WindowStart& s = here.starts.at(0).start;
+        return {w.start, w.first, s.offset, s.speed, s.miss_jacobian};
+    }
+};
 
 double largest_difference(const std::vector<double>& a, const std::vector<double>& b) {
     double d = 0.0;
@@ -57,14 +65,13 @@ double largest_magnitude(const std::vector<double>& a) {
 
 TEST_CASE("a warm-up shot from the solution at nearby parameters reaches the same start with fewer simulations",
           "[shooting][engine]") {
-    const Experiment ex = load_experiment(test::source_dir() / "configs/engine_idle_clean.yaml");
-    const IdentificationProblem problem(ex);
-    const Window& w = ex.estimation.at(0);
-    const std::vector<double> x = problem.initial();
-    const Shot here = shoot(problem, x);
+    const EngineAtPrior engine;
+    const IdentificationProblem& problem = engine.problem;
+    const std::vector<double>& x = engine.x;
+    const Shot& here = engine.here;
     REQUIRE(here.ok);
     REQUIRE(here.starts.at(0).start.shot);
-    const ShootingGuess guess = guess_from(w, here.starts[0]);
+    const ShootingGuess guess = engine.guess();
     CHECK(guess.miss_jacobian[1][0] != 0.0);  // the Jacobian of the last full shooting simulation was kept
 
     // A trial point as LM takes them near convergence: every parameter 0.1 % off.
@@ -92,16 +99,15 @@ TEST_CASE("a warm-up shot from the solution at nearby parameters reaches the sam
 
 TEST_CASE("a shooting guess from parameters further off still reaches the same start",
           "[shooting][engine]") {
-    const Experiment ex = load_experiment(test::source_dir() / "configs/engine_idle_clean.yaml");
-    const IdentificationProblem problem(ex);
-    const std::vector<double> x = problem.initial();
-    const Shot here = shoot(problem, x);
-    REQUIRE(here.ok);
+    const EngineAtPrior engine;
+    const IdentificationProblem& problem = engine.problem;
+    const std::vector<double>& x = engine.x;
+    REQUIRE(engine.here.ok);
     for (const double off : {0.01, 0.1}) {
         std::vector<double> far = x;
         for (std::size_t j = 0; j < far.size(); ++j) far[j] *= j % 2 == 0 ? 1.0 + off : 1.0 - off;
         const Shot alone = shoot(problem, far);
-        const Shot guessed = shoot(problem, far, {guess_from(ex.estimation.at(0), here.starts.at(0))});
+        const Shot guessed = shoot(problem, far, {engine.guess()});
         INFO("parameters " << off * 100 << " % off");
         REQUIRE(alone.ok);
         REQUIRE(guessed.ok);
@@ -112,15 +118,14 @@ TEST_CASE("a shooting guess from parameters further off still reaches the same s
 
 TEST_CASE("a shooting guess that does not converge, or belongs to another window, changes nothing",
           "[shooting][engine]") {
-    const Experiment ex = load_experiment(test::source_dir() / "configs/engine_idle_clean.yaml");
-    const IdentificationProblem problem(ex);
-    const Window& w = ex.estimation.at(0);
-    const std::vector<double> x = problem.initial();
-    const Shot here = shoot(problem, x);
+    const EngineAtPrior engine;
+    const IdentificationProblem& problem = engine.problem;
+    const std::vector<double>& x = engine.x;
+    const Shot& here = engine.here;
     REQUIRE(here.ok);
 
     SECTION("a miss Jacobian of the wrong sign: the chord steps diverge, the shooting starts over") {
-        ShootingGuess wrong = guess_from(w, here.starts.at(0));
+        ShootingGuess wrong = engine.guess();
         wrong.offset += 1e-3;
         for (auto& row : wrong.miss_jacobian)
             for (double& v : row) v = -v;
@@ -130,7 +135,7 @@ TEST_CASE("a shooting guess that does not converge, or belongs to another window
         CHECK(s.rhs > here.rhs);               // after the attempt
     }
     SECTION("a singular miss Jacobian") {
-        ShootingGuess flat = guess_from(w, here.starts.at(0));
+        ShootingGuess flat = engine.guess();
         flat.offset += 1e-3;
         for (auto& row : flat.miss_jacobian)
             for (double& v : row) v = 0.0;
@@ -139,7 +144,7 @@ TEST_CASE("a shooting guess that does not converge, or belongs to another window
         CHECK(s.residuals == here.residuals);
     }
     SECTION("a guess for a window that starts elsewhere is not used") {
-        ShootingGuess other = guess_from(w, here.starts.at(0));
+        ShootingGuess other = engine.guess();
         other.start += 1;
         const Shot s = shoot(problem, x, {other});
         REQUIRE(s.ok);

@@ -83,11 +83,8 @@ void ExperimentLeastSquares::keep_guesses() {
     const std::vector<Window>& windows = problem_->experiment().estimation;
     guesses_.clear();
     for (std::size_t wi = 0; wi < last_starts_.size() && wi < windows.size(); ++wi)
-        if (const WindowStart& s = last_starts_[wi].start; s.shot) {
-            ShootingGuess g{windows[wi].start, windows[wi].first, s.offset, s.speed};
-            std::copy(&s.miss_jacobian[0][0], &s.miss_jacobian[0][0] + 4, &g.miss_jacobian[0][0]);
-            guesses_.push_back(g);
-        }
+        if (const WindowStart& s = last_starts_[wi].start; s.shot)
+            guesses_.push_back({windows[wi].start, windows[wi].first, s.offset, s.speed, s.miss_jacobian});
 }
 
 bool ExperimentLeastSquares::sensitivity_jacobian(const double* x, Eigen::MatrixXd& J) {

@@ -111,9 +111,9 @@ SimulationStatus IdentificationProblem::shoot_warmup_newton(const Window& w, Pro
     //     tolerance. Typically one tangent and one or two plain full simulations; the last
     //     leaves the state at w.first (tangent and plain runs compute the same values).
     // With a guess from nearby parameters (ws.shooting_guesses: a least-squares solver's
-    // trial point near the point of its last Jacobian) step 1 starts from the guess
-    // instead: when the full simulation misses by less than the coarse guess would, the
-    // coarse Newton is skipped, otherwise done as without a guess.
+    // trial point near the point of its last Jacobian), steps 1–3 are first replaced by
+    // chord steps from the guess on plain simulations (1' below); only when those do not
+    // converge are steps 1–3 done as without a guess.
     using T = PackedDual<2>;
     const std::size_t n = N / 2;
     const auto node = static_cast<std::size_t>(experiment_->angle_node);
@@ -124,7 +124,8 @@ SimulationStatus IdentificationProblem::shoot_warmup_newton(const Window& w, Pro
     ws.tangent_model.set_parameters(ws.tangent_params.data());
     ws.x0 = ws.x;
     SimulationStatus status = SimulationStatus::ok;
-    double e[2], jac[2][2];
+    double e[2];
+    MissJacobian jac{};
     double simulated_a = 0.0, simulated_s = 0.0;  // the start of the last simulation: where ws.x comes from
     auto start_state = [&](double a, double s, std::size_t i) { return i < n ? ws.x0[i] + a : s; };
     auto tangent_miss = [&](double a, double s, double max_step) {
@@ -147,7 +148,7 @@ SimulationStatus IdentificationProblem::shoot_warmup_newton(const Window& w, Pro
         e[1] = x[node].value() - angle[w.first];
         jac[0][0] = at_mid.derivative(0), jac[0][1] = at_mid.derivative(1);
         jac[1][0] = x[node].derivative(0), jac[1][1] = x[node].derivative(1);
-        if (max_step == experiment_->simulation.max_step) std::copy(&jac[0][0], &jac[0][0] + 4, &start.miss_jacobian[0][0]);
+        if (max_step == experiment_->simulation.max_step) start.miss_jacobian = jac;
         return status == SimulationStatus::ok && std::isfinite(e[0]) && std::isfinite(e[1]);
     };
     auto plain_miss = [&](double a, double s) {
@@ -204,7 +205,7 @@ SimulationStatus IdentificationProblem::shoot_warmup_newton(const Window& w, Pro
     for (const ShootingGuess& g : ws.shooting_guesses) {
         if (g.start != w.start || g.first != w.first || !std::isfinite(g.offset) || !std::isfinite(g.speed)) continue;
         a = g.offset, s = g.speed;
-        std::copy(&g.miss_jacobian[0][0], &g.miss_jacobian[0][0] + 4, &jac[0][0]);
+        jac = g.miss_jacobian;
         double last_miss = std::numeric_limits<double>::infinity(), last_e[2] = {0, 0}, step[2] = {0, 0};
         for (int it = 0; it < 6 && plain_miss(a, s); ++it) {
             const double miss = std::max(std::abs(e[0]), std::abs(e[1]));
@@ -218,14 +219,15 @@ SimulationStatus IdentificationProblem::shoot_warmup_newton(const Window& w, Pro
             }
             if (below(tolerance)) {
                 start.shot = true;
+                start.miss_jacobian = jac;
                 solution_at_last_simulation();
-                std::copy(&jac[0][0], &jac[0][0] + 4, &start.miss_jacobian[0][0]);
                 return status;
             }
             if (!(miss < 0.1 * last_miss)) break;
-            last_miss = miss, last_e[0] = e[0], last_e[1] = e[1], step[0] = a, step[1] = s;
+            last_miss = miss, last_e[0] = e[0], last_e[1] = e[1];
+            const double a_before = a, s_before = s;
             if (!newton_step(a, s)) break;
-            step[0] = a - step[0], step[1] = s - step[1];
+            step[0] = a - a_before, step[1] = s - s_before;
         }
         if (ws.stop_requested()) return status;
         a = 0.0, s = ws.x0[n];  // too far, or failed there: as without a guess

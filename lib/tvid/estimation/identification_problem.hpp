@@ -3,6 +3,7 @@
 // parameter vector, simulates every window from its initial state and scores the
 // simulated outputs against the measured ones. Independent of any optimizer.
 
+#include <array>
 #include <atomic>
 #include <cstddef>
 #include <limits>
@@ -19,12 +20,15 @@
 namespace tvid {
 
 /// Per-thread scratch space: a model instance and integrator buffers, built once.
+/// ∂(the encoder's miss at the warm-up's mid, at its first scored sample)/∂(offset, speed).
+using MissJacobian = std::array<std::array<double, 2>, 2>;
+
 /// A warm-up shooting's solution (common angle offset a, common speed s) at other parameters,
 /// as the first guess of the shooting of the window with the same start and first samples.
 struct ShootingGuess {
     std::size_t start = 0, first = 0;
     double offset = 0.0, speed = 0.0;
-    double miss_jacobian[2][2] = {{0, 0}, {0, 0}};  ///< ∂(miss at mid, at first)/∂(offset, speed) there
+    MissJacobian miss_jacobian{};  ///< at that solution
 };
 
 struct ProblemWorkspace {
@@ -58,9 +62,8 @@ struct WindowStart {
     bool shot = false;       ///< the warm-up shooting was solved
     double offset = 0.0;     ///< its solution: the common angle offset added to the measured angles
     double speed = 0.0;      ///< and the common speed
-    /// The Jacobian of the encoder's miss (at mid, at first) in (offset, speed) that the
-    /// shooting last computed (all 0 when it computed none).
-    double miss_jacobian[2][2] = {{0, 0}, {0, 0}};
+    /// The Jacobian of the miss that the shooting last computed (all 0 when it computed none).
+    MissJacobian miss_jacobian{};
     std::size_t mid = 0;     ///< its first matching sample
     std::size_t node = 0;    ///< the encoder's node
 };
