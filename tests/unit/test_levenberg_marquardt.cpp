@@ -383,3 +383,103 @@ TEST_CASE("LM handles fewer residuals than parameters and parameters held by equ
     CHECK(s.best[0] + 2 * s.best[1] == Approx(3.0).margin(1e-10));
     CHECK(s.best_cost < 1e-20);
 }
+
+namespace {
+
+// One of the problems above, offering the solver `width` residual evaluations side by side
+// (run one after the other here: the iterates must not depend on how they are run).
+// Counts the residual evaluations, and once `stop_after` of them have run it refuses the
+// rest as a stop request would.
+struct SideBySide : LeastSquaresProblem {
+    LeastSquaresProblem& inner;
+    int width;
+    long long residual_calls = 0, stop_after = -1;
+    bool cut = false;
+    SideBySide(LeastSquaresProblem& problem, int w) : inner(problem), width(w) {}
+    std::size_t residual_count() const override { return inner.residual_count(); }
+    bool residuals(const double* x, double* r) override {
+        if ((cut = stop_after >= 0 && residual_calls >= stop_after)) return false;
+        ++residual_calls;
+        return inner.residuals(x, r);
+    }
+    bool jacobian(const double* x, double* r, Eigen::MatrixXd& J) override {
+        if ((cut = stop_after >= 0 && residual_calls >= stop_after)) return false;
+        return inner.jacobian(x, r, J);
+    }
+    bool stopped() const override { return cut; }
+    int concurrent_residuals() const override { return width; }
+};
+
+void check_same_path(const LmSummary& a, const LmSummary& b) {
+    CHECK(a.best == b.best);
+    CHECK(a.best_cost == b.best_cost);
+    CHECK(a.iterations == b.iterations);
+    CHECK(a.termination == b.termination);
+    CHECK(a.residual_evaluations == b.residual_evaluations);
+    CHECK(a.jacobian_evaluations == b.jacobian_evaluations);
+    CHECK(a.failed_evaluations == b.failed_evaluations);
+    REQUIRE(a.history.size() == b.history.size());
+    for (std::size_t k = 0; k < a.history.size(); ++k) {
+        CHECK(a.history[k].best_cost == b.history[k].best_cost);
+        CHECK(a.history[k].evaluations == b.history[k].evaluations);
+    }
+}
+
+}  // namespace
+
+TEST_CASE("LM with trial steps evaluated ahead, side by side, takes the path of one step at a time", "[lm]") {
+    Rosenbrock rosenbrock;
+    FailingDecay failing;
+    TorsionalImpulse bad({1.0, 1.0, 1.0});
+    OptimumOnBound bound;
+    struct Case {
+        const char* name;
+        LeastSquaresProblem& problem;
+        std::vector<double> start, lower, upper;
+    };
+    const std::vector<Case> cases{
+        {"Rosenbrock", rosenbrock, {-1.2, 1.0}, unbounded_lower(2), unbounded_upper(2)},
+        {"failing decay", failing, {1.0, 1.95, 0.25}, unbounded_lower(3), unbounded_upper(3)},
+        {"torsional impulse", bad, {1.2e-3, 8.0, 0.9e5}, unbounded_lower(3), unbounded_upper(3)},
+        {"optimum on a bound", bound, {0.0, 0.0, 5.0}, {-kNone, -kNone, 0.0}, {2.0, kNone, kNone}},
+    };
+    long long taken = 0;
+    for (const Case& c : cases) {
+        INFO(c.name);
+        SideBySide alone(c.problem, 1);
+        const LmSummary reference = run_levenberg_marquardt(LmSettings{}, c.start, c.lower, c.upper, alone);
+        CHECK(reference.evaluated_ahead == 0);
+        const long long rejected = reference.iterations - (reference.jacobian_evaluations - 1);
+        for (const int width : {2, 3, 5}) {
+            INFO("side by side: " << width);
+            SideBySide wide(c.problem, width);
+            const LmSummary s = run_levenberg_marquardt(LmSettings{}, c.start, c.lower, c.upper, wide);
+            check_same_path(s, reference);
+            CHECK(s.taken_ahead <= s.evaluated_ahead);
+            CHECK(s.taken_ahead <= rejected);  // only a rejection takes a trial from ahead
+            // Every evaluation is either one the solver took or one evaluated ahead in vain.
+            CHECK(wide.residual_calls == alone.residual_calls - s.taken_ahead + s.evaluated_ahead);
+            if (width == 2) taken += s.taken_ahead;
+        }
+    }
+    CHECK(taken >= 3);  // the rejections of these paths were taken from ahead
+}
+
+TEST_CASE("LM stopped while evaluating side by side stays at its last accepted point", "[lm][stop]") {
+    Rosenbrock rosenbrock;
+    SideBySide alone(rosenbrock, 1);
+    const LmSummary reference =
+        run_levenberg_marquardt(LmSettings{}, {-1.2, 1.0}, unbounded_lower(2), unbounded_upper(2), alone);
+    for (const long long after : {1LL, 4LL, 9LL}) {
+        INFO("stop after " << after << " residual evaluations");
+        SideBySide wide(rosenbrock, 2);
+        wide.stop_after = after;
+        const LmSummary s = run_levenberg_marquardt(LmSettings{}, {-1.2, 1.0}, unbounded_lower(2), unbounded_upper(2), wide);
+        CHECK(s.termination == "stopped");
+        CHECK_FALSE(s.success);
+        // The point reached is one the uninterrupted run accepted on its way.
+        REQUIRE(s.history.size() <= reference.history.size());
+        for (std::size_t k = 0; k < s.history.size(); ++k) CHECK(s.history[k].best_cost == reference.history[k].best_cost);
+        CHECK(s.best_cost == s.history.back().best_cost);
+    }
+}

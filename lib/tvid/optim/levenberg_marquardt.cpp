@@ -12,6 +12,9 @@ namespace {
 
 constexpr double kAcceptRatio = 1e-4;  // accept a step when ρ exceeds this (MINPACK's 1e-4)
 constexpr double kMinDamping = 1e-32;  // λ relative to a scaled JᵀJ whose diagonal is ≤ 1: below it is 0
+// Trial steps evaluated side by side at most: the current one and the next three
+// rejections' (longer runs of rejections are rare; each ahead is work lost on acceptance).
+constexpr int kMaxTrialsSideBySide = 4;
 
 using Eigen::Index;
 
@@ -141,9 +144,99 @@ LmSummary run_levenberg_marquardt(const LmSettings& settings, std::vector<double
         return s;
     }
 
+    // The trial point for damping λ: the step, with a parameter on a bound whose step
+    // points outward joining the held set and the step solved again (at most M times),
+    // projected on the box so that the trial point is feasible.
+    struct TrialStep {
+        bool finite = false, moves = false;
+        double predicted = 0.0;  // the reduction of ½‖r‖² that the linear model predicts
+    };
+    auto make_trial = [&](double damping, Eigen::VectorXd& point, Eigen::VectorXd& taken) {
+        held_trial = held;
+        for (Index pass = 0; pass <= m; ++pass) {
+            damped.solve(R, qtr, scale, damping, held_trial, p);
+            bool changed = false;
+            for (Index j = 0; j < m; ++j) {
+                auto& h = held_trial[static_cast<std::size_t>(j)];
+                if (!h && ((x[j] <= lo[j] && p[j] < 0) || (x[j] >= hi[j] && p[j] > 0))) {
+                    h = 1;
+                    changed = true;
+                }
+            }
+            if (!changed) break;
+        }
+        TrialStep t;
+        for (Index j = 0; j < m; ++j) {
+            point[j] = std::clamp(x[j] + p[j], lo[j], hi[j]);
+            taken[j] = point[j] - x[j];
+            if (taken[j] != 0) t.moves = true;
+        }
+        t.finite = taken.allFinite();
+        // For the projected step s: ½‖r‖² − ½‖r + J s‖² = −(Qᵀr)ᵀ(R s) − ½‖R s‖².
+        if (t.finite) {
+            Rs.noalias() = R.triangularView<Eigen::Upper>() * taken;
+            t.predicted = -qtr.dot(Rs) - 0.5 * Rs.squaredNorm();
+        }
+        return t;
+    };
+
+    // Trials evaluated ahead: with the Jacobian unchanged, a rejection only raises λ (to λν,
+    // then ·2ν, ...), so the next trial points are known before the current one is judged.
+    // They are evaluated side by side with it; a later iteration takes its residuals
+    // from here when its trial point is the same to the bit.
+    struct AheadTrial {
+        Eigen::VectorXd x, r;
+        bool ok = false;
+    };
+    const auto concurrency =
+        static_cast<std::size_t>(std::clamp(problem.concurrent_residuals(), 1, kMaxTrialsSideBySide));
+    std::vector<AheadTrial> ahead(concurrency - 1, AheadTrial{Eigen::VectorXd(m), Eigen::VectorXd(n), false});
+    std::size_t ahead_count = 0;
+    Eigen::VectorXd ahead_step(m);
+    std::vector<const double*> side_x(concurrency);
+    std::vector<double*> side_r(concurrency);
+    std::vector<char> side_ok(concurrency), side_stopped(concurrency);
+    auto find_ahead = [&](const Eigen::VectorXd& point) -> const AheadTrial* {
+        for (std::size_t k = 0; k < ahead_count; ++k)
+            if (ahead[k].x == point) return &ahead[k];
+        return nullptr;
+    };
     double lambda = 0.0, nu = 2.0;
-    bool first = true, fresh_jacobian = true;
     int rejected_in_row = 0;
+    // The steps LM may still take before the Jacobian changes, the current one included.
+    auto trial_count_left = [&]() {
+        const int by_limit = std::min(settings.max_iterations - s.iterations + 1,
+                                      settings.max_consecutive_rejections - rejected_in_row);
+        return static_cast<std::size_t>(std::max(1, by_limit));
+    };
+    // x_trial into r_trial (side_ok[0], side_stopped[0]) and, beside it, the trials of the
+    // next rejections that move and are finite, into `ahead`.
+    auto evaluate_with_ahead = [&](std::size_t steps_left) {
+        std::size_t count = 1;
+        side_x[0] = x_trial.data();
+        side_r[0] = r_trial.data();
+        double damping = lambda, growth = nu;
+        const std::size_t wanted = std::min(concurrency, steps_left);
+        while (count < wanted) {
+            damping *= growth;  // as a rejection updates λ and ν below
+            growth *= 2.0;
+            if (!std::isfinite(damping)) break;
+            AheadTrial& a = ahead[count - 1];
+            const TrialStep t = make_trial(damping, a.x, ahead_step);
+            if (!t.finite || !t.moves) break;  // that iteration evaluates nothing
+            side_x[count] = a.x.data();
+            side_r[count] = a.r.data();
+            ++count;
+        }
+        problem.residuals_side_by_side(count, side_x.data(), side_r.data(), side_ok.data(), side_stopped.data());
+        ahead_count = 0;
+        for (std::size_t k = 1; k < count && !side_stopped[k]; ++k) {
+            ahead[k - 1].ok = side_ok[k] != 0;
+            ahead_count = k;
+        }
+        s.evaluated_ahead += static_cast<long long>(count - 1);
+    };
+    bool first = true, fresh_jacobian = true;
     bool failed_since_accept = false;  // a trial since the last accepted step could not be evaluated
     for (;;) {
         if (fresh_jacobian) {
@@ -192,56 +285,38 @@ LmSummary run_levenberg_marquardt(const LmSettings& settings, std::vector<double
         }
         ++s.iterations;
 
-        // The step: a parameter on a bound whose step points outward joins the held set
-        // and the step is solved again (at most M times).
-        held_trial = held;
-        for (Index pass = 0; pass <= m; ++pass) {
-            damped.solve(R, qtr, scale, lambda, held_trial, p);
-            bool changed = false;
-            for (Index j = 0; j < m; ++j) {
-                auto& h = held_trial[static_cast<std::size_t>(j)];
-                if (!h && ((x[j] <= lo[j] && p[j] < 0) || (x[j] >= hi[j] && p[j] > 0))) {
-                    h = 1;
-                    changed = true;
-                }
-            }
-            if (!changed) break;
-        }
-        // Projection on the box keeps the trial point feasible.
-        bool moves = false;
-        for (Index j = 0; j < m; ++j) {
-            x_trial[j] = std::clamp(x[j] + p[j], lo[j], hi[j]);
-            step[j] = x_trial[j] - x[j];
-            if (step[j] != 0) moves = true;
-        }
-        const bool step_finite = step.allFinite();
-        // Reduction of ½‖r‖² that the linear model predicts for the projected step:
-        // ½‖r‖² − ½‖r + J s‖² = −(Qᵀr)ᵀ(R s) − ½‖R s‖².
-        double predicted = 0.0;
-        if (step_finite) {
-            Rs.noalias() = R.triangularView<Eigen::Upper>() * step;
-            predicted = -qtr.dot(Rs) - 0.5 * Rs.squaredNorm();
-        }
-
-        bool evaluable = step_finite;
+        const TrialStep trial = make_trial(lambda, x_trial, step);
+        bool evaluable = trial.finite;
         double f_trial = f;
-        if (step_finite && moves) {
+        if (trial.finite && trial.moves) {
             ++s.residual_evaluations;
-            evaluable = problem.residuals(x_trial.data(), r_trial.data()) && r_trial.allFinite();
-            if (!evaluable && problem.stopped()) {  // drop this trial, stop at the last accepted point
+            bool halted = false;
+            if (const AheadTrial* known = find_ahead(x_trial)) {  // evaluated next to an earlier rejected step
+                ++s.taken_ahead;
+                r_trial = known->r;
+                evaluable = known->ok;
+            } else {
+                evaluate_with_ahead(trial_count_left());
+                evaluable = side_ok[0] != 0;
+                halted = side_stopped[0] != 0;
+            }
+            if (!evaluable && halted) {  // drop this trial, stop at the last accepted point
                 --s.iterations;
                 finish("stopped", false);
                 break;
             }
+            if (evaluable) evaluable = r_trial.allFinite();
             if (evaluable) f_trial = 0.5 * r_trial.squaredNorm();
             evaluable = evaluable && std::isfinite(f_trial);
             if (!evaluable) ++s.failed_evaluations;
         }
+        const double predicted = trial.predicted;
         const double f_before = f;
         const double actual = f - f_trial;
         const double rho = evaluable && predicted > 0 ? actual / predicted : -inf;  // gain ratio
         bool accepted = rho > kAcceptRatio;
         if (accepted) {
+            ahead_count = 0;  // the trials ahead were for this Jacobian's steps
             ++s.jacobian_evaluations;
             if (evaluate_jacobian(problem, x_trial, r_trial, J_trial)) {
                 x = x_trial;
@@ -277,7 +352,7 @@ LmSummary run_levenberg_marquardt(const LmSettings& settings, std::vector<double
 
         const double step_norm = scale.cwiseProduct(step).norm();
         const double x_norm = scale.cwiseProduct(x).norm();
-        const bool small_step = step_finite && step_norm <= settings.xtol * (x_norm + settings.xtol);
+        const bool small_step = trial.finite && step_norm <= settings.xtol * (x_norm + settings.xtol);
         if (accepted && f_before > 0 && std::abs(actual) <= settings.ftol * f_before &&
             predicted <= settings.ftol * f_before) {
             finish("cost change below ftol", true);

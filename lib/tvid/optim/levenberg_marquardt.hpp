@@ -16,7 +16,10 @@
 //    so every iterate is feasible and an optimum on a bound is reached exactly;
 //  * gain ratio ρ = actual / predicted reduction: accept when ρ > 1e-4, Nielsen's update
 //    of λ (λ·max(1/3, 1 − (2ρ − 1)³) on success, λ·ν with ν doubling on failure);
-//  * a failed evaluation (false or non-finite residuals) is a rejected step.
+//  * a failed evaluation (false or non-finite residuals) is a rejected step;
+//  * a problem that evaluates residuals side by side gets the current trial together with
+//    the trials of the next rejections (λν, λν·2ν, ...): the iterates are the same as one
+//    at a time, a rejection only costs no wall time.
 
 #include <Eigen/Core>
 #include <cstddef>
@@ -45,6 +48,20 @@ public:
     /// (Ctrl-C) cut it short, not because the model failed: the solver stops at its
     /// current point instead of counting a failed step.
     virtual bool stopped() const { return false; }
+    /// How many residual evaluations residuals_side_by_side() runs at once (1: one after
+    /// the other). The solver then evaluates, next to each trial step, the steps that the
+    /// next rejections would take, so a rejection costs no wall time.
+    virtual int concurrent_residuals() const { return 1; }
+    /// r(x[k]) into r[k] for k < count: ok[k] as residuals() returns it and stopped[k] as
+    /// stopped() would say right after it. The results must be those of residuals() at
+    /// each point alone, and a later jacobian() at any of the points may reuse them.
+    virtual void residuals_side_by_side(std::size_t count, const double* const* x, double* const* r, char* ok,
+                                        char* stopped) {
+        for (std::size_t k = 0; k < count; ++k) {
+            ok[k] = residuals(x[k], r[k]) ? 1 : 0;
+            stopped[k] = !ok[k] && this->stopped() ? 1 : 0;
+        }
+    }
     /// Model simulations run so far when the problem counts them (a Jacobian may take
     /// several); -1 when it does not (drivers then count residual and Jacobian calls).
     virtual long long simulations() const { return -1; }
@@ -57,7 +74,11 @@ struct LmSummary {
     double best_cost = 0.0;
     double initial_cost = 0.0;           ///< Σ r² at the (projected) start
     int iterations = 0;                  ///< trial steps taken (accepted and rejected)
-    long long residual_evaluations = 0;  ///< residuals() calls
+    long long residual_evaluations = 0;  ///< residual evaluations of trial steps taken
+    /// Trial steps evaluated ahead, side by side with the step taken, for the damping that
+    /// rejections would lead to (concurrent_residuals() > 1), and how many of them a
+    /// rejection then took (those count in residual_evaluations too).
+    long long evaluated_ahead = 0, taken_ahead = 0;
     long long jacobian_evaluations = 0;  ///< jacobian() calls (the start counts one)
     long long failed_evaluations = 0;    ///< calls that returned false or non-finite values
     /// One row per iteration: row 0 is the start, row k follows trial step k. `evaluations`
