@@ -234,7 +234,9 @@ int engine_lm(const Args& a) {
     const FitResult fit = run_fit(problem, o);
     const double wall = seconds_since(t0);
     print_row({"engine-lm", wall, static_cast<double>(fit.run.evaluations), 0, fit.threads,
-               cost_note(fit.run.best_cost) + ",iterations=" + std::to_string(fit.run.iterations)});
+               cost_note(fit.run.best_cost) + ",iterations=" + std::to_string(fit.run.iterations) +
+                   ",trials_ahead_taken=" + std::to_string(fit.lm.taken_ahead) + "/" +
+                   std::to_string(fit.lm.evaluated_ahead)});
     return 0;
 }
 

@@ -1,16 +1,17 @@
 // The engine's warm-up shooting started from a guess: the solution (angle offset, speed)
 // and miss Jacobian of the shooting at nearby parameters, as ExperimentLeastSquares
-// passes them from the point of its last Jacobian to the next trial point. The guess
-// must save simulations and reach the same start to within the shooting's tolerance; a
-// guess that does not converge, or one for another window, must leave the result exactly
-// as without it; and the least-squares problem must give the same numbers on 1 and 2
-// threads.
+// passes them from the point of its last Jacobian to the next trial point, moved to first
+// order by the sensitivities' d(a, s)/dp. The guess must save simulations and reach the
+// same start to within the shooting's tolerance; a guess that does not converge, or one
+// for another window, must leave the result exactly as without it; and the least-squares
+// problem must give the same numbers on 1 and 2 threads, and side by side as alone.
 #include <catch2/catch.hpp>
 #include <algorithm>
 #include <cmath>
 
 #include "support/test_files.hpp"
 #include "tvid/estimation/experiment_least_squares.hpp"
+#include "tvid/estimation/forward_sensitivity.hpp"
 #include "tvid/estimation/identification_problem.hpp"
 #include "tvid/experiment/experiment.hpp"
 
@@ -185,4 +186,106 @@ TEST_CASE("least squares with shooting guesses give the same residuals and Jacob
     const Shot alone = shoot(problem, trial);
     REQUIRE(alone.ok);
     CHECK(largest_difference(one.r_trial, alone.residuals) < 1e-8 * largest_magnitude(alone.residuals));
+}
+
+TEST_CASE("the sensitivities' d(a, s)/dp of the warm-up shooting agree with differences and predict the start",
+          "[shooting][engine][sensitivity]") {
+    const EngineAtPrior engine;
+    const IdentificationProblem& problem = engine.problem;
+    const std::vector<double>& x = engine.x;
+    REQUIRE(engine.here.ok);
+    const std::size_t m = x.size();
+    const auto n = static_cast<Eigen::Index>(estimation_residual_count(engine.ex));
+    const ForwardSensitivity sensitivity(problem);
+    auto ws = sensitivity.make_workspace();
+    Eigen::MatrixXd J(n, static_cast<Eigen::Index>(m)), slopes = Eigen::MatrixXd::Constant(2, static_cast<Eigen::Index>(m), -1.0);
+    REQUIRE(sensitivity.jacobian_columns(x.data(), 0, m, *ws, J, nullptr, &slopes));
+    // The same numbers from two blocks of columns (as on two threads).
+    Eigen::MatrixXd halves = Eigen::MatrixXd::Zero(2, static_cast<Eigen::Index>(m));
+    REQUIRE(sensitivity.jacobian_columns(x.data(), 0, m / 2, *ws, J, nullptr, &halves));
+    REQUIRE(sensitivity.jacobian_columns(x.data(), m / 2, m, *ws, J, nullptr, &halves));
+    CHECK(halves == slopes);
+
+    // Central differences of the shot start itself.
+    for (std::size_t j = 0; j < m; ++j) {
+        const double h = 1e-4 * std::abs(x[j]);
+        std::vector<double> up = x, down = x;
+        up[j] += h;
+        down[j] -= h;
+        const Shot a = shoot(problem, up), b = shoot(problem, down);
+        REQUIRE(a.ok);
+        REQUIRE(b.ok);
+        const double da = (a.starts.at(0).start.offset - b.starts.at(0).start.offset) / (2 * h);
+        const double ds = (a.starts.at(0).start.speed - b.starts.at(0).start.speed) / (2 * h);
+        INFO("parameter " << j);
+        CHECK(slopes(0, static_cast<Eigen::Index>(j)) == Approx(da).epsilon(1e-3).margin(1e-3 * slopes.row(0).cwiseAbs().maxCoeff()));
+        CHECK(slopes(1, static_cast<Eigen::Index>(j)) == Approx(ds).epsilon(1e-3).margin(1e-3 * slopes.row(1).cwiseAbs().maxCoeff()));
+    }
+
+    // At a trial point 1 % off, the first-order prediction lands far closer to the start
+    // shot there than the guess's own solution, and the shooting from it needs fewer
+    // simulations.
+    std::vector<double> trial = x;
+    for (std::size_t j = 0; j < m; ++j) trial[j] *= j % 2 == 0 ? 1.01 : 0.99;
+    ShootingGuess predicted = engine.guess();
+    for (std::size_t j = 0; j < m; ++j) {
+        predicted.offset += slopes(0, static_cast<Eigen::Index>(j)) * (trial[j] - x[j]);
+        predicted.speed += slopes(1, static_cast<Eigen::Index>(j)) * (trial[j] - x[j]);
+    }
+    const Shot alone = shoot(problem, trial), plain = shoot(problem, trial, {engine.guess()}),
+               moved = shoot(problem, trial, {predicted});
+    REQUIRE(alone.ok);
+    REQUIRE(plain.ok);
+    REQUIRE(moved.ok);
+    const WindowStart& solution = alone.starts.at(0).start;
+    const WindowStart& before = engine.here.starts.at(0).start;
+    CHECK(std::abs(predicted.offset - solution.offset) < 0.05 * std::abs(before.offset - solution.offset));
+    CHECK(std::abs(predicted.speed - solution.speed) < 0.05 * std::abs(before.speed - solution.speed));
+    INFO("right-hand sides: " << moved.rhs << " from the prediction, " << plain.rhs << " from the guess alone");
+    CHECK(moved.rhs < plain.rhs);
+    CHECK(moved.starts.at(0).start.offset == Approx(solution.offset).margin(1e-10));
+    CHECK(largest_difference(moved.residuals, alone.residuals) < 1e-8 * largest_magnitude(alone.residuals));
+}
+
+TEST_CASE("least squares evaluated side by side give the residuals of each point alone and reuse them",
+          "[shooting][engine][lm]") {
+    const Experiment ex = load_experiment(test::source_dir() / "configs/engine_idle_clean.yaml");
+    const IdentificationProblem problem(ex);
+    const std::vector<double> x = problem.initial();
+    const std::size_t n = estimation_residual_count(ex);
+    const auto m = static_cast<Eigen::Index>(x.size());
+    std::vector<double> near = x, further = x;
+    for (std::size_t j = 0; j < x.size(); ++j) {
+        near[j] *= 1.0 + 0.001 * static_cast<double>(j + 1);
+        further[j] *= 1.0 + 0.003 * static_cast<double>(j + 1);
+    }
+    std::vector<double> r0(n), r_near(n), r_further(n), r_jac(n);
+    Eigen::MatrixXd J(static_cast<Eigen::Index>(n), m);
+
+    ExperimentLeastSquares one(problem, 1, JacobianKind::sensitivity);  // one at a time
+    REQUIRE(one.concurrent_residuals() == 1);
+    REQUIRE(one.jacobian(x.data(), r0.data(), J));
+    REQUIRE(one.residuals(near.data(), r_near.data()));
+    REQUIRE(one.residuals(further.data(), r_further.data()));
+
+    ExperimentLeastSquares two(problem, 2, JacobianKind::sensitivity);
+    REQUIRE(two.concurrent_residuals() == 2);
+    REQUIRE(two.jacobian(x.data(), r0.data(), J));
+    std::vector<double> a(n), b(n);
+    const double* points[2] = {near.data(), further.data()};
+    double* out[2] = {a.data(), b.data()};
+    char ok[2] = {0, 0}, stopped[2] = {1, 1};
+    two.residuals_side_by_side(2, points, out, ok, stopped);
+    REQUIRE(ok[0]);
+    REQUIRE(ok[1]);
+    CHECK_FALSE(stopped[0]);
+    CHECK_FALSE(stopped[1]);
+    CHECK(a == r_near);  // bit for bit: the same guesses, whichever thread
+    CHECK(b == r_further);
+    // A Jacobian at the second point takes its residuals and solved start from there:
+    // the sensitivity blocks are the only simulations it runs.
+    const long long before = two.simulations();
+    REQUIRE(two.jacobian(further.data(), r_jac.data(), J));
+    CHECK(two.simulations() - before == 2);
+    CHECK(r_jac == r_further);
 }

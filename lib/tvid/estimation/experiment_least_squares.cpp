@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include "tvid/estimation/parallel_evaluator.hpp"
 
@@ -42,52 +43,111 @@ ExperimentLeastSquares::ExperimentLeastSquares(const IdentificationProblem& prob
     const std::size_t m = problem.dimension();
     plus_.assign(m, std::vector<double>(residual_count_));
     minus_.assign(m, std::vector<double>(residual_count_));
-    buffer_.reserve(residual_count_);
+    start_slopes_ = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(2 * problem.experiment().estimation.size()),
+                                          static_cast<Eigen::Index>(m));
+    evaluated_.resize(static_cast<std::size_t>(threads_));
+    for (EvaluatedPoint& e : evaluated_) e.residuals.reserve(residual_count_);
 }
 
-bool ExperimentLeastSquares::residuals(const double* x, double* r) {
-    stopped_ = stop_requested();
-    if (stopped_) return false;
-    ++simulations_;
-    last_valid_ = false;
-    ProblemWorkspace& ws = *workspaces_[0];
-    ws.shooting_guesses = guesses_;
-    const bool ok = problem_->residuals(x, ws, buffer_, &last_starts_);
+// x's residuals into evaluated_[record] with workspace ws, the shootings starting from
+// the last Jacobian's solutions; false when the model fails there or a stop cut it short.
+bool ExperimentLeastSquares::evaluate_into(std::size_t record, const double* x, ProblemWorkspace& ws) {
+    EvaluatedPoint& e = evaluated_[record];
+    e.valid = false;
+    predict_guesses(x, ws.shooting_guesses);
+    const bool ok = problem_->residuals(x, ws, e.residuals, &e.starts);
     ws.shooting_guesses.clear();
-    if (!ok || buffer_.size() != residual_count_) {
-        stopped_ = stop_requested();  // ended by the stop, or failed on its own
-        return false;
-    }
-    std::copy(buffer_.begin(), buffer_.end(), r);
-    last_point_.assign(x, x + problem_->dimension());
-    last_valid_ = true;
+    if (!ok || e.residuals.size() != residual_count_) return false;
+    e.point.assign(x, x + problem_->dimension());
+    e.valid = true;
     return true;
 }
 
+const ExperimentLeastSquares::EvaluatedPoint* ExperimentLeastSquares::find_evaluated(const double* x) const {
+    for (const EvaluatedPoint& e : evaluated_)
+        if (e.valid && std::equal(e.point.begin(), e.point.end(), x)) return &e;
+    return nullptr;
+}
+
+bool ExperimentLeastSquares::residuals(const double* x, double* r) {
+    for (EvaluatedPoint& e : evaluated_) e.valid = false;
+    stopped_ = stop_requested();
+    if (stopped_) return false;
+    ++simulations_;
+    if (!evaluate_into(0, x, *workspaces_[0])) {
+        stopped_ = stop_requested();  // ended by the stop, or failed on its own
+        return false;
+    }
+    std::copy(evaluated_[0].residuals.begin(), evaluated_[0].residuals.end(), r);
+    return true;
+}
+
+void ExperimentLeastSquares::residuals_side_by_side(std::size_t count, const double* const* x, double* const* r,
+                                                    char* ok, char* stopped) {
+    if (count > evaluated_.size()) throw std::logic_error("ExperimentLeastSquares: more points side by side than threads");
+    for (EvaluatedPoint& e : evaluated_) e.valid = false;
+    const auto points = static_cast<long long>(count);
+#pragma omp parallel for schedule(static, 1) num_threads(threads_)
+    for (long long kk = 0; kk < points; ++kk) {
+        const auto k = static_cast<std::size_t>(kk);
+        ok[k] = !stop_requested() && evaluate_into(k, x[k], *workspaces_[static_cast<std::size_t>(omp_get_thread_num())]);
+        if (ok[k]) std::copy(evaluated_[k].residuals.begin(), evaluated_[k].residuals.end(), r[k]);
+    }
+    simulations_ += points;
+    const bool stop = stop_requested();
+    for (std::size_t k = 0; k < count; ++k) stopped[k] = !ok[k] && stop;
+    stopped_ = count > 0 && stopped[0];
+}
+
 bool ExperimentLeastSquares::jacobian(const double* x, double* r, Eigen::MatrixXd& J) {
-    const bool known = last_valid_ && std::equal(last_point_.begin(), last_point_.end(), x);
+    const EvaluatedPoint* known = find_evaluated(x);
     if (known) {
         stopped_ = stop_requested();
         if (stopped_) return false;
-        std::copy(buffer_.begin(), buffer_.end(), r);
+        std::copy(known->residuals.begin(), known->residuals.end(), r);
     } else if (!residuals(x, r)) {
         return false;
+    } else {
+        known = &evaluated_[0];
     }
-    keep_guesses();
-    const bool ok = kind_ == JacobianKind::sensitivity ? sensitivity_jacobian(x, J) : finite_difference_jacobian(x, r, J);
+    keep_guesses(x, known->starts);
+    const bool ok = kind_ == JacobianKind::sensitivity ? sensitivity_jacobian(x, known->starts, J)
+                                                       : finite_difference_jacobian(x, r, J);
     stopped_ = !ok && stop_requested();
     return ok;
 }
 
-void ExperimentLeastSquares::keep_guesses() {
+void ExperimentLeastSquares::keep_guesses(const double* x, const std::vector<SolvedStart>& starts) {
     const std::vector<Window>& windows = problem_->experiment().estimation;
     guesses_.clear();
-    for (std::size_t wi = 0; wi < last_starts_.size() && wi < windows.size(); ++wi)
-        if (const WindowStart& s = last_starts_[wi].start; s.shot)
+    guess_windows_.clear();
+    for (std::size_t wi = 0; wi < starts.size() && wi < windows.size(); ++wi)
+        if (const WindowStart& s = starts[wi].start; s.shot) {
             guesses_.push_back({windows[wi].start, windows[wi].first, s.offset, s.speed, s.miss_jacobian});
+            guess_windows_.push_back(wi);
+        }
+    guess_point_.assign(x, x + problem_->dimension());
+    slopes_valid_ = false;  // until the sensitivities at x are in
 }
 
-bool ExperimentLeastSquares::sensitivity_jacobian(const double* x, Eigen::MatrixXd& J) {
+void ExperimentLeastSquares::predict_guesses(const double* x, std::vector<ShootingGuess>& out) const {
+    out = guesses_;
+    if (!slopes_valid_) return;
+    for (std::size_t g = 0; g < out.size(); ++g) {
+        const auto row = static_cast<Eigen::Index>(2 * guess_windows_[g]);
+        double da = 0.0, ds = 0.0;
+        for (std::size_t j = 0; j < guess_point_.size(); ++j) {
+            const double dx = x[j] - guess_point_[j];
+            da += start_slopes_(row, static_cast<Eigen::Index>(j)) * dx;
+            ds += start_slopes_(row + 1, static_cast<Eigen::Index>(j)) * dx;
+        }
+        out[g].offset += da;
+        out[g].speed += ds;
+    }
+}
+
+bool ExperimentLeastSquares::sensitivity_jacobian(const double* x, const std::vector<SolvedStart>& starts,
+                                                  Eigen::MatrixXd& J) {
     // Column blocks: one per thread with fixed-step RK4 (a column does not depend on its
     // block), otherwise blocks as large as the dual numbers carry.
     const std::size_t m = problem_->dimension();
@@ -105,10 +165,12 @@ bool ExperimentLeastSquares::sensitivity_jacobian(const double* x, Eigen::Matrix
         }
         SensitivityWorkspace& ws = *sensitivity_workspaces_[static_cast<std::size_t>(omp_get_thread_num())];
         const std::size_t j0 = static_cast<std::size_t>(b) * width, j1 = std::min(m, j0 + width);
-        ok[static_cast<std::size_t>(b)] = j0 >= j1 || sensitivity_.jacobian_columns(x, j0, j1, ws, J, &last_starts_) ? 1 : 0;
+        ok[static_cast<std::size_t>(b)] =
+            j0 >= j1 || sensitivity_.jacobian_columns(x, j0, j1, ws, J, &starts, &start_slopes_) ? 1 : 0;
     }
     simulations_ += count;
-    return std::all_of(ok.begin(), ok.end(), [](char c) { return c != 0; });
+    slopes_valid_ = std::all_of(ok.begin(), ok.end(), [](char c) { return c != 0; });
+    return slopes_valid_;
 }
 
 bool ExperimentLeastSquares::finite_difference_jacobian(const double* x, const double* r, Eigen::MatrixXd& J) {

@@ -30,6 +30,10 @@ public:
     bool residuals(const double* x, double* r) override;
     bool jacobian(const double* x, double* r, Eigen::MatrixXd& J) override;
     bool stopped() const override { return stopped_; }
+    /// As many as there are threads, one per thread, each with its own workspace.
+    int concurrent_residuals() const override { return threads_; }
+    void residuals_side_by_side(std::size_t count, const double* const* x, double* const* r, char* ok,
+                                char* stopped) override;
 
     int threads() const { return threads_; }
     JacobianKind jacobian_kind() const { return kind_; }
@@ -37,7 +41,7 @@ public:
 
 private:
     bool finite_difference_jacobian(const double* x, const double* r, Eigen::MatrixXd& J);
-    bool sensitivity_jacobian(const double* x, Eigen::MatrixXd& J);
+    bool sensitivity_jacobian(const double* x, const std::vector<SolvedStart>& starts, Eigen::MatrixXd& J);
 
     const IdentificationProblem* problem_;
     JacobianKind kind_;
@@ -47,19 +51,33 @@ private:
     std::size_t residual_count_ = 0;
     std::vector<std::unique_ptr<ProblemWorkspace>> workspaces_;
     std::vector<std::vector<double>> plus_, minus_;  ///< residuals at x ± h e_j, per column
-    std::vector<double> buffer_;
-    // The last residuals computed and where: a Jacobian asked for at that point (LM asks
-    // for it after accepting the trial point just evaluated) reuses them and the windows'
-    // solved starts instead of simulating them again.
-    std::vector<double> last_point_;
-    std::vector<SolvedStart> last_starts_;
-    bool last_valid_ = false;
+    // The last residuals computed and where, one record per thread for the evaluations side
+    // by side: a Jacobian asked for at one of these points (LM asks for it after accepting
+    // the trial point just evaluated) reuses its residuals and the windows' solved starts
+    // instead of simulating them again.
+    struct EvaluatedPoint {
+        std::vector<double> point, residuals;
+        std::vector<SolvedStart> starts;
+        bool valid = false;
+    };
+    std::vector<EvaluatedPoint> evaluated_;
+    bool evaluate_into(std::size_t record, const double* x, ProblemWorkspace& ws);
+    const EvaluatedPoint* find_evaluated(const double* x) const;
     // The warm-up shootings' solutions at the point of the last Jacobian: the first guesses
     // of the shootings at the next points (the solver's trial steps and the difference
     // columns), which lie near it. Set only by jacobian(), so they depend on the solver's
     // path alone, never on which thread evaluated what.
     std::vector<ShootingGuess> guesses_;
-    void keep_guesses();
+    // With sensitivities, also d(a, s)/dp of each window's solution there (rows 2w and 2w + 1)
+    // and that point: a guess for point x is the first-order prediction
+    // (a, s) + d(a, s)/dp · (x − guess_point_), which a step of LM leaves closer to the
+    // solution than the Jacobian point's own (the miss then starts quadratic in the step).
+    Eigen::MatrixXd start_slopes_;
+    std::vector<std::size_t> guess_windows_;  ///< each guess's estimation window
+    std::vector<double> guess_point_;
+    bool slopes_valid_ = false;
+    void predict_guesses(const double* x, std::vector<ShootingGuess>& out) const;
+    void keep_guesses(const double* x, const std::vector<SolvedStart>& starts);
     long long simulations_ = 0;
     const std::atomic<bool>* stop_ = nullptr;
     bool stopped_ = false;

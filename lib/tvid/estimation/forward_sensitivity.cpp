@@ -205,7 +205,7 @@ SimulationStatus ForwardSensitivity::simulate(const double* free, const Window& 
 
 bool ForwardSensitivity::jacobian_columns(const double* free, std::size_t j0, std::size_t j1,
                                           SensitivityWorkspace& ws, Eigen::MatrixXd& J,
-                                          const std::vector<SolvedStart>* starts) const {
+                                          const std::vector<SolvedStart>* starts, Eigen::MatrixXd* start_slopes) const {
     const std::size_t m = problem_->dimension();
     for (std::size_t j = 0; j < m; ++j)
         if (!std::isfinite(free[j])) return false;
@@ -224,8 +224,16 @@ bool ForwardSensitivity::jacobian_columns(const double* free, std::size_t j0, st
             }
             return true;
         };
+        ws.start_slopes.clear();
         if (simulate(free, w, j0, j1, ws, nullptr, record, starts ? &(*starts)[wi] : nullptr) != SimulationStatus::ok)
             return false;
+        if (start_slopes) {
+            const bool known = ws.start_slopes.size() == 2 * (j1 - j0);
+            for (std::size_t j = j0; j < j1; ++j)
+                for (std::size_t c = 0; c < 2; ++c)
+                    (*start_slopes)(static_cast<Eigen::Index>(2 * wi + c), static_cast<Eigen::Index>(j)) =
+                        known ? ws.start_slopes[2 * (j - j0) + c] : 0.0;
+        }
     }
     return row == J.rows() && J.middleCols(static_cast<Eigen::Index>(j0), static_cast<Eigen::Index>(j1 - j0)).allFinite();
 }

@@ -55,6 +55,10 @@ struct SensitivityWorkspace {
     std::vector<Dual> x, dxdt, y;             ///< state, its rate, outputs
     std::vector<double> z;                    ///< augmented state [x, S]
     std::vector<double> row_mid, row_first;   ///< the encoder node's sensitivity row in the warm-up
+    /// d(a, s)/dp of the last window's shot warm-up (angle offset a, speed s) for the block's
+    /// columns: [2(j − j0)] for a, [2(j − j0) + 1] for s; empty when that window was not shot
+    /// or its sensitivities were not carried as PackedDual.
+    std::vector<double> start_slopes;
     PackedSensitivityModel<8> packed8;        ///< fixed-step RK4 with up to 8 directions
     PackedSensitivityModel<16> packed16;      ///< … up to 16
 };
@@ -86,8 +90,11 @@ public:
     /// residuals order) at free parameter values `free`, written into J. False when a
     /// simulation fails. `starts`: the windows' starts that IdentificationProblem::residuals
     /// solved at these same values (then the warm-up shooting is not solved again).
+    /// With `start_slopes` (2 rows per estimation window, M columns), also d(a, s)/dp of each
+    /// window's shot warm-up into rows 2w and 2w + 1 of the block's columns (0 where unknown).
     bool jacobian_columns(const double* free, std::size_t j0, std::size_t j1, SensitivityWorkspace& ws,
-                          Eigen::MatrixXd& J, const std::vector<SolvedStart>* starts = nullptr) const;
+                          Eigen::MatrixXd& J, const std::vector<SolvedStart>* starts = nullptr,
+                          Eigen::MatrixXd* start_slopes = nullptr) const;
 
     /// Window w's outputs and their derivatives for every free parameter.
     WindowSensitivity window_sensitivity(const double* free, const Window& w, SensitivityWorkspace& ws) const;

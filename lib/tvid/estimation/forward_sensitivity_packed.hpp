@@ -91,6 +91,11 @@ SimulationStatus ForwardSensitivity::simulate_packed(const double* free, const W
                 da.set(static_cast<int>(j), -(g11 * mid_j - g01 * first_j) / det);
                 ds.set(static_cast<int>(j), -(-g10 * mid_j + g00 * first_j) / det);
             }
+            ws.start_slopes.resize(2 * cols);
+            for (std::size_t j = 0; j < cols; ++j) {
+                ws.start_slopes[2 * j] = da[static_cast<int>(j)];
+                ws.start_slopes[2 * j + 1] = ds[static_cast<int>(j)];
+            }
             for (std::size_t i = 0; i < N; ++i) {
                 const Pack<D>& row = x[i].derivatives();
                 Pack<D> total = row + Pack<D>(row[a_dir]) * da + Pack<D>(row[s_dir]) * ds;
