@@ -214,6 +214,12 @@ int cvt_window(const Args& a) {
     return 0;
 }
 
+std::string seconds_text(double s) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.3f", s);
+    return text;
+}
+
 // (b) The 10-parameter engine fit on one cycle from the truth scaled alternately by 0.5 and 2.
 int engine_lm(const Args& a) {
     const auto truth = nlohmann::json::parse(std::ifstream(kSource + "/data/engine/truth.json"));
@@ -236,7 +242,7 @@ int engine_lm(const Args& a) {
     print_row({"engine-lm", wall, static_cast<double>(fit.run.evaluations), 0, fit.threads,
                cost_note(fit.run.best_cost) + ",iterations=" + std::to_string(fit.run.iterations) +
                    ",trials_ahead_taken=" + std::to_string(fit.lm.taken_ahead) + "/" +
-                   std::to_string(fit.lm.evaluated_ahead)});
+                   std::to_string(fit.lm.evaluated_ahead) + ",after_optimizer_s=" + seconds_text(wall - fit.optimizer_seconds)});
     return 0;
 }
 

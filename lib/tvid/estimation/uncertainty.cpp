@@ -14,39 +14,25 @@ namespace {
 // Singular values of the scaled Jacobian below this fraction of the largest count as zero
 // (a condition number of JᵀJ above 1e12).
 constexpr double kRankTolerance = 1e-6;
-}  // namespace
-
-ParameterUncertainty estimate_uncertainty(const IdentificationProblem& problem, const std::vector<double>& free_best) {
-    ParameterUncertainty u;
+// The residuals at free_best (Σe² into ssr) and the Jacobian in scaled parameters into js;
+// false with `problem` set when they cannot be computed.
+bool scaled_jacobian(const IdentificationProblem& problem, const std::vector<double>& free_best,
+                     const std::vector<double>& scale, Eigen::MatrixXd& js, double& ssr, std::string& problem_text) {
     const std::size_t m = problem.dimension();
-    const double nan = std::numeric_limits<double>::quiet_NaN();
-    u.std_error.assign(m, nan);
-    u.ci_low.assign(m, nan);
-    u.ci_high.assign(m, nan);
-    u.determined.assign(m, false);
-    u.correlation.assign(m, std::vector<double>(m, nan));
-    if (m == 0) { u.problem = "no free parameters"; return u; }
-
     auto ws = problem.make_workspace();
-    std::vector<double> r0, rp, rm;
-    if (!problem.residuals(free_best.data(), *ws, r0)) { u.problem = "the simulation at the optimum failed"; return u; }
+    std::vector<double> r0, rp, rm, p = free_best;
+    if (!problem.residuals(free_best.data(), *ws, r0)) { problem_text = "the simulation at the optimum failed"; return false; }
     const auto n = static_cast<Eigen::Index>(r0.size());
-    u.residuals = r0.size();
-    if (r0.size() <= m) { u.problem = "fewer residuals than free parameters"; return u; }
-
-    // The Jacobian in scaled parameters: column j = s_j ∂r/∂p_j, from the forward
-    // sensitivities or by central differences, as the experiment asks.
-    Eigen::MatrixXd js(n, static_cast<Eigen::Index>(m));
-    std::vector<double> scale(m), p = free_best;
-    for (std::size_t j = 0; j < m; ++j) scale[j] = free_best[j] != 0.0 ? std::abs(free_best[j]) : 1.0;
+    if (r0.size() <= m) { problem_text = "fewer residuals than free parameters"; return false; }
+    js.resize(n, static_cast<Eigen::Index>(m));
     if (problem.experiment().estimation_settings.jacobian == JacobianKind::sensitivity) {
         const ForwardSensitivity sensitivity(problem);
         auto sws = sensitivity.make_workspace();
         for (std::size_t j0 = 0; j0 < m; j0 += ForwardSensitivity::kMaxBlock)
             if (!sensitivity.jacobian_columns(free_best.data(), j0, std::min(m, j0 + ForwardSensitivity::kMaxBlock),
                                               *sws, js)) {
-                u.problem = "the sensitivity simulation failed at the optimum";
-                return u;
+                problem_text = "the sensitivity simulation failed at the optimum";
+                return false;
             }
         for (std::size_t j = 0; j < m; ++j) js.col(static_cast<Eigen::Index>(j)) *= scale[j];
     } else {
@@ -58,17 +44,54 @@ ParameterUncertainty estimate_uncertainty(const IdentificationProblem& problem, 
             const bool ok_m = problem.residuals(p.data(), *ws, rm);
             p[j] = free_best[j];
             if (!ok_p || !ok_m || rp.size() != r0.size() || rm.size() != r0.size()) {
-                u.problem = "the simulation failed near the optimum (parameter " + problem.free_names()[j] + ")";
-                return u;
+                problem_text = "the simulation failed near the optimum (parameter " + problem.free_names()[j] + ")";
+                return false;
             }
             for (Eigen::Index i = 0; i < n; ++i)
                 js(i, static_cast<Eigen::Index>(j)) =
                     scale[j] * (rp[static_cast<std::size_t>(i)] - rm[static_cast<std::size_t>(i)]) / (2 * h);
         }
     }
-    double ssr = 0.0;
+    ssr = 0.0;
     for (double e : r0) ssr += e * e;
-    const double dof = static_cast<double>(r0.size() - m);
+    return true;
+}
+
+}  // namespace
+
+ParameterUncertainty estimate_uncertainty(const IdentificationProblem& problem, const std::vector<double>& free_best,
+                                          const JacobianAtOptimum& known) {
+    ParameterUncertainty u;
+    const std::size_t m = problem.dimension();
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    u.std_error.assign(m, nan);
+    u.ci_low.assign(m, nan);
+    u.ci_high.assign(m, nan);
+    u.determined.assign(m, false);
+    u.correlation.assign(m, std::vector<double>(m, nan));
+    if (m == 0) { u.problem = "no free parameters"; return u; }
+
+    // The Jacobian in scaled parameters: column j = s_j ∂r/∂p_j, from the forward
+    // sensitivities or by central differences, as the experiment asks.
+    std::vector<double> scale(m);
+    for (std::size_t j = 0; j < m; ++j) scale[j] = free_best[j] != 0.0 ? std::abs(free_best[j]) : 1.0;
+    const bool sensitivities = problem.experiment().estimation_settings.jacobian == JacobianKind::sensitivity;
+    const Eigen::MatrixXd* given = known.jacobian;
+    const bool use_given = sensitivities && given && given->cols() == static_cast<Eigen::Index>(m) &&
+                           given->rows() > static_cast<Eigen::Index>(m) && given->allFinite() &&
+                           std::isfinite(known.sum_of_squares);
+    Eigen::MatrixXd js;
+    double ssr = 0.0;
+    if (use_given) {
+        js = *given;
+        ssr = known.sum_of_squares;
+        for (std::size_t j = 0; j < m; ++j) js.col(static_cast<Eigen::Index>(j)) *= scale[j];
+    } else if (!scaled_jacobian(problem, free_best, scale, js, ssr, u.problem)) {
+        return u;
+    }
+    const auto n = js.rows();
+    u.residuals = static_cast<std::size_t>(n);
+    const double dof = static_cast<double>(n) - static_cast<double>(m);
     const double s2 = ssr / dof;
 
     const Eigen::JacobiSVD<Eigen::MatrixXd> svd(js, Eigen::ComputeThinV);

@@ -6,6 +6,7 @@
 // do not determine (near-zero singular values of the scaled J) are reported, and the
 // parameters in them get no standard error.
 
+#include <Eigen/Core>
 #include <string>
 #include <vector>
 
@@ -32,6 +33,18 @@ struct ParameterUncertainty {
     std::vector<std::vector<double>> null_directions;
 };
 
-ParameterUncertainty estimate_uncertainty(const IdentificationProblem& problem, const std::vector<double>& free_best);
+/// The residuals' Jacobian at the optimum as the optimizer left it: ∂r/∂p over the free
+/// parameters (N×M) from the forward sensitivities, and Σe² there. A least-squares fit has
+/// just computed both; taking them saves a simulation and a sensitivity run.
+struct JacobianAtOptimum {
+    const Eigen::MatrixXd* jacobian = nullptr;  ///< none: computed here
+    double sum_of_squares = 0.0;
+};
+
+/// The uncertainty at `free_best`. `known` is used when it is there, the experiment's
+/// Jacobian is the sensitivities' and it has M columns and more than M finite rows;
+/// otherwise the residuals and the Jacobian are computed here.
+ParameterUncertainty estimate_uncertainty(const IdentificationProblem& problem, const std::vector<double>& free_best,
+                                          const JacobianAtOptimum& known = {});
 
 }  // namespace tvid

@@ -98,7 +98,15 @@ FitResult run_fit(const IdentificationProblem& problem, const FitOptions& option
     r.best_params = problem.full_parameters(r.best_free);
     r.evaluation = evaluate_parameters(problem, r.best_params, resolve_thread_count(options.threads));
     if (r.interrupted) r.uncertainty.problem = "skipped: interrupted";  // the user wants out: no extra Jacobian
-    else if (r.success) r.uncertainty = estimate_uncertainty(problem, r.best_free);
+    else if (r.success) {
+        // A least-squares fit ended on the point it last took the Jacobian at: that one.
+        JacobianAtOptimum known;
+        if (r.lm.jacobian_at_best.size() > 0 && r.lm.best == r.best_free) {
+            known.jacobian = &r.lm.jacobian_at_best;
+            known.sum_of_squares = r.lm.best_cost;
+        }
+        r.uncertainty = estimate_uncertainty(problem, r.best_free, known);
+    }
     r.wall_seconds = std::chrono::duration<double>(clock::now() - t0).count();
     return r;
 }
