@@ -94,8 +94,9 @@ TEST_CASE("the uncertainty from a given sensitivity Jacobian equals the one comp
 }
 
 TEST_CASE("with finite differences asked for, a given Jacobian is not used", "[uncertainty]") {
-    // The experiment's uncertainty then comes from central differences, a least-squares
-    // fit's Jacobian from one-sided ones: the given one (here doubled, to tell) is ignored.
+    // The uncertainty then takes central differences with its own step (1e-6·|p|), which
+    // a least-squares fit's difference Jacobian does not share (its step, one-sided at a
+    // bound): the given one (here doubled, to tell) is ignored.
     const Experiment ex = cvt_near_truth({{"estimation.lm.jacobian", "fd"}});
     const IdentificationProblem problem(ex);
     const std::vector<double> at = problem.initial();
