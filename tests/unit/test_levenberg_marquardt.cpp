@@ -1,6 +1,7 @@
 // Levenberg–Marquardt with bounds on least-squares problems with a known answer. Every
 // problem here has an analytic Jacobian (checked once against central differences).
 #include <catch2/catch.hpp>
+#include <Eigen/QR>
 #include <array>
 #include <cmath>
 #include <limits>
@@ -165,6 +166,23 @@ struct OptimumOnBound : LeastSquaresProblem {
     }
 };
 
+// Linear residuals r = A x − b: one Gauss–Newton step from anywhere is the minimum.
+struct LinearResiduals : LeastSquaresProblem {
+    Eigen::MatrixXd A;
+    Eigen::VectorXd b;
+    std::size_t residual_count() const override { return static_cast<std::size_t>(A.rows()); }
+    bool residuals(const double* x, double* r) override {
+        Eigen::Map<Eigen::VectorXd>(r, A.rows()) = A * Eigen::Map<const Eigen::VectorXd>(x, A.cols()) - b;
+        return true;
+    }
+    bool jacobian(const double* x, double* r, Eigen::MatrixXd& J) override {
+        residuals(x, r);
+        J = A;
+        return true;
+    }
+    double cost(const Eigen::VectorXd& x) const { return (A * x - b).squaredNorm(); }
+};
+
 // Central differences of residuals(): only to check the analytic Jacobians above.
 double jacobian_error(LeastSquaresProblem& problem, std::vector<double> x) {
     const auto n = problem.residual_count();
@@ -274,6 +292,76 @@ TEST_CASE("LM ends exactly on a bound when the unconstrained minimum lies outsid
         CHECK(s.best_cost == Approx(1.0 + 100.0 * (x2 - 4) * (x2 - 4) + (1 + 0.1 * x2) * (1 + 0.1 * x2)));
         CHECK(non_increasing(s.history));
     }
+}
+
+TEST_CASE("LM's step that meets a bound is the best one along it, not the free step cut off", "[lm]") {
+    // Two strongly correlated parameters (columns 0.95 apart): the free minimum has x0 above
+    // its bound. Cut off there, the step would keep x1's value that compensated for the part
+    // of x0 cut off; solved again with x0 on the bound, x1 takes its best value for that x0.
+    // With almost no damping the first step lands on the constrained minimum.
+    LinearResiduals problem;
+    problem.A.resize(3, 2);
+    problem.A << 1.0, 0.95,  //
+        0.95, 1.0,           //
+        0.2, -0.1;
+    problem.b = Eigen::Vector3d(2.0, 1.0, 0.5);
+    const Eigen::VectorXd free_minimum = problem.A.colPivHouseholderQr().solve(problem.b);
+    const double bound = 0.5;
+    REQUIRE(free_minimum[0] > bound + 1.0);
+    // x0 on its bound, x1 the least-squares fit of the rest; the gradient there pushes x0 outward.
+    const Eigen::VectorXd a0 = problem.A.col(0), a1 = problem.A.col(1);
+    const double x1 = a1.dot(problem.b - a0 * bound) / a1.squaredNorm();
+    const Eigen::Vector2d constrained(bound, x1);
+    REQUIRE((problem.A.transpose() * (problem.A * constrained - problem.b))[0] < 0);
+    const Eigen::Vector2d cut_off(bound, free_minimum[1]);
+    REQUIRE(problem.cost(cut_off) > 1.5 * problem.cost(constrained));
+
+    LmSettings settings;
+    settings.initial_damping = 1e-12;
+    const auto s = run_levenberg_marquardt(settings, {0.0, 0.0}, {-10.0, -10.0}, {bound, 10.0}, problem);
+    CAPTURE(s.termination, s.iterations);
+    CHECK(s.success);
+    REQUIRE(s.history.size() >= 2);
+    CHECK(s.history[1].best_cost == Approx(problem.cost(constrained)).epsilon(1e-9));  // the first step
+    CHECK(s.best[0] == bound);
+    CHECK(s.best[1] == Approx(x1).epsilon(1e-10));
+    CHECK(s.iterations <= 3);
+}
+
+TEST_CASE("LM's step that meets two bounds puts both on them and solves the third", "[lm]") {
+    // Three parameters, the free minimum above x0's upper bound and below x1's lower one.
+    LinearResiduals problem;
+    problem.A.resize(4, 3);
+    problem.A << 1.0, 0.5, 0.3,  //
+        0.4, 1.0, -0.4,          //
+        0.1, -0.3, 1.0,          //
+        0.5, 0.2, 0.6;
+    problem.b = Eigen::Vector4d(1.7, -2.05, 1.72, 1.17);  // A (3, −3, 0.5) + (0.05, −0.05, 0.02, −0.03)
+    const Eigen::VectorXd free_minimum = problem.A.colPivHouseholderQr().solve(problem.b);
+    const double upper0 = 1.0, lower1 = -1.0;
+    REQUIRE(free_minimum[0] > upper0);
+    REQUIRE(free_minimum[1] < lower1);
+    const Eigen::VectorXd a2 = problem.A.col(2);
+    const double x2 =
+        a2.dot(problem.b - problem.A.col(0) * upper0 - problem.A.col(1) * lower1) / a2.squaredNorm();
+    const Eigen::Vector3d constrained(upper0, lower1, x2);
+    const Eigen::Vector3d gradient = problem.A.transpose() * (problem.A * constrained - problem.b);
+    REQUIRE(gradient[0] < 0);  // both bounds hold at that point: it is the constrained minimum
+    REQUIRE(gradient[1] > 0);
+
+    LmSettings settings;
+    settings.initial_damping = 1e-12;
+    const auto s =
+        run_levenberg_marquardt(settings, {0.0, 0.0, 0.0}, {-10.0, lower1, -10.0}, {upper0, 10.0, 10.0}, problem);
+    CAPTURE(s.termination, s.iterations, free_minimum.transpose());
+    CHECK(s.success);
+    REQUIRE(s.history.size() >= 2);
+    CHECK(s.history[1].best_cost == Approx(problem.cost(constrained)).epsilon(1e-9));  // the first step
+    CHECK(s.best[0] == upper0);
+    CHECK(s.best[1] == lower1);
+    CHECK(s.best[2] == Approx(x2).epsilon(1e-10));
+    CHECK(s.best_cost == Approx(problem.cost(constrained)).epsilon(1e-12));
+    CHECK(s.iterations <= 4);
 }
 
 TEST_CASE("LM treats failed or non-finite evaluations as rejected steps", "[lm]") {

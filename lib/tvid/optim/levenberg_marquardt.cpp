@@ -108,7 +108,8 @@ LmSummary run_levenberg_marquardt(const LmSettings& settings, std::vector<double
     Eigen::MatrixXd R = Eigen::MatrixXd::Zero(m, m);
     Eigen::HouseholderQR<Eigen::MatrixXd> qr_j(n, m);
     DampedStep damped(m);
-    std::vector<char> held(mu, 0), held_trial(mu, 0);
+    std::vector<char> held(mu, 0), held_trial(mu, 0), on_bound(mu, 0);
+    Eigen::VectorXd to_bound(m), qtr_on_bound(m);
 
     LmSummary s;
     s.best.assign(mu, 0.0);
@@ -144,9 +145,17 @@ LmSummary run_levenberg_marquardt(const LmSettings& settings, std::vector<double
         return s;
     }
 
-    // The trial point for damping λ: the step, with a parameter on a bound whose step
-    // points outward joining the held set and the step solved again (at most M times),
-    // projected on the box so that the trial point is feasible.
+    // The trial point for damping λ, feasible:
+    //  1. a parameter on a bound whose step points outward joins the held set (p_j = 0), and
+    //     the step is solved again;
+    //  2. a free parameter whose step would cross a bound is put on it (p_j = its distance
+    //     to the bound, δ_j), and the step of the others is solved again for that
+    //     displacement: min ‖R p + Qᵀr‖² + λ‖D p‖² with p_j = δ_j, i.e. with Qᵀr + R δ
+    //     on the right and those columns held. The step cut off at the bound instead keeps
+    //     the others' values that compensated for the part cut off: with correlated
+    //     parameters it can predict an increase, and LM then rejects it and raises λ until
+    //     the step stays inside.
+    // Each repeats while the set grows (at most M times each).
     struct TrialStep {
         bool finite = false, moves = false;
         double predicted = 0.0;  // the reduction of ½‖r‖² that the linear model predicts
@@ -164,6 +173,23 @@ LmSummary run_levenberg_marquardt(const LmSettings& settings, std::vector<double
                 }
             }
             if (!changed) break;
+        }
+        on_bound = held_trial;
+        to_bound.setZero();
+        for (Index pass = 0; pass <= m; ++pass) {
+            bool changed = false;
+            for (Index j = 0; j < m; ++j) {
+                auto& b = on_bound[static_cast<std::size_t>(j)];
+                if (b || !(x[j] + p[j] < lo[j] || x[j] + p[j] > hi[j])) continue;
+                to_bound[j] = (x[j] + p[j] < lo[j] ? lo[j] : hi[j]) - x[j];
+                b = 1;
+                changed = true;
+            }
+            if (!changed) break;
+            qtr_on_bound.noalias() = R.triangularView<Eigen::Upper>() * to_bound;
+            qtr_on_bound += qtr;
+            damped.solve(R, qtr_on_bound, scale, damping, on_bound, p);
+            p += to_bound;  // held: 0 + 0; put on a bound: 0 + δ_j
         }
         TrialStep t;
         for (Index j = 0; j < m; ++j) {

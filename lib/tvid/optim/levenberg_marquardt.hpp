@@ -12,8 +12,10 @@
 //  * step from the damped least-squares system  min ‖J p + r‖² + λ ‖D p‖², solved by a QR
 //    of J once per Jacobian and a small QR of [R; √λ D] per trial (no normal equations);
 //  * bounds by an active set (a parameter on a bound whose gradient, or whose step,
-//    points outward is held for that step) and projection of the trial point on the box,
-//    so every iterate is feasible and an optimum on a bound is reached exactly;
+//    points outward is held for that step); a parameter whose step would cross a bound is
+//    put on it and the others' step solved again for that displacement, so every iterate
+//    is feasible, a step along a bound is the model's best one there, and an optimum on a
+//    bound is reached exactly;
 //  * gain ratio ρ = actual / predicted reduction: accept when ρ > 1e-4, Nielsen's update
 //    of λ (λ·max(1/3, 1 − (2ρ − 1)³) on success, λ·ν with ν doubling on failure);
 //  * a failed evaluation (false or non-finite residuals) is a rejected step;
