@@ -198,7 +198,8 @@ LmSummary run_levenberg_marquardt(const LmSettings& settings, std::vector<double
             if (taken[j] != 0) t.moves = true;
         }
         t.finite = taken.allFinite();
-        // For the projected step s: ½‖r‖² − ½‖r + J s‖² = −(Qᵀr)ᵀ(R s) − ½‖R s‖².
+        // (The clamp above only catches rounding of x + δ_j.) For the step s taken:
+        // ½‖r‖² − ½‖r + J s‖² = −(Qᵀr)ᵀ(R s) − ½‖R s‖².
         if (t.finite) {
             Rs.noalias() = R.triangularView<Eigen::Upper>() * taken;
             t.predicted = -qtr.dot(Rs) - 0.5 * Rs.squaredNorm();
