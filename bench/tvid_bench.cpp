@@ -4,6 +4,11 @@
 //                                                       paper swarm (512 x 250) with the library
 //                                                       (--unbounded: without the early stop;
 //                                                       --scalar: one candidate at a time, no SIMD groups)
+//   tvid_bench cvt-pso-nonsmooth [--threads N] [--iterations K]
+//                                                       a swarm of the same size on the same window
+//                                                       with the non-smooth clearance law (eq. 7),
+//                                                       every candidate to the end: the cost of a
+//                                                       right-hand side without the smoothed law
 //   tvid_bench cvt-baseline [--iterations K]            the same swarm, straightforward code, 1 thread
 //   tvid_bench cvt-check                                baseline cost = library cost at a few points
 //   tvid_bench cvt-window --repeat R [--threads N]      one simulation of the window tiled R times
@@ -94,18 +99,22 @@ private:
 };
 
 // (a) The paper's swarm through the library's evaluator (the optimizer alone, as `tvid fit`
-// runs it before the report).
-int cvt_pso(const Args& a) {
-    const Experiment ex = load_experiment(kSource + "/configs/cvt_tipin.yaml", iteration_override(a));
+// runs it before the report); with `nonsmooth`, the same-sized swarm on the model with the
+// non-smooth law (bench/cvt_tipin_nonsmooth.yaml).
+int cvt_pso(const Args& a, bool nonsmooth) {
+    const std::string config = nonsmooth ? "/bench/cvt_tipin_nonsmooth.yaml" : "/configs/cvt_tipin.yaml";
+    const Experiment ex = load_experiment(kSource + config, iteration_override(a));
     const IdentificationProblem problem(ex);
     ParallelEvaluator evaluator(problem, a.threads);
     evaluator.set_batching(!a.scalar);
     UnboundedEvaluator unbounded(evaluator);
-    CandidateEvaluator& used = a.unbounded ? static_cast<CandidateEvaluator&>(unbounded) : evaluator;
+    // (The non-smooth swarm scores every candidate to the end: the same work whatever its path.)
+    CandidateEvaluator& used = a.unbounded || nonsmooth ? static_cast<CandidateEvaluator&>(unbounded) : evaluator;
     const auto t0 = Clock::now();
     const PsoSummary s = run_pso(ex.estimation_settings.pso, search_box(problem), used);
     const double wall = seconds_since(t0);
-    const std::string name = std::string(a.threads == 1 ? "cvt-pso-1thread" : "cvt-pso") + (a.scalar ? "-scalar" : "");
+    const std::string name = std::string(nonsmooth ? "cvt-pso-nonsmooth" : a.threads == 1 ? "cvt-pso-1thread" : "cvt-pso") +
+                             (a.scalar ? "-scalar" : "");
     // In SIMD groups: the share of the lanes' right-hand sides that a candidate needed.
     std::string note = cost_note(s.best_cost);
     if (evaluator.batching()) {
@@ -251,7 +260,8 @@ int engine_lm(const Args& a) {
 int main(int argc, char** argv) {
     const Args a = parse(argc, argv);
     try {
-        if (a.name == "cvt-pso") return cvt_pso(a);
+        if (a.name == "cvt-pso") return cvt_pso(a, false);
+        if (a.name == "cvt-pso-nonsmooth") return cvt_pso(a, true);
         if (a.name == "cvt-baseline") return cvt_baseline(a);
         if (a.name == "cvt-check") return cvt_check(a);
         if (a.name == "cvt-window") return cvt_window(a);
@@ -260,7 +270,7 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "tvid_bench %s: %s\n", a.name.c_str(), e.what());
         return 2;
     }
-    std::fprintf(stderr, "usage: tvid_bench cvt-pso|cvt-baseline|cvt-check|cvt-window|engine-lm [--threads N] "
+    std::fprintf(stderr, "usage: tvid_bench cvt-pso|cvt-pso-nonsmooth|cvt-baseline|cvt-check|cvt-window|engine-lm [--threads N] "
                          "[--iterations K] [--repeat R]\n");
     return 2;
 }

@@ -5,7 +5,9 @@
 #
 # Usage: scripts/bench.sh [--quick] [--repeats N] [--build DIR]
 #   default  (a) the paper swarm on 1 and 2 threads, without the stop at the personal best,
-#            and one candidate at a time instead of SIMD groups; the baseline over 25
+#            one candidate at a time instead of SIMD groups, and a swarm of the same size
+#            on the non-smooth clearance law (what the rest of a right-hand side costs);
+#            the baseline over 25
 #            iterations of the same swarm, (b) the engine LM fit, (c) the batch over every
 #            usable engine cycle (cycles 2-7, minutes), (d) window length 1x/4x/16x, 3 repeats
 #   --quick  1 repeat (or --repeats N after it), the engine batch over cycles 2-3 only
@@ -62,6 +64,7 @@ run "$repeats" cvt-pso-1thread "$bench" cvt-pso --threads 1
 for r in 1 4 16; do run "$repeats" "cvt-window-x$r" "$bench" cvt-window --repeat "$r" --threads 1; done
 run "$repeats" cvt-pso-unbounded "$bench" cvt-pso --threads 2 --unbounded
 run "$repeats" cvt-pso-scalar "$bench" cvt-pso --threads 2 --scalar
+run "$repeats" cvt-pso-nonsmooth "$bench" cvt-pso-nonsmooth --threads 2
 if [ "$quick" = 1 ]; then
   run 1 engine-lm "$bench" engine-lm --threads 2
   batch 2-3
@@ -98,6 +101,13 @@ if "cvt-baseline-25it" in rows and "cvt-pso" in rows:
     if "cvt-pso-scalar" in rows:
         print(f"speed-up of the SIMD groups over one candidate at a time (same swarm, 2 threads): "
               f"{med(rows['cvt-pso-scalar'],'wall_s')/wall:.2f}x")
+    if "cvt-pso-nonsmooth" in rows and "cvt-pso-unbounded" in rows:
+        rest = med(rows["cvt-pso-nonsmooth"], "ns_per_rhs")
+        whole = med(rows["cvt-pso-unbounded"], "ns_per_rhs")
+        print(f"a right-hand side without the smoothed law (cvt-pso-nonsmooth): {rest:.2f} ns; the smoothed law: "
+              f"{whole - rest:.2f} ns ({100 * (whole - rest) / whole:.0f} % of cvt-pso-unbounded's {whole:.2f} ns)")
+        print(f"2 s of cvt-pso on 2 threads leaves {2 * 2 / med(rows['cvt-pso'], 'rhs') * 1e9:.2f} ns of thread time "
+              f"per right-hand side")
     if "cvt-pso-1thread" in rows:
         one = rows["cvt-pso-1thread"]
         print(f"speed-up from 1 to 2 threads: {med(one,'wall_s')/wall:.2f}x wall; parallel efficiency "
