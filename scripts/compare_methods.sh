@@ -12,7 +12,7 @@
 # experiment's cost (l1 for the CVT, as in seed 001). The table shows both for every run.
 #
 # Usage: scripts/compare_methods.sh [TVID] [extra tvid fit options, e.g. --threads 2]
-# Takes about 10-15 min on two cores. Needs bash and Python 3 (standard library only).
+# Takes about 4 min on two cores. Needs bash and Python 3 (standard library only).
 set -euo pipefail
 
 root="$(cd "$(dirname "$0")/.." && pwd)"
@@ -168,11 +168,12 @@ cost: mean |e| = 0.0207 (l1) on the estimation window (data/cvt/truth.json).
 Range box ×0.5 … ×2 of the truth for the swarm, pso+lm and multistart; LM and BOBYQA
 start from the configuration's prior (20 % off the truth), `lm-corner` from the corner
 J1 ×0.5, J2 ×2, J3 ×0.5, m ×2, C1 ×0.5, C2 ×2, C3 ×0.5, C21 ×2, C32 ×0.5, Cxx ×2 of the
-box, where a single LM run stops in a local minimum (C1 on its bound 0); CRS2 searches
-the bounds. The truth's own cost on these data is about 1e-9 (Σe², the independent
-generator's integration error). A local method's result depends on its start (compare
-`lm` and `lm-corner`), and `pso+lm` is only as good as the basin its swarm finds: a swarm
-too small for ten parameters can hand LM a point outside the global basin.
+box, from which LM's path runs along the bounds and takes long (see
+[performance.md](performance.md), "Steps that meet a bound"); CRS2 searches the bounds.
+The truth's own cost on these data is about 1e-9 (Σe², the independent generator's
+integration error). A local method's result depends on its start (compare `lm` and
+`lm-corner`), and `pso+lm` is only as good as the basin its swarm finds: a swarm too
+small for ten parameters can hand LM a point outside the global basin.
 
 {header}
 """ + "\n".join(rows["engine"]) + f"""
