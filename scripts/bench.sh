@@ -7,9 +7,9 @@
 #   default  (a) the paper swarm on 1 and 2 threads, without the stop at the personal best,
 #            one candidate at a time instead of SIMD groups, and a swarm of the same size
 #            on the non-smooth clearance law (what the rest of a right-hand side costs);
-#            the baseline over 25
-#            iterations of the same swarm, (b) the engine LM fit, (c) the batch over every
-#            usable engine cycle (cycles 2-7, minutes), (d) window length 1x/4x/16x, 3 repeats
+#            the baseline over 25 iterations of the same swarm, (b) the engine LM fit,
+#            (c) the batch over every usable engine cycle (cycles 2-7, minutes),
+#            (d) window length 1x/4x/16x, 3 repeats
 #   --quick  1 repeat (or --repeats N after it), the engine batch over cycles 2-3 only
 # The baseline's wall time for the whole swarm is extrapolated from its simulations per
 # second (it is one thread, one candidate at a time; its time per simulation is steady).
