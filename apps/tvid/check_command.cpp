@@ -10,7 +10,7 @@
 
 #include "commands.hpp"
 #include "tvid/io/atomic_file.hpp"
-#include "tvid/report/reference_check.hpp"
+#include "tvid/check/reference_check.hpp"
 #include "tvid/util/input_error.hpp"
 
 namespace tvid::cli {

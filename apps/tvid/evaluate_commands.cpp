@@ -4,7 +4,7 @@
 #include <sstream>
 
 #include "commands.hpp"
-#include "tvid/estimation/evaluation.hpp"
+#include "tvid/analysis/evaluation.hpp"
 #include "tvid/estimation/parallel_evaluator.hpp"
 #include "tvid/experiment/experiment.hpp"
 #include "tvid/io/atomic_file.hpp"

@@ -1,6 +1,6 @@
 #include "terminal.hpp"
 
-#include "tvid/estimation/identifiability.hpp"
+#include "tvid/analysis/identifiability.hpp"
 
 #include <unistd.h>
 

@@ -13,7 +13,7 @@
 #include <sstream>
 
 #include "support/test_files.hpp"
-#include "tvid/estimation/evaluation.hpp"
+#include "tvid/analysis/evaluation.hpp"
 #include "tvid/experiment/experiment.hpp"
 #include "tvid/fit/fit_run.hpp"
 

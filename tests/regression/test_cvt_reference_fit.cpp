@@ -6,7 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "support/test_files.hpp"
-#include "tvid/estimation/evaluation.hpp"
+#include "tvid/analysis/evaluation.hpp"
 #include "tvid/experiment/experiment.hpp"
 #include "tvid/fit/fit_run.hpp"
 

@@ -3,7 +3,7 @@
 #include <catch2/catch.hpp>
 
 #include "support/test_files.hpp"
-#include "tvid/estimation/evaluation.hpp"
+#include "tvid/analysis/evaluation.hpp"
 #include "tvid/estimation/identification_problem.hpp"
 #include "tvid/experiment/experiment.hpp"
 

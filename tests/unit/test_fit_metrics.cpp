@@ -2,7 +2,7 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 
-#include "tvid/estimation/fit_metrics.hpp"
+#include "tvid/analysis/fit_metrics.hpp"
 
 using namespace tvid;
 

@@ -8,7 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "support/test_files.hpp"
-#include "tvid/estimation/identifiability.hpp"
+#include "tvid/analysis/identifiability.hpp"
 #include "tvid/experiment/experiment.hpp"
 
 using namespace tvid;

@@ -3,8 +3,8 @@
 #include <catch2/catch.hpp>
 
 #include "support/test_files.hpp"
-#include "tvid/report/parameter_expression.hpp"
-#include "tvid/report/reference_check.hpp"
+#include "tvid/check/parameter_expression.hpp"
+#include "tvid/check/reference_check.hpp"
 #include "tvid/util/input_error.hpp"
 
 using namespace tvid;

@@ -6,7 +6,7 @@
 #include <limits>
 
 #include "support/test_files.hpp"
-#include "tvid/estimation/evaluation.hpp"
+#include "tvid/analysis/evaluation.hpp"
 #include "tvid/estimation/identification_problem.hpp"
 #include "tvid/estimation/parallel_evaluator.hpp"
 #include "tvid/experiment/experiment.hpp"

@@ -7,7 +7,7 @@
 
 #include "support/test_files.hpp"
 #include "tvid/estimation/experiment_least_squares.hpp"
-#include "tvid/estimation/uncertainty.hpp"
+#include "tvid/analysis/uncertainty.hpp"
 #include "tvid/experiment/experiment.hpp"
 #include "tvid/fit/fit_run.hpp"
 

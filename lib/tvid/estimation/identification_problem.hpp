@@ -14,7 +14,7 @@
 #include "tvid/experiment/experiment.hpp"
 #include "tvid/model/network_model.hpp"
 #include "tvid/model/packed_dual.hpp"
-#include "tvid/sim/input_channels.hpp"
+#include "tvid/channels/input_channels.hpp"
 #include "tvid/sim/simulate.hpp"
 
 namespace tvid {

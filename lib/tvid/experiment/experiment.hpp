@@ -18,6 +18,7 @@
 #include "tvid/optim/multistart_options.hpp"
 #include "tvid/optim/nlopt_options.hpp"
 #include "tvid/optim/pso_options.hpp"
+#include "tvid/sim/simulation_settings.hpp"
 
 namespace tvid {
 
@@ -60,7 +61,6 @@ struct Window {
 };
 
 enum class InitialStateKind { equilibrium, rest, measured };
-enum class IntegrationMethod { rk4, dopri5, rosenbrock4 };
 enum class CostKind { l1, l2 };
 /// pso: particle swarm (seed 001); lm: Levenberg–Marquardt (seed 000); nlopt: any NLopt
 /// algorithm; pso_lm: the swarm, then LM from its best particle; multistart: LM from
@@ -81,14 +81,6 @@ constexpr const char* optimizer_name(OptimizerKind kind) {
 /// How the Jacobian of the residuals is formed (LM steps, standard errors): forward
 /// sensitivities (seed 000 eq. 9) or central finite differences.
 enum class JacobianKind { sensitivity, fd };
-
-struct SimulationSettings {
-    IntegrationMethod method = IntegrationMethod::rk4;
-    double max_step = 0.0;       ///< rk4: largest step [s]; 0 (`step: sample`) = one step per sample interval
-    double rtol = 1e-6;          ///< dopri5, rosenbrock4
-    double atol = 1e-8;          ///< dopri5, rosenbrock4
-    std::size_t max_steps = 10'000'000;  ///< step budget per simulation (dopri5, rosenbrock4)
-};
 
 
 struct EstimationSettings {

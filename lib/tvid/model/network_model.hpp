@@ -15,7 +15,7 @@
 #include "tvid/model/network_spec.hpp"
 #include "tvid/model/slider_crank.hpp"
 #include "tvid/model/smooth_clearance.hpp"
-#include "tvid/sim/crank_angle_channels.hpp"
+#include "tvid/channels/crank_angle_channels.hpp"
 
 namespace tvid {
 

@@ -8,7 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "tvid/estimation/identifiability.hpp"
+#include "tvid/analysis/identifiability.hpp"
 #include "tvid/fit/fit_run.hpp"
 
 namespace tvid {

@@ -17,7 +17,7 @@
 #include <vector>
 
 #include "tvid/model/network_model.hpp"
-#include "tvid/sim/input_channels.hpp"
+#include "tvid/channels/input_channels.hpp"
 #include "tvid/sim/simulation_status.hpp"
 #include "tvid/simd/pack.hpp"
 

@@ -15,7 +15,7 @@
 
 #include "tvid/model/network_model.hpp"
 #include "tvid/model/packed_dual.hpp"
-#include "tvid/sim/input_channels.hpp"
+#include "tvid/channels/input_channels.hpp"
 #include "tvid/sim/simulation_status.hpp"
 
 namespace tvid {

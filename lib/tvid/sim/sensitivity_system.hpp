@@ -15,7 +15,7 @@
 
 #include "tvid/model/dual.hpp"
 #include "tvid/model/network_model.hpp"
-#include "tvid/sim/input_channels.hpp"
+#include "tvid/channels/input_channels.hpp"
 
 namespace tvid {
 

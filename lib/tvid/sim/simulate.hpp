@@ -16,10 +16,10 @@
 #include <vector>
 #include <utility>
 
-#include "tvid/experiment/experiment.hpp"
 #include "tvid/model/network_model.hpp"
 #include "tvid/sim/fixed_state_rk4.hpp"
-#include "tvid/sim/input_channels.hpp"
+#include "tvid/channels/input_channels.hpp"
+#include "tvid/sim/simulation_settings.hpp"
 #include "tvid/sim/simulation_status.hpp"
 #include "tvid/sim/stiff_network_system.hpp"
 

@@ -16,7 +16,7 @@
 
 #include "tvid/model/network_model.hpp"
 #include "tvid/model/state_jacobian.hpp"
-#include "tvid/sim/input_channels.hpp"
+#include "tvid/channels/input_channels.hpp"
 
 namespace tvid {
 

@@ -1,4 +1,4 @@
-#include "tvid/estimation/fit_metrics.hpp"
+#include "tvid/analysis/fit_metrics.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "tvid/sim/crank_angle_channels.hpp"
+#include "tvid/channels/crank_angle_channels.hpp"
 
 #include <algorithm>
 

@@ -1,4 +1,4 @@
-#include "tvid/report/fit_report_reader.hpp"
+#include "tvid/check/fit_report_reader.hpp"
 
 #include <algorithm>
 #include <fstream>

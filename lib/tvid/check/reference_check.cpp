@@ -1,4 +1,4 @@
-#include "tvid/report/reference_check.hpp"
+#include "tvid/check/reference_check.hpp"
 
 #include <algorithm>
 #include <fstream>
@@ -6,7 +6,7 @@
 #include <map>
 #include <stdexcept>
 
-#include "tvid/report/parameter_expression.hpp"
+#include "tvid/check/parameter_expression.hpp"
 #include "tvid/util/input_error.hpp"
 #include "tvid/util/text.hpp"
 

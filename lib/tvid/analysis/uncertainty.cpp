@@ -1,4 +1,4 @@
-#include "tvid/estimation/uncertainty.hpp"
+#include "tvid/analysis/uncertainty.hpp"
 
 #include "tvid/estimation/forward_sensitivity.hpp"
 

@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "tvid/estimation/uncertainty.hpp"
+#include "tvid/analysis/uncertainty.hpp"
 
 namespace tvid {
 

@@ -1,4 +1,4 @@
-#include "tvid/sim/input_channels.hpp"
+#include "tvid/channels/input_channels.hpp"
 
 #include <algorithm>
 

@@ -1,4 +1,4 @@
-#include "tvid/estimation/evaluation.hpp"
+#include "tvid/analysis/evaluation.hpp"
 
 #include <omp.h>
 

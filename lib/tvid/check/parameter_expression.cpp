@@ -1,4 +1,4 @@
-#include "tvid/report/parameter_expression.hpp"
+#include "tvid/check/parameter_expression.hpp"
 
 #include <algorithm>
 #include <cctype>

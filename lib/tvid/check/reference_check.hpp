@@ -11,7 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "tvid/report/fit_report_reader.hpp"
+#include "tvid/check/fit_report_reader.hpp"
 
 namespace tvid {
 

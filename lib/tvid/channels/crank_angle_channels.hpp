@@ -10,7 +10,7 @@
 #include <cstddef>
 #include <vector>
 
-#include "tvid/model/scalar_value.hpp"
+#include "tvid/channels/scalar_value.hpp"
 #include "tvid/simd/pack.hpp"
 
 namespace tvid {

@@ -1,4 +1,4 @@
-#include "tvid/estimation/identifiability.hpp"
+#include "tvid/analysis/identifiability.hpp"
 
 #include <cmath>
 #include <cstdio>

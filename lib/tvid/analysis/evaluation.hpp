@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "tvid/estimation/fit_metrics.hpp"
+#include "tvid/analysis/fit_metrics.hpp"
 #include "tvid/estimation/identification_problem.hpp"
 
 namespace tvid {

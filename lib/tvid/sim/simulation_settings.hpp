@@ -1,0 +1,19 @@
+#pragma once
+// How a simulation integrates the equations of motion: the experiment's `simulation:`
+// block, read by the experiment layer and used by everything that simulates.
+
+#include <cstddef>
+
+namespace tvid {
+
+enum class IntegrationMethod { rk4, dopri5, rosenbrock4 };
+
+struct SimulationSettings {
+    IntegrationMethod method = IntegrationMethod::rk4;
+    double max_step = 0.0;       ///< rk4: largest step [s]; 0 (`step: sample`) = one step per sample interval
+    double rtol = 1e-6;          ///< dopri5, rosenbrock4
+    double atol = 1e-8;          ///< dopri5, rosenbrock4
+    std::size_t max_steps = 10'000'000;  ///< step budget per simulation (dopri5, rosenbrock4)
+};
+
+}  // namespace tvid
