@@ -146,6 +146,29 @@ TEST_CASE("tvid fit writes a complete report directory", "[e2e][fit]") {
     CHECK(lines_of(sim.out).size() == 1 + 1500 + 1000);
 }
 
+TEST_CASE("the swarm in tvid fit stops each candidate at its particle's personal best", "[e2e][fit][pso]") {
+    // The paper's swarm, 20 iterations: from the second iteration on, a candidate whose
+    // partial cost passes its particle's best is not simulated to the end of the window.
+    TempDir tmp;
+    const auto out = tmp.path() / "r";
+    const RunResult r = run_tvid({"fit", (source_dir() / "configs/cvt_tipin_clean.yaml").string(), "-o", out.string(),
+                                  "--threads", "2", "--quiet", "--set", "estimation.pso.iterations=20"});
+    INFO(r.err);
+    REQUIRE(r.exit_code == 0);
+    const json optimizer = read_json(out / "summary.json")["optimizer"];
+    const long long simulations = optimizer["evaluations"].get<long long>();
+    REQUIRE(simulations == 512 * 21);
+    // A whole simulation: RK4 at one step per sample, 4 right-hand sides per step over the
+    // estimation window's samples (estimation.csv has a row per sample).
+    const std::size_t samples = lines_of(read_text(out / "estimation.csv")).size() - 1;
+    REQUIRE(samples == 1501);
+    const double whole = 4.0 * static_cast<double>(samples - 1) * static_cast<double>(simulations);
+    const double done = optimizer["right_hand_sides"].get<double>();
+    INFO("right-hand sides " << done << " of " << whole << " for whole simulations");
+    CHECK(done > 0.5 * whole);   // the first iteration alone is 1/21 of the whole
+    CHECK(done < 0.97 * whole);  // the stop at the personal best saved work
+}
+
 TEST_CASE("tvid fit --json prints the summary on stdout", "[e2e][fit]") {
     TempDir tmp;
     auto args = fit_args("cvt_tipin.yaml", (tmp.path() / "r").string());

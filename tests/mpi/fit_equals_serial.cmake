@@ -31,6 +31,12 @@ string(JSON mpi_processes GET "${mpi_summary}" processes)
 if(NOT serial_cost STREQUAL mpi_cost OR NOT serial_evaluations STREQUAL mpi_evaluations)
   message(FATAL_ERROR "cost ${serial_cost} / ${mpi_cost}, evaluations ${serial_evaluations} / ${mpi_evaluations}")
 endif()
+# The work: every process's right-hand sides summed on the root, the same as one process's.
+string(JSON serial_rhs GET "${serial_summary}" optimizer right_hand_sides)
+string(JSON mpi_rhs GET "${mpi_summary}" optimizer right_hand_sides)
+if(serial_rhs LESS_EQUAL 0 OR NOT serial_rhs EQUAL mpi_rhs)
+  message(FATAL_ERROR "right-hand sides ${serial_rhs} alone, ${mpi_rhs} under mpirun")
+endif()
 if(NOT serial_processes EQUAL 1 OR NOT mpi_processes EQUAL PROCESSES_RECORDED)
   message(FATAL_ERROR "summary.json processes: ${serial_processes} alone, ${mpi_processes} under mpirun "
                       "(expected ${PROCESSES_RECORDED})")

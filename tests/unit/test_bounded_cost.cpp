@@ -98,7 +98,7 @@ TEST_CASE("the swarm's path is bit-identical with and without bounded costs, on 
             CHECK(bounded.positions == plain.positions);            // every particle, every iteration
             CHECK(bounded.personal_bests == plain.personal_bests);  // every personal-best cost
             // The point of it: fewer right-hand sides for the same swarm.
-            CHECK(bounded_inner.rhs_evaluations() < plain_inner.rhs_evaluations());
+            CHECK(bounded_inner.right_hand_sides() < plain_inner.right_hand_sides());
         }
     }
 }

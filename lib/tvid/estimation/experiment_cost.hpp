@@ -24,6 +24,7 @@ public:
     double value(const double* x) override;
     double value_and_gradient(const double* x, double* gradient) override;
     long long simulations() const override { return least_squares_.simulations(); }
+    long long right_hand_sides() const override { return least_squares_.right_hand_sides(); }
 
     int threads() const { return least_squares_.threads(); }
 

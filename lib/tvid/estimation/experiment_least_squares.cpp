@@ -69,6 +69,13 @@ const ExperimentLeastSquares::EvaluatedPoint* ExperimentLeastSquares::find_evalu
     return nullptr;
 }
 
+long long ExperimentLeastSquares::right_hand_sides() const {
+    std::size_t total = 0;
+    for (const auto& ws : workspaces_) total += ws->buffers.rhs_evaluations;
+    for (const auto& ws : sensitivity_workspaces_) total += ws->buffers.rhs_evaluations + ws->plain->buffers.rhs_evaluations;
+    return static_cast<long long>(total);
+}
+
 bool ExperimentLeastSquares::residuals(const double* x, double* r) {
     for (EvaluatedPoint& e : evaluated_) e.valid = false;
     stopped_ = stop_requested();

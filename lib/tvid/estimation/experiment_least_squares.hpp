@@ -38,6 +38,7 @@ public:
     int threads() const { return threads_; }
     JacobianKind jacobian_kind() const { return kind_; }
     long long simulations() const override { return simulations_; }  ///< simulations run so far
+    long long right_hand_sides() const override;
 
 private:
     bool finite_difference_jacobian(const double* x, const double* r, Eigen::MatrixXd& J);

@@ -59,7 +59,7 @@ SimulationStatus ForwardSensitivity::simulate_packed(const double* free, const W
             y_store[k] = dual.model.output(static_cast<std::size_t>(ex.output_indices[k]), state.data(), u.data());
         return on_scored(i, y_store.data());
     };
-    std::size_t rhs = 0;
+    std::size_t& rhs = ws.buffers.rhs_evaluations;
     std::size_t from = w.start;
     if (problem_->warms_up(w)) {
         // The warm-up, watching the encoder node's angle at the shooting's samples.

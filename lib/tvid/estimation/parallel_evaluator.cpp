@@ -51,7 +51,7 @@ void ParallelEvaluator::evaluate_bounded(const double* candidates, std::size_t c
     stopped_ = skipped.load();
 }
 
-std::size_t ParallelEvaluator::rhs_evaluations() const {
+std::size_t ParallelEvaluator::right_hand_sides() const {
     std::size_t total = 0;
     for (const auto& ws : workspaces_) total += ws->buffers.rhs_evaluations;
     for (const auto& ws : batch_workspaces_) total += ws->rhs_evaluations + ws->scalar->buffers.rhs_evaluations;

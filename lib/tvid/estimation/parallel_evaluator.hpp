@@ -35,8 +35,8 @@ public:
     bool batching() const { return batching_; }
     /// Turns the SIMD groups off (one candidate at a time), e.g. to compare; the costs are the same.
     void set_batching(bool on) { batching_ = on && !batch_workspaces_.empty(); }
-    /// Right-hand sides evaluated so far, summed over the threads' workspaces (for benchmarks).
-    std::size_t rhs_evaluations() const;
+    /// Right-hand sides evaluated so far, summed over the threads' workspaces.
+    std::size_t right_hand_sides() const override;
     /// Of the right-hand sides the SIMD groups' lanes evaluated so far, the share that a
     /// candidate needed (the rest: lanes whose candidate was done while its group went on,
     /// and the empty lanes of the last group); 0 before any group ran.

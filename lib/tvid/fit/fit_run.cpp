@@ -32,7 +32,7 @@ OptimizerRun run_swarm(const IdentificationProblem& problem, const FitOptions& o
     r.processes = evaluator.processes();
     const SearchBox box{problem.lower(), problem.upper(), problem.range_lower(), problem.range_upper()};
     r.pso = run_pso(r.pso_settings, box, evaluator, stoppable_progress(options));
-    return OptimizerRun{"pso",
+    OptimizerRun run{"pso",
                         r.pso.best,
                         r.pso.best_cost,
                         r.pso.iterations,
@@ -41,6 +41,8 @@ OptimizerRun run_swarm(const IdentificationProblem& problem, const FitOptions& o
                         r.pso.history,
                         r.pso.termination,
                         r.pso.termination == "iteration limit"};
+    run.right_hand_sides = static_cast<long long>(evaluator.right_hand_sides());
+    return run;
 }
 
 // Seed 000: nonlinear least squares by Levenberg–Marquardt from the experiment's init.
@@ -59,7 +61,7 @@ OptimizerRun run_least_squares(const IdentificationProblem& problem, const FitOp
     };
     r.lm = run_levenberg_marquardt(r.lm_settings, problem.initial(), problem.lower(), problem.upper(), least_squares,
                                    progress);
-    return OptimizerRun{"lm",
+    OptimizerRun run{"lm",
                         r.lm.best,
                         r.lm.best_cost,
                         r.lm.iterations,
@@ -68,6 +70,8 @@ OptimizerRun run_least_squares(const IdentificationProblem& problem, const FitOp
                         history,
                         r.lm.termination,
                         r.lm.success};
+    run.right_hand_sides = least_squares.right_hand_sides();
+    return run;
 }
 
 }  // namespace

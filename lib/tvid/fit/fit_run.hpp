@@ -9,9 +9,9 @@
 #include <string>
 #include <vector>
 
-#include "tvid/estimation/evaluation.hpp"
+#include "tvid/analysis/evaluation.hpp"
 #include "tvid/estimation/identification_problem.hpp"
-#include "tvid/estimation/uncertainty.hpp"
+#include "tvid/analysis/uncertainty.hpp"
 #include "tvid/optim/levenberg_marquardt.hpp"
 #include "tvid/optim/multistart.hpp"
 #include "tvid/optim/nlopt_minimizer.hpp"
@@ -47,6 +47,10 @@ struct OptimizerRun {
     /// lm, multistart (its best start), pso+lm (its polish): an LM tolerance was met; pso: the
     /// iteration budget ran out; nlopt: a tolerance was met, or a global algorithm used its budget
     bool converged = false;
+    /// Right-hand sides of the model the optimizer's simulations evaluated, over every
+    /// thread and process: the work done (the swarm's stop at each particle's personal best
+    /// and a least-squares fit's reuse of simulations lower it).
+    long long right_hand_sides = 0;
 };
 
 struct FitResult {

@@ -25,6 +25,9 @@ public:
     /// True when a stop request (Ctrl-C) cut the last evaluate() short: some candidates
     /// were skipped (cost +inf without a simulation), so the batch must be discarded.
     virtual bool stopped() const { return false; }
+    /// Right-hand sides of the model evaluated so far (0 where the evaluator does not count
+    /// them): the work behind the costs, which the stop at a bound reduces.
+    virtual std::size_t right_hand_sides() const { return 0; }
 };
 
 }  // namespace tvid

@@ -16,6 +16,8 @@ public:
     /// Model simulations run so far when the cost counts them (a gradient may take
     /// several); -1 when it does not, and evaluations are counted instead.
     virtual long long simulations() const { return -1; }
+    /// Right-hand sides of the model evaluated so far (0 where not counted).
+    virtual long long right_hand_sides() const { return 0; }
 };
 
 }  // namespace tvid

@@ -67,6 +67,8 @@ public:
     /// Model simulations run so far when the problem counts them (a Jacobian may take
     /// several); -1 when it does not (drivers then count residual and Jacobian calls).
     virtual long long simulations() const { return -1; }
+    /// Right-hand sides of the model evaluated so far (0 where not counted).
+    virtual long long right_hand_sides() const { return 0; }
 };
 
 struct LmSummary {

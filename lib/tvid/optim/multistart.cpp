@@ -84,6 +84,7 @@ MultistartSummary run_multistart(const MultistartSettings& settings, const LmSet
                 const long long sims = problem->simulations();
                 r.evaluations = sims >= 0 ? sims : fit.residual_evaluations + fit.jacobian_evaluations;
                 r.failed_evaluations = fit.failed_evaluations;
+                r.right_hand_sides = problem->right_hand_sides();
                 r.termination = fit.termination;
                 r.success = fit.success;
             }
@@ -112,6 +113,7 @@ MultistartSummary run_multistart(const MultistartSettings& settings, const LmSet
         s.iterations += r.iterations;
         s.evaluations += r.evaluations;
         s.failed_evaluations += r.failed_evaluations;
+        s.right_hand_sides += r.right_hand_sides;
         if (std::isfinite(r.best_cost) && r.best_cost < s.best_cost) {  // a tie keeps the earlier start
             s.best_start = r.start;
             s.best_cost = r.best_cost;

@@ -30,6 +30,7 @@ struct StartResult {
     int iterations = 0;
     long long evaluations = 0;       ///< simulations (or residual + Jacobian calls when not counted)
     long long failed_evaluations = 0;
+    long long right_hand_sides = 0;  ///< of the model, in its simulations (0 when not counted)
     std::string termination;         ///< LM's reason, or "not run" when the run was stopped before it
     bool success = false;            ///< an LM tolerance was met
     std::vector<HistoryRow> history; ///< its own LM history
@@ -43,6 +44,7 @@ struct MultistartSummary {
     int iterations = 0;               ///< LM steps over all starts
     long long evaluations = 0;
     long long failed_evaluations = 0;
+    long long right_hand_sides = 0;   ///< over every start
     /// The starts' histories one after the other in start order: iterations numbered on,
     /// evaluations cumulative, best cost the lowest so far over the starts before.
     std::vector<HistoryRow> history;

@@ -18,6 +18,10 @@ public:
     DistributedEvaluator(ProcessGroup* group, CandidateEvaluator& local);
 
     void evaluate(const double* candidates, std::size_t count, std::size_t dimension, double* costs) override;
+    /// Each process scores its slice with the stop at each candidate's bound (the
+    /// particles' personal bests), as `local` alone would.
+    void evaluate_bounded(const double* candidates, std::size_t count, std::size_t dimension, const double* bounds,
+                          double* costs) override;
 
     /// The root's own slice was cut short by a stop request (Ctrl-C).
     bool stopped() const override { return local_->stopped(); }
@@ -25,9 +29,13 @@ public:
     /// Processes scoring the candidates.
     int processes() const { return group_ ? group_->size() : 1; }
 
+    /// Over every process: the root's own and those the others reported with their costs.
+    std::size_t right_hand_sides() const override { return local_->right_hand_sides() + remote_right_hand_sides_; }
+
 private:
     ProcessGroup* group_;
     CandidateEvaluator* local_;
+    std::size_t remote_right_hand_sides_ = 0;
 };
 
 /// The other processes: score their slice of every batch the root's DistributedEvaluator

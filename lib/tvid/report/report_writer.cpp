@@ -4,8 +4,8 @@
 #include <cstdio>
 #include <sstream>
 
-#include "tvid/estimation/fit_metrics.hpp"
-#include "tvid/estimation/identifiability.hpp"
+#include "tvid/analysis/fit_metrics.hpp"
+#include "tvid/analysis/identifiability.hpp"
 #include "tvid/io/atomic_file.hpp"
 #include "tvid/io/sha256.hpp"
 #include "tvid/report/optimizer_report.hpp"
@@ -154,6 +154,7 @@ json fit_summary_json(const IdentificationProblem& problem, const FitResult& fit
                    {"iterations", fit.run.iterations},
                    {"evaluations", fit.run.evaluations},
                    {"failed_evaluations", fit.run.failed_evaluations},
+                   {"right_hand_sides", fit.run.right_hand_sides},
                    {"termination", fit.run.termination},
                    {"converged", fit.run.converged}};
     optimizer.update(optimizer_details_json(ex, fit));
