@@ -9,6 +9,7 @@
 #include "tvid/io/atomic_file.hpp"
 #include "tvid/io/sha256.hpp"
 #include "tvid/report/optimizer_report.hpp"
+#include "tvid/report/report_values.hpp"
 
 namespace tvid {
 
@@ -16,30 +17,20 @@ namespace {
 
 using nlohmann::json;
 
-// JSON has no NaN or infinity: such values are written as null.
-json number(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
-
 json bound(const ParameterSetting& p, bool lower) {
     if (lower) return p.has_min ? json(p.min) : json(nullptr);
     return p.has_max ? json(p.max) : json(nullptr);
 }
 
-std::string fmt(double v, const char* format = "%.10g") {
-    if (!std::isfinite(v)) return std::isnan(v) ? "" : (v > 0 ? "inf" : "-inf");
-    char buf[40];
-    std::snprintf(buf, sizeof buf, format, v);
-    return buf;
-}
-
 json metrics_json(const FitMetrics& m) {
     return json{{"samples", m.samples},
-                {"cost_l1", number(m.mean_abs_error)},
-                {"cost_l2", number(m.sum_sq_error)},
-                {"q_index_percent", number(m.q_index)},
-                {"e0", number(m.e0)},
-                {"fit_percent", number(m.fit_percent)},
-                {"rmse", number(m.rmse)},
-                {"max_abs_residual_ratio", number(m.max_abs_residual_ratio)}};
+                {"cost_l1", json_number(m.mean_abs_error)},
+                {"cost_l2", json_number(m.sum_sq_error)},
+                {"q_index_percent", json_number(m.q_index)},
+                {"e0", json_number(m.e0)},
+                {"fit_percent", json_number(m.fit_percent)},
+                {"rmse", json_number(m.rmse)},
+                {"max_abs_residual_ratio", json_number(m.max_abs_residual_ratio)}};
 }
 
 // Index of free parameter for model parameter i, or -1.
@@ -83,12 +74,12 @@ json parameters_json(const IdentificationProblem& problem, const FitResult& fit)
     for (std::size_t i = 0; i < ex.parameters.size(); ++i) {
         const ParameterSetting& p = ex.parameters[i];
         const int j = free_position(problem, i);
-        json entry{{"name", p.name},        {"value", number(fit.best_params[i])}, {"init", p.init},
+        json entry{{"name", p.name},        {"value", json_number(fit.best_params[i])}, {"init", p.init},
                    {"min", bound(p, true)}, {"max", bound(p, false)},              {"fixed", p.fixed}};
         if (j >= 0 && fit.uncertainty.available) {
             const auto jj = static_cast<std::size_t>(j);
-            entry["std_error"] = number(fit.uncertainty.std_error[jj]);
-            entry["ci95"] = json::array({number(fit.uncertainty.ci_low[jj]), number(fit.uncertainty.ci_high[jj])});
+            entry["std_error"] = json_number(fit.uncertainty.std_error[jj]);
+            entry["ci95"] = json::array({json_number(fit.uncertainty.ci_low[jj]), json_number(fit.uncertainty.ci_high[jj])});
             entry["determined"] = static_cast<bool>(fit.uncertainty.determined[jj]);
         } else {
             entry["std_error"] = nullptr;
@@ -100,7 +91,7 @@ json parameters_json(const IdentificationProblem& problem, const FitResult& fit)
     json correlation{{"parameters", problem.free_names()}, {"matrix", json::array()}};
     for (const auto& row : fit.uncertainty.correlation) {
         json r = json::array();
-        for (double c : row) r.push_back(number(c));
+        for (double c : row) r.push_back(json_number(c));
         correlation["matrix"].push_back(r);
     }
     return json{{"experiment", ex.name}, {"model", ex.network.preset}, {"parameters", params},
@@ -112,8 +103,8 @@ json identifiability_json(const IdentifiabilityReport& report) {
     std::vector<std::string> undetermined;
     for (const ParameterIdentifiability& p : report.parameters) {
         parameters.push_back(json{{"name", p.name},
-                                  {"std_error", number(p.std_error)},
-                                  {"relative_std_error", number(p.relative_std_error)},
+                                  {"std_error", json_number(p.std_error)},
+                                  {"relative_std_error", json_number(p.relative_std_error)},
                                   {"flag", to_string(p.flag)}});
         if (p.flag == IdentifiabilityFlag::undetermined) undetermined.push_back(p.name);
     }
@@ -136,7 +127,7 @@ json identifiability_json(const IdentifiabilityReport& report) {
                 {"rank", report.rank},
                 {"of", report.of},
                 {"free_parameters", report.of},
-                {"condition_number", number(report.condition_number)},
+                {"condition_number", json_number(report.condition_number)},
                 {"parameters", parameters},
                 {"undetermined", undetermined},
                 {"correlated_pairs", pairs},
@@ -170,7 +161,7 @@ json fit_summary_json(const IdentificationProblem& problem, const FitResult& fit
            {"data_sha256", file_digest(ex.data_file)},
            {"model", ex.network.preset},
            {"cost", {{"kind", ex.estimation_settings.cost == CostKind::l1 ? "l1" : "l2"},
-                     {"value", number(fit.evaluation.cost)}}},
+                     {"value", json_number(fit.evaluation.cost)}}},
            {"optimizer", optimizer},
            {"threads", fit.threads},
            {"processes", fit.processes},
@@ -194,10 +185,10 @@ std::string trace_csv(const Experiment& experiment, const SplitEvaluation& split
     for (const WindowEvaluation& w : split.windows) {
         const WindowTrace& tr = w.trace;
         for (std::size_t i = 0; i < tr.time.size(); ++i) {
-            out << fmt(tr.time[i], "%.9g") << ',' << tr.window->label;  // labels hold no comma
+            out << csv_cell(tr.time[i], "%.9g") << ',' << tr.window->label;  // labels hold no comma
             for (std::size_t k = 0; k < tr.measured.size(); ++k) {
                 const double y = tr.measured[k][i], ys = tr.simulated[k][i];
-                out << ',' << fmt(y) << ',' << fmt(ys) << ',' << fmt(y - ys) << ',' << fmt(residual_ratio(y, ys));
+                out << ',' << csv_cell(y) << ',' << csv_cell(ys) << ',' << csv_cell(y - ys) << ',' << csv_cell(residual_ratio(y, ys));
             }
             out << '\n';
         }
@@ -224,10 +215,10 @@ void write_fit_report(const std::filesystem::path& dir, const IdentificationProb
         const int j = free_position(problem, i);
         const bool unc = j >= 0 && fit.uncertainty.available;
         const auto jj = static_cast<std::size_t>(std::max(j, 0));
-        csv << p.name << ',' << fmt(fit.best_params[i], "%.17g") << ',' << fmt(p.init, "%.17g") << ','
-            << (p.has_min ? fmt(p.min, "%.17g") : "") << ',' << (p.has_max ? fmt(p.max, "%.17g") : "") << ','
-            << (p.fixed ? "true" : "false") << ',' << (unc ? fmt(fit.uncertainty.std_error[jj]) : "") << ','
-            << (unc ? fmt(fit.uncertainty.ci_low[jj]) : "") << ',' << (unc ? fmt(fit.uncertainty.ci_high[jj]) : "")
+        csv << p.name << ',' << csv_cell(fit.best_params[i], "%.17g") << ',' << csv_cell(p.init, "%.17g") << ','
+            << (p.has_min ? csv_cell(p.min, "%.17g") : "") << ',' << (p.has_max ? csv_cell(p.max, "%.17g") : "") << ','
+            << (p.fixed ? "true" : "false") << ',' << (unc ? csv_cell(fit.uncertainty.std_error[jj]) : "") << ','
+            << (unc ? csv_cell(fit.uncertainty.ci_low[jj]) : "") << ',' << (unc ? csv_cell(fit.uncertainty.ci_high[jj]) : "")
             << '\n';
     }
     write_file_atomically(dir / "params.csv", csv.str());
@@ -238,7 +229,7 @@ void write_fit_report(const std::filesystem::path& dir, const IdentificationProb
     std::ostringstream hist;
     hist << "iteration,evaluations,best_cost\n";
     for (const HistoryRow& h : fit.run.history)
-        hist << h.iteration << ',' << h.evaluations << ',' << fmt(h.best_cost, "%.17g") << '\n';
+        hist << h.iteration << ',' << h.evaluations << ',' << csv_cell(h.best_cost, "%.17g") << '\n';
     write_file_atomically(dir / "history.csv", hist.str());
     const std::string starts = starts_csv(problem, fit);
     if (!starts.empty()) write_file_atomically(dir / "starts.csv", starts);

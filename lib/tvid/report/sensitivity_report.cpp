@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "tvid/io/atomic_file.hpp"
+#include "tvid/report/report_values.hpp"
 
 namespace tvid {
 
@@ -18,20 +19,12 @@ using nlohmann::json;
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-// JSON has no NaN or infinity: such values are written as null.
-json number(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
-
-// CSV cell: NaN is empty, infinities are inf/-inf (docs/report-format.md, conventions).
-std::string fmt(double v, const char* format = "%.10g") {
-    if (!std::isfinite(v)) return std::isnan(v) ? "" : (v > 0 ? "inf" : "-inf");
-    char buf[40];
-    std::snprintf(buf, sizeof buf, format, v == 0.0 ? 0.0 : v);  // no "-0" for p·0 with p < 0
-    return buf;
-}
+// A CSV cell without "-0" (p·0 with p < 0 is -0).
+std::string sensitivity_cell(double v, const char* format = "%.10g") { return csv_cell(v == 0.0 ? 0.0 : v, format); }
 
 // The shortest text that reads back to exactly v (parameter values).
 std::string exact(double v) {
-    if (!std::isfinite(v)) return fmt(v);
+    if (!std::isfinite(v)) return sensitivity_cell(v);
     char buf[40];
     const auto end = std::to_chars(buf, buf + sizeof buf, v).ptr;
     return std::string(buf, end);
@@ -118,11 +111,11 @@ std::string sensitivity_csv(const SensitivityStudy& study) {
         for (std::size_t i = 0; i < w.time.size(); ++i) {
             for (std::size_t k = 0; k < study.outputs.size(); ++k) {
                 // labels hold no comma
-                out << w.window->label << ',' << fmt(w.time[i]) << ',' << study.outputs[k] << ','
-                    << fmt(at(w.output[k], i));
-                for (std::size_t j = 0; j < study.free.size(); ++j) out << ',' << fmt(at(w.dydp[k][j], i));
+                out << w.window->label << ',' << sensitivity_cell(w.time[i]) << ',' << study.outputs[k] << ','
+                    << sensitivity_cell(at(w.output[k], i));
+                for (std::size_t j = 0; j < study.free.size(); ++j) out << ',' << sensitivity_cell(at(w.dydp[k][j], i));
                 for (std::size_t j = 0; j < study.free.size(); ++j)
-                    out << ',' << fmt(study.values[study.free[j]] * at(w.dydp[k][j], i));
+                    out << ',' << sensitivity_cell(study.values[study.free[j]] * at(w.dydp[k][j], i));
                 out << '\n';
             }
         }
@@ -136,7 +129,7 @@ std::string ranking_csv(const std::vector<OutputRanking>& rankings) {
     for (const OutputRanking& r : rankings)
         for (const ParameterRank& p : r.ranks)
             out << r.output << ',' << p.rank << ',' << p.parameter << ',' << exact(p.value) << ','
-                << fmt(p.rms_scaled) << ',' << fmt(p.relative) << ',' << fmt(p.rms_raw) << '\n';
+                << sensitivity_cell(p.rms_scaled) << ',' << sensitivity_cell(p.relative) << ',' << sensitivity_cell(p.rms_raw) << '\n';
     return out.str();
 }
 
@@ -145,7 +138,7 @@ json sensitivity_json(const SensitivityStudy& study, const std::vector<OutputRan
     json parameters = json::array();
     for (std::size_t i = 0; i < study.parameters.size(); ++i) {
         const bool is_free = std::find(study.free.begin(), study.free.end(), i) != study.free.end();
-        parameters.push_back(json{{"name", study.parameters[i]}, {"value", number(study.values[i])}, {"fixed", !is_free}});
+        parameters.push_back(json{{"name", study.parameters[i]}, {"value", json_number(study.values[i])}, {"fixed", !is_free}});
     }
     json windows = json::array();
     for_each_window(study, [&](const WindowSensitivity& w, const char* split) {
@@ -161,10 +154,10 @@ json sensitivity_json(const SensitivityStudy& study, const std::vector<OutputRan
         for (const ParameterRank& p : r.ranks)
             ranks.push_back(json{{"rank", p.rank},
                                  {"parameter", p.parameter},
-                                 {"value", number(p.value)},
-                                 {"rms_scaled", number(p.rms_scaled)},
-                                 {"rms_raw", number(p.rms_raw)},
-                                 {"relative", number(p.relative)}});
+                                 {"value", json_number(p.value)},
+                                 {"rms_scaled", json_number(p.rms_scaled)},
+                                 {"rms_raw", json_number(p.rms_raw)},
+                                 {"relative", json_number(p.relative)}});
         ranking[r.output] = ranks;
     }
     json free_names = json::array();
