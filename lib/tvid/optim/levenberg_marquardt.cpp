@@ -143,10 +143,11 @@ private:
     enum class Acceptance { accepted, failed, stopped };
 
     // The end of the run at the current point.
-    void finish(const char* reason, bool converged) {
+    void finish(TerminationType type, const char* reason) {
         for (Index j = 0; j < m_; ++j) s_.best[static_cast<std::size_t>(j)] = x_[j];
+        s_.termination_type = type;
         s_.termination = reason;
-        s_.success = converged;
+        s_.success = type == TerminationType::converged;
     }
     // The current point's cost and Jacobian become the result's.
     void keep_current_point() {
@@ -166,18 +167,18 @@ private:
         if (!evaluate_jacobian(problem_, x_, r_, J_)) {
             s_.best_cost = s_.initial_cost = inf;
             if (problem_.stopped()) {
-                finish("stopped", false);
+                finish(TerminationType::stopped, "stopped");
                 return false;
             }
             ++s_.failed_evaluations;
             s_.history.push_back(HistoryRow{0, s_.jacobian_evaluations, inf});
-            finish("start failed", false);
+            finish(TerminationType::start_failed, "start failed");
             return false;
         }
         f_ = 0.5 * r_.squaredNorm();  // the solver's cost ½‖r‖²; reported as Σr² = 2f
         s_.initial_cost = 2.0 * f_;
         if (!record(0)) {
-            finish("stopped", false);
+            finish(TerminationType::stopped, "stopped");
             keep_current_point();
             return false;
         }
@@ -191,7 +192,7 @@ private:
             if (!set_up_jacobian()) return false;
         }
         if (s_.iterations >= settings_.max_iterations) {
-            finish("iteration limit", false);
+            finish(TerminationType::iteration_limit, "iteration limit");
             return false;
         }
         ++s_.iterations;
@@ -200,7 +201,7 @@ private:
         TrialPoint point = evaluate_trial_point(trial);
         if (point.halted) {  // drop this trial, stop at the last accepted point
             --s_.iterations;
-            finish("stopped", false);
+            finish(TerminationType::stopped, "stopped");
             return false;
         }
         const double f_before = f_;
@@ -213,7 +214,7 @@ private:
                 case Acceptance::accepted: break;
                 case Acceptance::stopped:  // drop this trial, stop at the last accepted point
                     --s_.iterations;
-                    finish("stopped", false);
+                    finish(TerminationType::stopped, "stopped");
                     return false;
                 case Acceptance::failed: accepted = point.evaluable = false; break;
             }
@@ -242,7 +243,7 @@ private:
             held_[static_cast<std::size_t>(j)] =
                 lo_[j] == hi_[j] || (x_[j] <= lo_[j] && gradient_[j] > 0) || (x_[j] >= hi_[j] && gradient_[j] < 0);
         if (scaled_gradient_norm() <= settings_.gtol) {
-            finish("gradient below gtol", true);
+            finish(TerminationType::converged, "gradient below gtol");
             return false;
         }
         factorize_jacobian();
@@ -419,23 +420,23 @@ private:
         const bool small_step = trial.finite && step_norm <= settings_.xtol * (x_norm + settings_.xtol);
         if (accepted && f_before > 0 && std::abs(actual) <= settings_.ftol * f_before &&
             trial.predicted <= settings_.ftol * f_before) {
-            finish("cost change below ftol", true);
+            finish(TerminationType::converged, "cost change below ftol");
             return true;
         }
         // A step that cannot be evaluated says nothing about convergence; a tiny evaluable
         // step means the iterates have settled, or that no smaller one lowers the cost
         // (MINPACK's xtol test), unless failed evaluations forced it to be that small.
         if (evaluable && small_step) {
-            if (blocked) finish("no progress", false);
-            else finish("step below xtol", true);
+            if (blocked) finish(TerminationType::no_progress, "no progress");
+            else finish(TerminationType::converged, "step below xtol");
             return true;
         }
         if (!go_on) {
-            finish("stopped", false);
+            finish(TerminationType::stopped, "stopped");
             return true;
         }
         if (!accepted && (rejected_in_row_ >= settings_.max_consecutive_rejections || !std::isfinite(lambda_))) {
-            finish("no progress", false);
+            finish(TerminationType::no_progress, "no progress");
             return true;
         }
         return false;
