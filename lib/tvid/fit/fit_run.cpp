@@ -122,8 +122,7 @@ int planned_iterations(const EstimationSettings& settings) {
         case OptimizerKind::nlopt: return static_cast<int>(std::min<long long>(settings.nlopt.max_evaluations, 1 << 30));
         case OptimizerKind::pso_lm: return settings.pso.iterations + 1 + settings.lm.max_iterations;
         case OptimizerKind::multistart: {
-            const int per_start =
-                settings.multistart.max_iterations > 0 ? settings.multistart.max_iterations : settings.lm.max_iterations;
+            const int per_start = settings.multistart.max_iterations.value_or(settings.lm.max_iterations);
             return settings.multistart.starts * per_start;
         }
     }

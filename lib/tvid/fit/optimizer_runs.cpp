@@ -54,7 +54,7 @@ OptimizerRun run_multistart_fit(const IdentificationProblem& problem, const FitO
     r.multistart_settings = settings.multistart;
     if (options.seed) r.multistart_settings.seed = *options.seed;
     r.lm_settings = settings.lm;
-    if (r.multistart_settings.max_iterations > 0) r.lm_settings.max_iterations = r.multistart_settings.max_iterations;
+    if (r.multistart_settings.max_iterations) r.lm_settings.max_iterations = *r.multistart_settings.max_iterations;
     const SearchBox box{problem.lower(), problem.upper(), problem.range_lower(), problem.range_upper()};
     const JacobianKind jacobian = settings.jacobian;
     const std::atomic<bool>* stop = options.stop;

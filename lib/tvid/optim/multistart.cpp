@@ -30,7 +30,7 @@ MultistartSummary run_multistart(const MultistartSettings& settings, const LmSet
     const auto n = static_cast<std::size_t>(settings.starts);
     const std::vector<double> points = multistart_points(settings, box);
     LmSettings per_start = lm;
-    if (settings.max_iterations > 0) per_start.max_iterations = settings.max_iterations;
+    if (settings.max_iterations) per_start.max_iterations = *settings.max_iterations;
 
     if (threads <= 0) threads = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
     MultistartSummary s;
