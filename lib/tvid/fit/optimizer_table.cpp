@@ -1,6 +1,7 @@
 #include "tvid/fit/optimizer_table.hpp"
 
 #include <stdexcept>
+#include <string>
 
 namespace tvid {
 
@@ -21,7 +22,8 @@ const std::vector<OptimizerEntry>& optimizer_table() {
 const OptimizerEntry& optimizer_entry(OptimizerKind kind) {
     for (const OptimizerEntry& entry : optimizer_table())
         if (entry.kind == kind) return entry;
-    throw std::logic_error(std::string("the optimizer table has no row for ") + optimizer_name(kind));
+    throw std::logic_error("the optimizer table has no row for optimizer kind " +
+                           std::to_string(static_cast<int>(kind)));
 }
 
 const OptimizerEntry* find_optimizer(std::string_view name) {

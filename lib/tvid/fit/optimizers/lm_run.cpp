@@ -24,7 +24,8 @@ OptimizerRun run_least_squares(const IdentificationProblem& problem, const FitOp
     };
     r.lm = run_levenberg_marquardt(r.lm_settings, problem.initial(), problem.lower(), problem.upper(), least_squares,
                                    progress);
-    return OptimizerRun{.best = r.lm.best,
+    return OptimizerRun{.name = {},  // run_fit names it after its row
+                        .best = r.lm.best,
                         .best_cost = r.lm.best_cost,
                         .iterations = r.lm.iterations,
                         .evaluations = least_squares.simulations(),

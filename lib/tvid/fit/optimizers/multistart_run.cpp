@@ -28,7 +28,8 @@ OptimizerRun run_multistart_fit(const IdentificationProblem& problem, const FitO
                                   resolve_thread_count(options.threads), make, options.progress);
     r.threads = r.multistart.threads * r.multistart.threads_per_start;
     const MultistartSummary& m = r.multistart;
-    return OptimizerRun{.best = m.best,
+    return OptimizerRun{.name = {},  // run_fit names it after its row
+                        .best = m.best,
                         .best_cost = m.best_cost,
                         .iterations = m.iterations,
                         .evaluations = m.evaluations,

@@ -17,7 +17,8 @@ OptimizerRun run_nlopt_fit(const IdentificationProblem& problem, const FitOption
     ExperimentCost cost(problem, options.threads);
     r.threads = cost.threads();
     r.nlopt = run_nlopt(r.nlopt_settings, problem.initial(), problem.lower(), problem.upper(), cost, options.progress);
-    return OptimizerRun{.best = r.nlopt.best,
+    return OptimizerRun{.name = {},  // run_fit names it after its row
+                        .best = r.nlopt.best,
                         .best_cost = r.nlopt.best_cost,
                         .iterations = static_cast<int>(r.nlopt.evaluations),
                         .evaluations = cost.simulations(),

@@ -29,7 +29,8 @@ OptimizerRun run_hybrid_fit(const IdentificationProblem& problem, const FitOptio
         run_pso_then_lm(r.pso_settings, r.lm_settings, search_box(problem), swarm_cost, residuals, options.progress);
     r.pso = std::move(h.pso);
     r.lm = std::move(h.lm);
-    return OptimizerRun{.best = h.best,
+    return OptimizerRun{.name = {},  // run_fit names it after its row
+                        .best = h.best,
                         .best_cost = h.best_cost,
                         .iterations = h.iterations,
                         .evaluations = h.evaluations,

@@ -19,7 +19,8 @@ OptimizerRun run_swarm(const IdentificationProblem& problem, const FitOptions& o
     r.threads = local.threads();
     r.processes = evaluator.processes();
     r.pso = run_pso(r.pso_settings, search_box(problem), evaluator, options.progress);
-    return OptimizerRun{.best = r.pso.best,
+    return OptimizerRun{.name = {},  // run_fit names it after its row
+                        .best = r.pso.best,
                         .best_cost = r.pso.best_cost,
                         .iterations = r.pso.iterations,
                         .evaluations = r.pso.evaluations,
