@@ -75,8 +75,7 @@ int run_fit_command(const FitCommand& cmd) {
     options.threads = cmd.common.threads;
     options.seed = cmd.seed;
     const int planned = planned_iterations(ex.estimation_settings);
-    // Every optimizer but the swarm may stop before its planned iterations.
-    const bool planned_is_cap = ex.estimation_settings.optimizer != OptimizerKind::pso;
+    const bool planned_is_cap = planned_iterations_are_a_cap(ex.estimation_settings);
     ProgressLine progress(wants_progress_line(cmd.common.quiet, cmd.common.json), planned, planned_is_cap);
     options.progress = [&progress](const HistoryRow& row) {
         progress.update(row);
@@ -107,7 +106,7 @@ int run_fit_command(const FitCommand& cmd) {
         // Why, where it shows at the init values (the parameters the report holds).
         const std::string at_init = first_failed_window(fit.evaluation);
         const std::string why = at_init.empty() ? "" : "at the init values, in " + at_init;
-        std::cerr << (fit.run.name == "lm"
+        std::cerr << (fit.run.termination_type == TerminationType::start_failed
                           ? "tvid: the simulation at the start failed (every candidate failed" + (why.empty() ? "" : "; " + why) + ")"
                           : "tvid: every candidate's simulation failed" + (why.empty() ? "" : " (" + why + ")"))
                   << "; the report in " << dir.string() << " says so\n";

@@ -3,12 +3,25 @@
 
 #include <CLI/CLI.hpp>
 #include <iostream>
+#include <iterator>
 
 #include "commands.hpp"
+#include "tvid/experiment/experiment.hpp"
 #include "tvid/parallel/process_group.hpp"
 #include "tvid/util/input_error.hpp"
 
 namespace {
+
+// "pso, lm, nlopt, pso+lm or multistart"
+std::string optimizer_names() {
+    std::string s;
+    const std::size_t n = std::size(tvid::kOptimizerKinds);
+    for (std::size_t i = 0; i < n; ++i) {
+        if (i > 0) s += i + 1 == n ? " or " : ", ";
+        s += tvid::optimizer_name(tvid::kOptimizerKinds[i]);
+    }
+    return s;
+}
 
 std::string joined_command_line(int argc, char** argv) {
     std::string s;
@@ -47,7 +60,7 @@ int main(int argc, char** argv) {
     add_common(fit_cmd, fit.common);
     fit_cmd->add_option("-o,--output", fit.output_dir, "report directory (default: report.dir or results/NAME)");
     fit_cmd->add_option("--seed", fit.seed, "random seed of the optimizer");
-    fit_cmd->add_option("--optimizer", fit.optimizer, "pso, lm, nlopt, pso+lm or multistart (overrides estimation.optimizer)");
+    fit_cmd->add_option("--optimizer", fit.optimizer, optimizer_names() + " (overrides estimation.optimizer)");
     fit_cmd->add_flag("--force", fit.force, "replace a report already in the report directory");
 
     EvaluateCommand simulate;

@@ -40,6 +40,7 @@ TEST_CASE("pso+lm: the swarm's basin, then LM to the exact optimum", "[hybrid]")
     CHECK(h.best_cost < 1e-18);
     CHECK(h.success);
     CHECK(h.termination == "swarm: iteration limit; lm: " + h.lm.termination);
+    CHECK(h.termination_type == h.lm.termination_type);
     CHECK(h.iterations == h.pso.iterations + 1 + h.lm.iterations);
     CHECK(h.evaluations == problem.calls);  // swarm candidates + LM calls (the problem counts no simulations)
     // The LM start is the swarm's best particle.
@@ -65,6 +66,7 @@ TEST_CASE("pso+lm: a stop during the swarm skips the polish", "[hybrid]") {
                                             [&](const HistoryRow&) { return ++rows < 5; });
     CHECK_FALSE(h.polished);
     CHECK(h.termination == "stopped");
+    CHECK(h.termination_type == TerminationType::stopped);
     CHECK(h.history.size() == 5);
     CHECK_FALSE(h.success);
 }
@@ -77,6 +79,7 @@ TEST_CASE("pso+lm: a stop during the polish ends it", "[hybrid]") {
     REQUIRE(h.polished);
     CHECK(h.lm.termination == "stopped");
     CHECK(h.termination == "stopped");
+    CHECK(h.termination_type == TerminationType::stopped);
     CHECK(h.history.back().iteration == swarm.iterations + 3);
     CHECK_FALSE(h.success);
 }

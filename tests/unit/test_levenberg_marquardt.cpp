@@ -225,6 +225,7 @@ TEST_CASE("LM solves Rosenbrock's valley from (-1.2, 1)", "[lm]") {
     const auto s = run_levenberg_marquardt(LmSettings{}, {-1.2, 1.0}, unbounded_lower(2), unbounded_upper(2), problem);
     CAPTURE(s.termination, s.iterations, s.residual_evaluations, s.jacobian_evaluations);
     CHECK(s.success);
+    CHECK(s.termination_type == TerminationType::converged);
     CHECK(s.best[0] == Approx(1.0).margin(1e-8));
     CHECK(s.best[1] == Approx(1.0).margin(1e-8));
     CHECK(s.best_cost < 1e-20);
@@ -398,6 +399,7 @@ TEST_CASE("LM reports a start that cannot be evaluated without throwing", "[lm]"
     REQUIRE_NOTHROW(s = run_levenberg_marquardt(LmSettings{}, {2.0, 0.2, 0.5}, unbounded_lower(3),
                                                 unbounded_upper(3), problem));
     CHECK(s.termination == "start failed");
+    CHECK(s.termination_type == TerminationType::start_failed);
     CHECK_FALSE(s.success);
     CHECK(s.iterations == 0);
     CHECK(std::isinf(s.best_cost));
@@ -413,6 +415,7 @@ TEST_CASE("LM stops when the progress callback returns false", "[lm]") {
                                                return row.iteration < 3;
                                            });
     CHECK(s.termination == "stopped");
+    CHECK(s.termination_type == TerminationType::stopped);
     CHECK_FALSE(s.success);
     CHECK(s.iterations == 3);
     CHECK(seen == std::vector<int>{0, 1, 2, 3});
@@ -426,6 +429,7 @@ TEST_CASE("LM honours the iteration limit", "[lm]") {
     settings.max_iterations = 5;
     const auto s = run_levenberg_marquardt(settings, {-1.2, 1.0}, unbounded_lower(2), unbounded_upper(2), problem);
     CHECK(s.termination == "iteration limit");
+    CHECK(s.termination_type == TerminationType::iteration_limit);
     CHECK_FALSE(s.success);
     CHECK(s.iterations == 5);
     CHECK(s.residual_evaluations <= 5);
@@ -564,6 +568,7 @@ TEST_CASE("LM stopped while evaluating side by side stays at its last accepted p
         wide.stop_after = after;
         const LmSummary s = run_levenberg_marquardt(LmSettings{}, {-1.2, 1.0}, unbounded_lower(2), unbounded_upper(2), wide);
         CHECK(s.termination == "stopped");
+        CHECK(s.termination_type == TerminationType::stopped);
         CHECK_FALSE(s.success);
         // The point reached is one the uninterrupted run accepted on its way.
         REQUIRE(s.history.size() <= reference.history.size());

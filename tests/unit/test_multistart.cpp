@@ -116,6 +116,7 @@ TEST_CASE("multistart: per-start iteration cap, stop, and bad settings", "[multi
     const MultistartSummary stopped = run_multistart(starts(6), LmSettings{}, kBox, 1, sinusoid_factory(),
                                                      [&](const HistoryRow&) { return ++calls < 3; });
     CHECK(stopped.termination == "stopped");
+    CHECK(stopped.termination_type == TerminationType::stopped);
     CHECK_FALSE(stopped.success);
     CHECK(std::count_if(stopped.starts.begin(), stopped.starts.end(),
                         [](const StartResult& r) { return r.termination == "not run"; }) >= 4);

@@ -186,6 +186,7 @@ TEST_CASE("NLopt stops when the progress callback says so", "[nlopt]") {
             return calls < 10;
         });
     CHECK(s.termination == "stopped");
+    CHECK(s.termination_type == TerminationType::stopped);
     CHECK_FALSE(s.success);
     CHECK(s.evaluations == 10);
     CHECK(std::isfinite(s.best_cost));
@@ -196,6 +197,7 @@ TEST_CASE("NLopt budget and bad settings", "[nlopt]") {
     const NloptSummary s = run_nlopt(settings("LN_NELDERMEAD", 25), {-1.2, 1.0}, {-2, -2}, {2, 2}, f);
     CHECK(s.evaluations == 25);
     CHECK(s.termination == "evaluation limit");
+    CHECK(s.termination_type == TerminationType::evaluation_limit);
     CHECK_FALSE(s.success);  // a local algorithm out of budget has not converged
     CHECK_THROWS_AS(run_nlopt(settings("LN_NOPE", 10), {0, 0}, {-1, -1}, {1, 1}, f), std::invalid_argument);
     CHECK_THROWS_AS(run_nlopt(settings("GN_DIRECT_L", 10), {0, 0}, {-1, -1e300}, {1, 1}, f), std::invalid_argument);

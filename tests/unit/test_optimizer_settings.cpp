@@ -152,3 +152,30 @@ TEST_CASE("least-squares optimizers need the l2 cost; multistart needs a search 
     expect_error(load("  optimizer: newton"), 18, "estimation.optimizer", "pso+lm");
     expect_error(load("  optimizer: pso+lm"), 14, "parameters.d_ds", "search box");
 }
+
+TEST_CASE("settings are read whole, then validated: the problem names its key and line", "[experiment][optimizers]") {
+    // A count beyond int is still out of range, not wrapped around into it.
+    expect_error(load("  optimizer: pso", "  pso: { start: latin_hypercube, particles: 5000000000 }"), 19,
+                 "estimation.pso.particles", "particles must be between 1 and 1000000");
+    expect_error(load("  optimizer: pso", "  pso: { iterations: -5, seed: 3 }"), 19, "estimation.pso.iterations",
+                 "iterations must be between 0 and 1e8");
+    expect_error(load("  optimizer: pso", "  pso: { seed: -1 }"), 19, "estimation.pso.seed",
+                 "the seed must not be negative");
+    expect_error(load("  optimizer: lm\n  cost: l2", "  lm: { gtol: -1 }"), 20, "estimation.lm.gtol",
+                 "a tolerance cannot be negative");
+    // multistart.max_iterations given as 0 is refused (left out, each start runs lm.max_iterations).
+    expect_error(load("  optimizer: multistart\n  cost: l2", "  multistart: { max_iterations: 0 }"), 20,
+                 "estimation.multistart.max_iterations", "must be between 1 and 1e6 (leave it out for lm.max_iterations)");
+    const Loaded without = load("  optimizer: multistart\n  cost: l2", "  multistart: { starts: 2 }",
+                                "  d_ds:    { init: -7, range: [-10, -5] }");
+    REQUIRE(without.experiment);
+    CHECK_FALSE(without.experiment->estimation_settings.multistart.max_iterations);
+    // Every optimizer name of the table is read back as its kind.
+    for (OptimizerKind kind : kOptimizerKinds) {
+        const Loaded r = load(std::string("  optimizer: ") + optimizer_name(kind), "  cost: l2",
+                              "  d_ds:    { min: -100, max: 100, range: [-10, -5] }");
+        INFO(optimizer_name(kind));
+        REQUIRE(r.experiment);
+        CHECK(r.experiment->estimation_settings.optimizer == kind);
+    }
+}

@@ -76,6 +76,7 @@ TEST_CASE("PSO finds the minimum of a bowl and reports its work", "[pso]") {
     CHECK(r.history.size() == 301);
     CHECK(r.iterations == 300);
     CHECK(r.termination == "iteration limit");
+    CHECK(r.termination_type == TerminationType::iteration_limit);
     // The best cost never increases.
     for (std::size_t k = 1; k < r.history.size(); ++k) CHECK(r.history[k].best_cost <= r.history[k - 1].best_cost);
     // Eq. 24 as printed: p(1) = p(0) + v(0) = p(0), so iteration 1 costs no simulation.
@@ -132,6 +133,7 @@ TEST_CASE("PSO reports when every candidate fails", "[pso]") {
     AlwaysFails f;
     const PsoSummary r = run_pso(s, box3(), f);
     CHECK(r.termination == "all candidates failed");
+    CHECK(r.termination_type == TerminationType::all_failed);
     CHECK(r.failed_evaluations == r.evaluations);
     CHECK(std::isinf(r.best_cost));
 }
@@ -142,5 +144,6 @@ TEST_CASE("a progress callback can stop the swarm", "[pso]") {
     Bowl bowl;
     const PsoSummary r = run_pso(s, box3(), bowl, [](const HistoryRow& row) { return row.iteration < 4; });
     CHECK(r.termination == "stopped");
+    CHECK(r.termination_type == TerminationType::stopped);
     CHECK(r.iterations == 4);
 }

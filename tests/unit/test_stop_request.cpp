@@ -251,6 +251,7 @@ TEST_CASE("run_fit with a stop request returns the best so far, marked interrupt
         CHECK(fit.interrupted);
         CHECK(fit.success);
         CHECK(fit.run.termination == "interrupted");
+        CHECK(fit.run.termination_type == TerminationType::interrupted);
         CHECK_FALSE(fit.run.converged);
         CHECK(fit.run.iterations == 7);
         REQUIRE(fit.run.history.size() == 8);

@@ -65,7 +65,10 @@ enum class CostKind { l1, l2 };
 /// pso: particle swarm (seed 001); lm: Levenberg–Marquardt (seed 000); nlopt: any NLopt
 /// algorithm; pso_lm: the swarm, then LM from its best particle; multistart: LM from
 /// Latin-hypercube starts of the range box.
+/// Each has a row in the optimizer table (lib/tvid/fit/optimizer_table.cpp).
 enum class OptimizerKind { pso, lm, nlopt, pso_lm, multistart };
+inline constexpr OptimizerKind kOptimizerKinds[] = {OptimizerKind::pso, OptimizerKind::lm, OptimizerKind::nlopt,
+                                                    OptimizerKind::pso_lm, OptimizerKind::multistart};
 
 /// The optimizer's name in experiment files, on the command line and in reports.
 constexpr const char* optimizer_name(OptimizerKind kind) {

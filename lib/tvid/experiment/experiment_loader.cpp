@@ -117,66 +117,6 @@ SimulationSettings read_simulation(const YamlMap& m) {
     return s;
 }
 
-PsoSettings read_pso(const YamlMap& m) {
-    m.allow_only({"start", "grid", "particles", "iterations", "w", "c1", "c2", "seed", "draw", "velocity_first"});
-    PsoSettings s;
-    if (m.has("start")) {
-        const std::string start = m.choice("start", {"grid", "latin_hypercube", "uniform"});
-        s.start = start == "grid" ? PsoStart::grid : start == "uniform" ? PsoStart::uniform : PsoStart::latin_hypercube;
-    }
-    if (m.has("grid")) {
-        const long long g = m.integer("grid");
-        if (g < 1 || g > 1000) m.fail("grid", "grid points per parameter must be between 1 and 1000");
-        s.grid = static_cast<int>(g);
-    }
-    if (m.has("particles")) {
-        const long long n = m.integer("particles");
-        if (n < 1 || n > static_cast<long long>(kMaxParticles)) m.fail("particles", "particles must be between 1 and 1000000");
-        s.particles = static_cast<int>(n);
-    }
-    if (m.has("iterations")) {
-        const long long n = m.integer("iterations");
-        if (n < 0 || n > 100000000) m.fail("iterations", "iterations must be between 0 and 1e8");
-        s.iterations = static_cast<int>(n);
-    }
-    for (const char* key : {"w", "c1", "c2"}) {
-        if (!m.has(key)) continue;
-        const double v = m.number(key);
-        if (v < 0) m.fail(key, "must not be negative (the random factors are drawn from [0, value])");
-        (std::string(key) == "w" ? s.w : std::string(key) == "c1" ? s.c1 : s.c2) = v;
-    }
-    if (m.has("seed")) {
-        const long long seed = m.integer("seed");
-        if (seed < 0) m.fail("seed", "the seed must not be negative");
-        s.seed = static_cast<std::uint64_t>(seed);
-    }
-    if (m.has("draw")) {
-        const std::string d = m.choice("draw", {"per_iteration", "per_particle", "per_dimension"});
-        s.draw = d == "per_iteration" ? PsoRandomDraw::per_iteration
-                 : d == "per_particle" ? PsoRandomDraw::per_particle
-                                       : PsoRandomDraw::per_dimension;
-    }
-    if (m.has("velocity_first")) s.velocity_first = m.flag("velocity_first");
-    return s;
-}
-
-LmSettings read_lm(const YamlMap& m) {
-    m.allow_only({"max_iterations", "ftol", "xtol", "gtol", "jacobian"});
-    LmSettings s;
-    if (m.has("max_iterations")) {
-        const long long n = m.integer("max_iterations");
-        if (n < 0 || n > 1000000) m.fail("max_iterations", "must be between 0 and 1e6");
-        s.max_iterations = static_cast<int>(n);
-    }
-    for (const char* key : {"ftol", "xtol", "gtol"}) {
-        if (!m.has(key)) continue;
-        const double v = m.number(key);
-        if (!(v >= 0)) m.fail(key, "a tolerance cannot be negative");
-        (std::string(key) == "ftol" ? s.ftol : std::string(key) == "xtol" ? s.xtol : s.gtol) = v;
-    }
-    return s;
-}
-
 EstimationSettings read_estimation(const YamlMap& m) {
     m.allow_only({"cost", "optimizer", "pso", "lm", "nlopt", "multistart"});
     EstimationSettings s;

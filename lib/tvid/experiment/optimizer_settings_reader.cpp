@@ -1,87 +1,108 @@
 #include "tvid/experiment/optimizer_settings_reader.hpp"
 
+#include <algorithm>
+#include <climits>
+
 #include "tvid/optim/nlopt_algorithms.hpp"
+#include "tvid/optim/settings_validation.hpp"
+#include "tvid/util/text.hpp"
 
 namespace tvid {
 
+namespace {
+
+// An integer setting as an int. Out-of-range values stay out of range (saturated), so the
+// settings' validation reports them.
+int saturated_int(long long value) { return static_cast<int>(std::clamp<long long>(value, INT_MIN, INT_MAX)); }
+
+// A seed: any integer that is not negative (checked here: the settings hold it unsigned).
+std::uint64_t read_seed(const YamlMap& m) {
+    const long long seed = m.integer("seed");
+    if (seed < 0) m.fail("seed", "the seed must not be negative");
+    return static_cast<std::uint64_t>(seed);
+}
+
+// The settings' first problem, if any, as "FILE:LINE: <section>.<key>: <message>".
+void fail_on_problem(const YamlMap& m, const std::optional<SettingsProblem>& problem) {
+    if (!problem) return;
+    if (problem->missing) m.fail_missing(problem->key, problem->message);
+    m.fail(problem->key, problem->message);
+}
+
+}  // namespace
+
 OptimizerKind read_optimizer_kind(const YamlMap& estimation) {
-    const std::string name = estimation.choice("optimizer", {"pso", "lm", "nlopt", "pso+lm", "multistart"});
-    for (OptimizerKind kind : {OptimizerKind::pso, OptimizerKind::lm, OptimizerKind::nlopt, OptimizerKind::pso_lm,
-                               OptimizerKind::multistart})
+    const std::string name = estimation.text("optimizer");
+    std::vector<std::string> names;
+    for (OptimizerKind kind : kOptimizerKinds) {
         if (name == optimizer_name(kind)) return kind;
-    return OptimizerKind::pso;
+        names.emplace_back(optimizer_name(kind));
+    }
+    estimation.fail("optimizer", "'" + name + "' is not one of: " + join_words(names));
+}
+
+PsoSettings read_pso(const YamlMap& m) {
+    m.allow_only({"start", "grid", "particles", "iterations", "w", "c1", "c2", "seed", "draw", "velocity_first"});
+    PsoSettings s;
+    if (m.has("start")) {
+        const std::string start = m.choice("start", {"grid", "latin_hypercube", "uniform"});
+        s.start = start == "grid" ? PsoStart::grid : start == "uniform" ? PsoStart::uniform : PsoStart::latin_hypercube;
+    }
+    if (m.has("grid")) s.grid = saturated_int(m.integer("grid"));
+    if (m.has("particles")) s.particles = saturated_int(m.integer("particles"));
+    if (m.has("iterations")) s.iterations = saturated_int(m.integer("iterations"));
+    if (m.has("w")) s.w = m.number("w");
+    if (m.has("c1")) s.c1 = m.number("c1");
+    if (m.has("c2")) s.c2 = m.number("c2");
+    if (m.has("seed")) s.seed = read_seed(m);
+    if (m.has("draw")) {
+        const std::string d = m.choice("draw", {"per_iteration", "per_particle", "per_dimension"});
+        s.draw = d == "per_iteration" ? PsoRandomDraw::per_iteration
+                 : d == "per_particle" ? PsoRandomDraw::per_particle
+                                       : PsoRandomDraw::per_dimension;
+    }
+    if (m.has("velocity_first")) s.velocity_first = m.flag("velocity_first");
+    fail_on_problem(m, validate(s));
+    return s;
+}
+
+LmSettings read_lm(const YamlMap& m) {
+    m.allow_only({"max_iterations", "ftol", "xtol", "gtol", "jacobian"});
+    LmSettings s;
+    if (m.has("max_iterations")) s.max_iterations = saturated_int(m.integer("max_iterations"));
+    if (m.has("ftol")) s.ftol = m.number("ftol");
+    if (m.has("xtol")) s.xtol = m.number("xtol");
+    if (m.has("gtol")) s.gtol = m.number("gtol");
+    fail_on_problem(m, validate(s));
+    return s;
 }
 
 NloptSettings read_nlopt(const YamlMap& m) {
     m.allow_only({"algorithm", "local_algorithm", "max_evaluations", "max_seconds", "xtol_rel", "ftol_rel",
                   "population", "seed"});
     NloptSettings s;
-    if (m.has("algorithm")) {
-        const auto a = find_nlopt_algorithm(m.text("algorithm"));
-        if (!a)
-            m.fail("algorithm", "NLopt has no algorithm '" + m.text("algorithm") + "'; valid: " + nlopt_algorithm_list());
-        s.algorithm = a->name;
-    }
-    const NloptAlgorithm algorithm = *find_nlopt_algorithm(s.algorithm);
-    if (m.has("local_algorithm")) {
-        const auto local = find_nlopt_algorithm(m.text("local_algorithm"));
-        std::string locals;
-        for (const NloptAlgorithm& a : nlopt_algorithms())
-            if (!a.global && !a.takes_local) locals += (locals.empty() ? "" : ", ") + a.name;
-        if (!local || local->global || local->takes_local)
-            m.fail("local_algorithm", "'" + m.text("local_algorithm") + "' is not a local NLopt algorithm; valid: " + locals);
-        if (!algorithm.takes_local)
-            m.fail("local_algorithm", algorithm.name + " runs no local algorithm (only the MLSL and AUGLAG families do)");
-        s.local_algorithm = local->name;
-    } else if (algorithm.needs_local) {
-        m.fail_missing("local_algorithm", "(" + algorithm.name + " runs a local algorithm: e.g. local_algorithm: LN_BOBYQA)");
-    }
-    if (m.has("max_evaluations")) {
-        s.max_evaluations = m.integer("max_evaluations");
-        if (s.max_evaluations < 1 || s.max_evaluations > 2000000000)
-            m.fail("max_evaluations", "must be between 1 and 2e9");
-    }
-    if (m.has("max_seconds")) {
-        s.max_seconds = m.number("max_seconds");
-        if (!(s.max_seconds >= 0)) m.fail("max_seconds", "a time limit cannot be negative (0: none)");
-    }
-    for (const char* key : {"xtol_rel", "ftol_rel"}) {
-        if (!m.has(key)) continue;
-        const double v = m.number(key);
-        if (!(v >= 0)) m.fail(key, "a tolerance cannot be negative");
-        (std::string(key) == "xtol_rel" ? s.xtol_rel : s.ftol_rel) = v;
-    }
-    if (m.has("population")) {
-        const long long n = m.integer("population");
-        if (n < 0 || n > 1000000) m.fail("population", "must be between 0 (NLopt's default) and 1e6");
-        s.population = static_cast<int>(n);
-    }
-    if (m.has("seed")) {
-        const long long seed = m.integer("seed");
-        if (seed < 0) m.fail("seed", "the seed must not be negative");
-        s.seed = static_cast<std::uint64_t>(seed);
-    }
+    if (m.has("algorithm")) s.algorithm = m.text("algorithm");
+    if (m.has("local_algorithm")) s.local_algorithm = m.text("local_algorithm");
+    if (m.has("max_evaluations")) s.max_evaluations = m.integer("max_evaluations");
+    if (m.has("max_seconds")) s.max_seconds = m.number("max_seconds");
+    if (m.has("xtol_rel")) s.xtol_rel = m.number("xtol_rel");
+    if (m.has("ftol_rel")) s.ftol_rel = m.number("ftol_rel");
+    if (m.has("population")) s.population = saturated_int(m.integer("population"));
+    if (m.has("seed")) s.seed = read_seed(m);
+    fail_on_problem(m, validate(s));
+    // NLopt's own spelling of the names given.
+    s.algorithm = find_nlopt_algorithm(s.algorithm)->name;
+    if (!s.local_algorithm.empty()) s.local_algorithm = find_nlopt_algorithm(s.local_algorithm)->name;
     return s;
 }
 
 MultistartSettings read_multistart(const YamlMap& m) {
     m.allow_only({"starts", "seed", "max_iterations"});
     MultistartSettings s;
-    if (m.has("starts")) {
-        const long long n = m.integer("starts");
-        if (n < 1 || n > 100000) m.fail("starts", "starts must be between 1 and 1e5");
-        s.starts = static_cast<int>(n);
-    }
-    if (m.has("seed")) {
-        const long long seed = m.integer("seed");
-        if (seed < 0) m.fail("seed", "the seed must not be negative");
-        s.seed = static_cast<std::uint64_t>(seed);
-    }
-    if (m.has("max_iterations")) {
-        const long long n = m.integer("max_iterations");
-        if (n < 1 || n > 1000000) m.fail("max_iterations", "must be between 1 and 1e6 (leave it out for lm.max_iterations)");
-        s.max_iterations = static_cast<int>(n);
-    }
+    if (m.has("starts")) s.starts = saturated_int(m.integer("starts"));
+    if (m.has("seed")) s.seed = read_seed(m);
+    if (m.has("max_iterations")) s.max_iterations = saturated_int(m.integer("max_iterations"));
+    fail_on_problem(m, validate(s));
     return s;
 }
 

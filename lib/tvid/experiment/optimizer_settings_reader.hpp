@@ -1,13 +1,16 @@
 #pragma once
-// The optimizer choice and the settings of the general optimizers under `estimation:`:
+// The optimizer choice and the optimizers' settings under `estimation:`:
 //
 //   optimizer: nlopt        # pso | lm | nlopt | pso+lm | multistart
+//   pso: { start: grid, grid: 2, iterations: 250, w: 1, c1: 0.4, c2: 0.4, seed: 1, ... }
+//   lm: { max_iterations: 200, ftol: 1e-10, xtol: 1e-10, gtol: 1e-10, jacobian: sensitivity }
 //   nlopt: { algorithm: LN_BOBYQA, local_algorithm: LN_SBPLX, max_evaluations: 5000,
 //            max_seconds: 600, xtol_rel: 1e-8, ftol_rel: 1e-12, population: 0, seed: 1 }
 //   multistart: { starts: 8, seed: 1, max_iterations: 100 }
 //
-// and the checks that need the parameters too (a global NLopt algorithm searches within
-// the bounds; multistart samples the range box).
+// Each reader reads its keys, then validates the settings in one call
+// (optim/settings_validation.hpp). Then the checks that need the parameters too (a global
+// NLopt algorithm searches within the bounds; multistart samples the range box).
 
 #include <vector>
 
@@ -17,6 +20,12 @@ namespace tvid {
 
 /// `optimizer:`, one of the five names; otherwise an error listing them.
 OptimizerKind read_optimizer_kind(const YamlMap& estimation);
+
+/// `pso:`.
+PsoSettings read_pso(const YamlMap& m);
+
+/// `lm:` but its `jacobian:` (an experiment setting: the standard errors use it too).
+LmSettings read_lm(const YamlMap& m);
 
 /// `nlopt:`. An algorithm name NLopt does not know is an error listing the valid ones.
 NloptSettings read_nlopt(const YamlMap& m);

@@ -3,6 +3,7 @@
 // on every window and its uncertainty estimated. What `tvid fit` does between reading
 // the experiment and writing the report.
 
+#include <any>
 #include <atomic>
 #include <cstdint>
 #include <optional>
@@ -43,9 +44,13 @@ struct OptimizerRun {
     long long evaluations = 0;              ///< simulations run
     long long failed_evaluations = 0;       ///< candidates whose simulation failed
     std::vector<HistoryRow> history;        ///< iteration, simulations so far, best cost
+    /// Why it stopped, as summary.json and the terminal say it (e.g. "cost change below
+    /// ftol", "interrupted"), and as a type to decide on.
     std::string termination;
-    /// lm, multistart (its best start), pso+lm (its polish): an LM tolerance was met; pso: the
-    /// iteration budget ran out; nlopt: a tolerance was met, or a global algorithm used its budget
+    TerminationType termination_type = TerminationType::failed;
+    /// Decided by each optimizer from its termination type. lm, multistart (its best start),
+    /// pso+lm (its polish): an LM tolerance was met; pso: the iteration budget ran out;
+    /// nlopt: a tolerance was met, or a global algorithm used its budget
     bool converged = false;
     /// Right-hand sides of the model the optimizer's simulations evaluated, over every
     /// thread and process: the work done (the swarm's stop at each particle's personal best
@@ -63,6 +68,8 @@ struct FitResult {
     NloptSummary nlopt;
     MultistartSettings multistart_settings; ///< as run (seed resolved), when multistart ran
     MultistartSummary multistart;
+    /// The summary of an optimizer that has no field above, for its own report function.
+    std::any other_summary;
     bool success = false;                   ///< a finite cost was reached
     bool interrupted = false;               ///< stopped by FitOptions::stop: best so far, no uncertainty
     std::vector<double> best_free;
@@ -80,5 +87,9 @@ FitResult run_fit(const IdentificationProblem& problem, const FitOptions& option
 /// The iterations the configured optimizer plans (for a progress line): swarm updates, LM
 /// steps (over every start of multistart), NLopt evaluations.
 int planned_iterations(const EstimationSettings& settings);
+
+/// True when the configured optimizer may stop before its planned iterations (every one but
+/// the swarm): the progress line then shows them as a cap.
+bool planned_iterations_are_a_cap(const EstimationSettings& settings);
 
 }  // namespace tvid

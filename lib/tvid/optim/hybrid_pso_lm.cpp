@@ -20,6 +20,7 @@ HybridSummary run_pso_then_lm(const PsoSettings& pso, const LmSettings& lm, cons
     s.iterations = s.pso.iterations;
     s.evaluations = s.pso.evaluations;
     s.failed_evaluations = s.pso.failed_evaluations;
+    s.termination_type = s.pso.termination_type;
     s.termination = s.pso.termination;
     if (stopped || !std::isfinite(s.pso.best_cost)) return s;
 
@@ -42,7 +43,10 @@ HybridSummary run_pso_then_lm(const PsoSettings& pso, const LmSettings& lm, cons
     s.failed_evaluations += s.lm.failed_evaluations;
     s.iterations = first_row + s.lm.iterations;
     // A stop (the progress callback) reads the same whichever phase it came in.
-    s.termination = s.lm.termination == "stopped" ? "stopped" : "swarm: " + s.pso.termination + "; lm: " + s.lm.termination;
+    s.termination_type = s.lm.termination_type;
+    s.termination = s.lm.termination_type == TerminationType::stopped
+                        ? "stopped"
+                        : "swarm: " + s.pso.termination + "; lm: " + s.lm.termination;
     s.success = s.lm.success;
     // LM never rises above its start; a start that failed to evaluate keeps the swarm's best.
     if (std::isfinite(s.lm.best_cost) && s.lm.best_cost <= s.pso.best_cost) {

@@ -32,6 +32,8 @@ struct HybridSummary {
     /// "swarm: <reason>; lm: <reason>", the swarm's reason when LM did not run, or "stopped"
     /// when the progress callback stopped either phase.
     std::string termination;
+    /// The polish's type (the swarm's when LM did not run), stopped when either phase was stopped.
+    TerminationType termination_type = TerminationType::iteration_limit;
     bool success = false;                ///< the polish converged (an LM tolerance was met)
 };
 

@@ -81,68 +81,208 @@ private:
     Eigen::HouseholderQR<Eigen::MatrixXd> qr_;
 };
 
-}  // namespace
-
-LmSummary run_levenberg_marquardt(const LmSettings& settings, std::vector<double> x0,
-                                  const std::vector<double>& lower, const std::vector<double>& upper,
-                                  LeastSquaresProblem& problem, const LmProgress& progress) {
-    const std::size_t residual_count = problem.residual_count();
-    check_arguments(settings, x0, lower, upper, residual_count);
-    const auto m = static_cast<Index>(x0.size());
-    const auto n = static_cast<Index>(residual_count);
-    const auto mu = x0.size();
-    const double inf = std::numeric_limits<double>::infinity();
-
-    // Everything the iterations touch is allocated here, once.
-    Eigen::VectorXd lo(m), hi(m), x(m), x_trial(m);
-    for (Index j = 0; j < m; ++j) {
-        const auto u = static_cast<std::size_t>(j);
-        lo[j] = lower[u];
-        hi[j] = upper[u];
-        x[j] = std::clamp(x0[u], lo[j], hi[j]);  // start feasible
-    }
-    Eigen::VectorXd r(n), r_trial(n), qtr_full(n);
-    Eigen::MatrixXd J(n, m), J_trial(n, m);
-    Eigen::VectorXd gradient(m), column_norm(m), d = Eigen::VectorXd::Zero(m), scale(m);
-    Eigen::VectorXd p(m), step(m), qtr(m), Rs(m);
-    Eigen::MatrixXd R = Eigen::MatrixXd::Zero(m, m);
-    Eigen::HouseholderQR<Eigen::MatrixXd> qr_j(n, m);
-    DampedStep damped(m);
-    std::vector<char> held(mu, 0), held_trial(mu, 0), on_bound(mu, 0);
-    Eigen::VectorXd to_bound(m), qtr_on_bound(m);
-
-    LmSummary s;
-    s.best.assign(mu, 0.0);
-    s.history.reserve(static_cast<std::size_t>(std::min(settings.max_iterations, 1 << 16)) + 1);
-    auto finish = [&](const char* reason, bool converged) {
-        for (Index j = 0; j < m; ++j) s.best[static_cast<std::size_t>(j)] = x[j];
-        s.termination = reason;
-        s.success = converged;
-    };
-
-    ++s.jacobian_evaluations;
-    if (!evaluate_jacobian(problem, x, r, J)) {
-        s.best_cost = s.initial_cost = inf;
-        if (problem.stopped()) {
-            finish("stopped", false);
-            return s;
+// One run of the solver as a loop of named steps, in the shape of a trust-region
+// minimizer (Ceres' TrustRegionMinimizer): iteration zero at the start; then, each
+// iteration, the new Jacobian's set-up (scaling, active set, gradient test, QR), the trial
+// step for the current damping, the trial point's evaluation, its acceptance or
+// rejection, the damping update, the history row and the convergence tests.
+class LevenbergMarquardt {
+public:
+    LevenbergMarquardt(const LmSettings& settings, const std::vector<double>& x0, const std::vector<double>& lower,
+                       const std::vector<double>& upper, LeastSquaresProblem& problem, const LmProgress& progress)
+        : settings_(settings),
+          problem_(problem),
+          progress_(progress),
+          m_(static_cast<Index>(x0.size())),
+          n_(static_cast<Index>(problem.residual_count())),
+          lo_(m_), hi_(m_), x_(m_), x_trial_(m_),
+          r_(n_), r_trial_(n_), qtr_full_(n_),
+          J_(n_, m_), J_trial_(n_, m_),
+          gradient_(m_), column_norm_(m_), d_(Eigen::VectorXd::Zero(m_)), scale_(m_),
+          p_(m_), step_(m_), qtr_(m_), Rs_(m_),
+          R_(Eigen::MatrixXd::Zero(m_, m_)),
+          qr_j_(n_, m_),
+          damped_(m_),
+          held_(x0.size(), 0), held_trial_(x0.size(), 0), on_bound_(x0.size(), 0),
+          to_bound_(m_), qtr_on_bound_(m_), ahead_step_(m_) {
+        // Everything the iterations touch is allocated here, once.
+        for (Index j = 0; j < m_; ++j) {
+            const auto u = static_cast<std::size_t>(j);
+            lo_[j] = lower[u];
+            hi_[j] = upper[u];
+            x_[j] = std::clamp(x0[u], lo_[j], hi_[j]);  // start feasible
         }
-        ++s.failed_evaluations;
-        s.history.push_back(HistoryRow{0, s.jacobian_evaluations, inf});
-        finish("start failed", false);
-        return s;
+        s_.best.assign(x0.size(), 0.0);
+        s_.history.reserve(static_cast<std::size_t>(std::min(settings.max_iterations, 1 << 16)) + 1);
     }
-    double f = 0.5 * r.squaredNorm();  // the solver's cost ½‖r‖²; reported as Σr² = 2f
-    s.initial_cost = 2.0 * f;
-    auto record = [&](int iteration) {
-        s.history.push_back(HistoryRow{iteration, s.residual_evaluations + s.jacobian_evaluations, 2.0 * f});
-        return !progress || progress(s.history.back());
+
+    LmSummary minimize() {
+        if (!iteration_zero()) return std::move(s_);
+        set_up_trials_ahead();
+        while (iteration()) {
+        }
+        keep_current_point();
+        return std::move(s_);
+    }
+
+private:
+    struct TrialStep {
+        bool finite = false, moves = false;
+        double predicted = 0.0;  // the reduction of ½‖r‖² that the linear model predicts
     };
-    if (!record(0)) {
-        finish("stopped", false);
-        s.best_cost = 2.0 * f;
-        s.jacobian_at_best = std::move(J);
-        return s;
+    struct TrialPoint {
+        bool evaluable = false;
+        bool halted = false;  // a stop request cut its evaluation short
+        double f = 0.0;       // ½‖r‖² there (the current f when not evaluated)
+    };
+    // A trial evaluated ahead, side by side with an earlier one (evaluate_with_ahead).
+    struct AheadTrial {
+        Eigen::VectorXd x, r;
+        bool ok = false;
+    };
+    enum class Acceptance { accepted, failed, stopped };
+
+    // The end of the run at the current point.
+    void finish(TerminationType type, const char* reason) {
+        for (Index j = 0; j < m_; ++j) s_.best[static_cast<std::size_t>(j)] = x_[j];
+        s_.termination_type = type;
+        s_.termination = reason;
+        s_.success = type == TerminationType::converged;
+    }
+    // The current point's cost and Jacobian become the result's.
+    void keep_current_point() {
+        s_.best_cost = 2.0 * f_;
+        s_.jacobian_at_best = std::move(J_);
+    }
+    // A history row; false when the progress callback says stop.
+    bool record(int iteration) {
+        s_.history.push_back(HistoryRow{iteration, s_.residual_evaluations + s_.jacobian_evaluations, 2.0 * f_});
+        return !progress_ || progress_(s_.history.back());
+    }
+
+    // Residuals and Jacobian at the start, and history row 0. False when the run ends there.
+    bool iteration_zero() {
+        const double inf = std::numeric_limits<double>::infinity();
+        ++s_.jacobian_evaluations;
+        if (!evaluate_jacobian(problem_, x_, r_, J_)) {
+            s_.best_cost = s_.initial_cost = inf;
+            if (problem_.stopped()) {
+                finish(TerminationType::stopped, "stopped");
+                return false;
+            }
+            ++s_.failed_evaluations;
+            s_.history.push_back(HistoryRow{0, s_.jacobian_evaluations, inf});
+            finish(TerminationType::start_failed, "start failed");
+            return false;
+        }
+        f_ = 0.5 * r_.squaredNorm();  // the solver's cost ½‖r‖²; reported as Σr² = 2f
+        s_.initial_cost = 2.0 * f_;
+        if (!record(0)) {
+            finish(TerminationType::stopped, "stopped");
+            keep_current_point();
+            return false;
+        }
+        return true;
+    }
+
+    // One iteration; false when the run ends.
+    bool iteration() {
+        if (fresh_jacobian_) {
+            fresh_jacobian_ = false;
+            if (!set_up_jacobian()) return false;
+        }
+        if (s_.iterations >= settings_.max_iterations) {
+            finish(TerminationType::iteration_limit, "iteration limit");
+            return false;
+        }
+        ++s_.iterations;
+
+        const TrialStep trial = compute_trial_step(lambda_, x_trial_, step_);
+        TrialPoint point = evaluate_trial_point(trial);
+        if (point.halted) {  // drop this trial, stop at the last accepted point
+            --s_.iterations;
+            finish(TerminationType::stopped, "stopped");
+            return false;
+        }
+        const double f_before = f_;
+        const double actual = f_ - point.f;
+        const double rho = point.evaluable && trial.predicted > 0 ? actual / trial.predicted
+                                                                  : -std::numeric_limits<double>::infinity();  // gain ratio
+        bool accepted = rho > kAcceptRatio;
+        if (accepted) {
+            switch (accept_trial_point()) {
+                case Acceptance::accepted: break;
+                case Acceptance::stopped:  // drop this trial, stop at the last accepted point
+                    --s_.iterations;
+                    finish(TerminationType::stopped, "stopped");
+                    return false;
+                case Acceptance::failed: accepted = point.evaluable = false; break;
+            }
+        }
+        // Small only because the model fails a little further on (e.g. its simulation
+        // diverges there): the cost is not stationary, the solver is stuck at that region.
+        const bool blocked = failed_since_accept_;
+        failed_since_accept_ = accepted ? false : (failed_since_accept_ || !point.evaluable);
+        if (accepted) update_damping_on_success(rho);
+        else update_damping_on_rejection();
+        const bool go_on = record(s_.iterations);
+        return !converged_or_ended(trial, point.evaluable, accepted, blocked, f_before, actual, go_on);
+    }
+
+    // A new Jacobian J at x: gradient, Moré's scaling, the active set, the gradient test,
+    // J = Q R, and on the first one the initial damping. False when the gradient test ends the run.
+    bool set_up_jacobian() {
+        gradient_.noalias() = J_.transpose() * r_;  // ∇(½‖r‖²) = Jᵀr
+        for (Index j = 0; j < m_; ++j) {
+            column_norm_[j] = J_.col(j).norm();
+            d_[j] = std::max(d_[j], column_norm_[j]);  // Moré's scaling: max over iterations
+            scale_[j] = d_[j] > 0 ? d_[j] : 1.0;       // a parameter without effect keeps scale 1
+        }
+        // Active set: a parameter on a bound that the gradient pushes outward stays there.
+        for (Index j = 0; j < m_; ++j)
+            held_[static_cast<std::size_t>(j)] =
+                lo_[j] == hi_[j] || (x_[j] <= lo_[j] && gradient_[j] > 0) || (x_[j] >= hi_[j] && gradient_[j] < 0);
+        if (scaled_gradient_norm() <= settings_.gtol) {
+            finish(TerminationType::converged, "gradient below gtol");
+            return false;
+        }
+        factorize_jacobian();
+        if (first_jacobian_) {
+            first_jacobian_ = false;
+            lambda_ = initial_damping();
+        }
+        return true;
+    }
+
+    // Scaled gradient over the free parameters: the largest cosine between r and a column of J.
+    double scaled_gradient_norm() const {
+        const double r_norm = std::sqrt(2.0 * f_);
+        double g_norm = 0.0;
+        if (r_norm > 0)
+            for (Index j = 0; j < m_; ++j)
+                if (!held_[static_cast<std::size_t>(j)] && column_norm_[j] > 0)
+                    g_norm = std::max(g_norm, std::abs(gradient_[j]) / (column_norm_[j] * r_norm));
+        return g_norm;
+    }
+
+    // J = Q R once per Jacobian; each trial then solves only an M-sized system.
+    void factorize_jacobian() {
+        qr_j_.compute(J_);
+        const Index k = std::min(n_, m_);
+        R_.setZero();
+        for (Index c = 0; c < m_; ++c)
+            for (Index i = 0; i <= std::min(c, k - 1); ++i) R_(i, c) = qr_j_.matrixQR()(i, c);
+        qtr_full_ = r_;
+        qtr_full_.applyOnTheLeft(qr_j_.householderQ().adjoint());
+        qtr_.setZero();
+        qtr_.head(k) = qtr_full_.head(k);
+    }
+
+    // λ0 = τ · the largest diagonal entry of the scaled JᵀJ.
+    double initial_damping() const {
+        double diagonal = 0.0;
+        for (Index j = 0; j < m_; ++j) diagonal = std::max(diagonal, std::pow(column_norm_[j] / scale_[j], 2));
+        return settings_.initial_damping * (diagonal > 0 ? diagonal : 1.0);
     }
 
     // The trial point for damping λ, feasible:
@@ -156,255 +296,247 @@ LmSummary run_levenberg_marquardt(const LmSettings& settings, std::vector<double
     //     parameters it can predict an increase, and LM then rejects it and raises λ until
     //     the step stays inside.
     // Each repeats while the set grows (at most M times each).
-    struct TrialStep {
-        bool finite = false, moves = false;
-        double predicted = 0.0;  // the reduction of ½‖r‖² that the linear model predicts
-    };
-    auto make_trial = [&](double damping, Eigen::VectorXd& point, Eigen::VectorXd& taken) {
-        held_trial = held;
-        for (Index pass = 0; pass <= m; ++pass) {
-            damped.solve(R, qtr, scale, damping, held_trial, p);
-            bool changed = false;
-            for (Index j = 0; j < m; ++j) {
-                auto& h = held_trial[static_cast<std::size_t>(j)];
-                if (!h && ((x[j] <= lo[j] && p[j] < 0) || (x[j] >= hi[j] && p[j] > 0))) {
-                    h = 1;
-                    changed = true;
-                }
-            }
-            if (!changed) break;
-        }
-        on_bound = held_trial;
-        to_bound.setZero();
-        for (Index pass = 0; pass <= m; ++pass) {
-            bool changed = false;
-            for (Index j = 0; j < m; ++j) {
-                auto& b = on_bound[static_cast<std::size_t>(j)];
-                if (b || !(x[j] + p[j] < lo[j] || x[j] + p[j] > hi[j])) continue;
-                to_bound[j] = (x[j] + p[j] < lo[j] ? lo[j] : hi[j]) - x[j];
-                b = 1;
-                changed = true;
-            }
-            if (!changed) break;
-            qtr_on_bound.noalias() = R.triangularView<Eigen::Upper>() * to_bound;
-            qtr_on_bound += qtr;
-            damped.solve(R, qtr_on_bound, scale, damping, on_bound, p);
-            p += to_bound;  // held: 0 + 0; put on a bound: 0 + δ_j
-        }
+    TrialStep compute_trial_step(double damping, Eigen::VectorXd& point, Eigen::VectorXd& taken) {
+        hold_outward_parameters(damping);
+        put_crossing_parameters_on_bounds(damping);
         TrialStep t;
-        for (Index j = 0; j < m; ++j) {
-            point[j] = std::clamp(x[j] + p[j], lo[j], hi[j]);
-            taken[j] = point[j] - x[j];
+        for (Index j = 0; j < m_; ++j) {
+            point[j] = std::clamp(x_[j] + p_[j], lo_[j], hi_[j]);
+            taken[j] = point[j] - x_[j];
             if (taken[j] != 0) t.moves = true;
         }
         t.finite = taken.allFinite();
         // (The clamp above only catches rounding of x + δ_j.) For the step s taken:
         // ½‖r‖² − ½‖r + J s‖² = −(Qᵀr)ᵀ(R s) − ½‖R s‖².
         if (t.finite) {
-            Rs.noalias() = R.triangularView<Eigen::Upper>() * taken;
-            t.predicted = -qtr.dot(Rs) - 0.5 * Rs.squaredNorm();
+            Rs_.noalias() = R_.triangularView<Eigen::Upper>() * taken;
+            t.predicted = -qtr_.dot(Rs_) - 0.5 * Rs_.squaredNorm();
         }
         return t;
-    };
+    }
 
-    // Trials evaluated ahead: with the Jacobian unchanged, a rejection only raises λ (to λν,
-    // then ·2ν, ...), so the next trial points are known before the current one is judged.
-    // They are evaluated side by side with it; a later iteration takes its residuals
-    // from here when its trial point is the same to the bit.
-    struct AheadTrial {
-        Eigen::VectorXd x, r;
-        bool ok = false;
-    };
-    const auto concurrency =
-        static_cast<std::size_t>(std::clamp(problem.concurrent_residuals(), 1, kMaxTrialsSideBySide));
-    std::vector<AheadTrial> ahead(concurrency - 1, AheadTrial{Eigen::VectorXd(m), Eigen::VectorXd(n), false});
-    std::size_t ahead_count = 0;
-    Eigen::VectorXd ahead_step(m);
-    std::vector<const double*> side_x(concurrency);
-    std::vector<double*> side_r(concurrency);
-    std::vector<char> side_ok(concurrency), side_stopped(concurrency);
-    auto find_ahead = [&](const Eigen::VectorXd& point) -> const AheadTrial* {
-        for (std::size_t k = 0; k < ahead_count; ++k)
-            if (ahead[k].x == point) return &ahead[k];
-        return nullptr;
-    };
-    double lambda = 0.0, nu = 2.0;
-    int rejected_in_row = 0;
-    // The steps LM may still take before the Jacobian changes, the current one included.
-    auto trial_count_left = [&]() {
-        const int by_limit = std::min(settings.max_iterations - s.iterations + 1,
-                                      settings.max_consecutive_rejections - rejected_in_row);
-        return static_cast<std::size_t>(std::max(1, by_limit));
-    };
-    // x_trial into r_trial (side_ok[0], side_stopped[0]) and, beside it, the trials of the
-    // next rejections that move and are finite, into `ahead`.
-    auto evaluate_with_ahead = [&](std::size_t steps_left) {
-        std::size_t count = 1;
-        side_x[0] = x_trial.data();
-        side_r[0] = r_trial.data();
-        double damping = lambda, growth = nu;
-        const std::size_t wanted = std::min(concurrency, steps_left);
-        while (count < wanted) {
-            damping *= growth;  // as a rejection updates λ and ν below
-            growth *= 2.0;
-            if (!std::isfinite(damping)) break;
-            AheadTrial& a = ahead[count - 1];
-            const TrialStep t = make_trial(damping, a.x, ahead_step);
-            if (!t.finite || !t.moves) break;  // that iteration evaluates nothing
-            side_x[count] = a.x.data();
-            side_r[count] = a.r.data();
-            ++count;
-        }
-        problem.residuals_side_by_side(count, side_x.data(), side_r.data(), side_ok.data(), side_stopped.data());
-        ahead_count = 0;
-        for (std::size_t k = 1; k < count && !side_stopped[k]; ++k) {
-            ahead[k - 1].ok = side_ok[k] != 0;
-            ahead_count = k;
-        }
-        s.evaluated_ahead += static_cast<long long>(count - 1);
-    };
-    bool first = true, fresh_jacobian = true;
-    bool failed_since_accept = false;  // a trial since the last accepted step could not be evaluated
-    for (;;) {
-        if (fresh_jacobian) {
-            fresh_jacobian = false;
-            gradient.noalias() = J.transpose() * r;  // ∇(½‖r‖²) = Jᵀr
-            for (Index j = 0; j < m; ++j) {
-                column_norm[j] = J.col(j).norm();
-                d[j] = std::max(d[j], column_norm[j]);  // Moré's scaling: max over iterations
-                scale[j] = d[j] > 0 ? d[j] : 1.0;       // a parameter without effect keeps scale 1
+    // Step 1 of compute_trial_step: p for the held set grown by the parameters on a bound
+    // whose step points outward.
+    void hold_outward_parameters(double damping) {
+        held_trial_ = held_;
+        for (Index pass = 0; pass <= m_; ++pass) {
+            damped_.solve(R_, qtr_, scale_, damping, held_trial_, p_);
+            bool changed = false;
+            for (Index j = 0; j < m_; ++j) {
+                auto& h = held_trial_[static_cast<std::size_t>(j)];
+                if (!h && ((x_[j] <= lo_[j] && p_[j] < 0) || (x_[j] >= hi_[j] && p_[j] > 0))) {
+                    h = 1;
+                    changed = true;
+                }
             }
-            // Active set: a parameter on a bound that the gradient pushes outward stays there.
-            for (Index j = 0; j < m; ++j)
-                held[static_cast<std::size_t>(j)] =
-                    lo[j] == hi[j] || (x[j] <= lo[j] && gradient[j] > 0) || (x[j] >= hi[j] && gradient[j] < 0);
-            // Scaled gradient over the free parameters: cosine between r and each column of J.
-            const double r_norm = std::sqrt(2.0 * f);
-            double g_norm = 0.0;
-            if (r_norm > 0)
-                for (Index j = 0; j < m; ++j)
-                    if (!held[static_cast<std::size_t>(j)] && column_norm[j] > 0)
-                        g_norm = std::max(g_norm, std::abs(gradient[j]) / (column_norm[j] * r_norm));
-            if (g_norm <= settings.gtol) {
-                finish("gradient below gtol", true);
-                break;
-            }
-            // J = Q R once per Jacobian; each trial then solves only an M-sized system.
-            qr_j.compute(J);
-            const Index k = std::min(n, m);
-            R.setZero();
-            for (Index c = 0; c < m; ++c)
-                for (Index i = 0; i <= std::min(c, k - 1); ++i) R(i, c) = qr_j.matrixQR()(i, c);
-            qtr_full = r;
-            qtr_full.applyOnTheLeft(qr_j.householderQ().adjoint());
-            qtr.setZero();
-            qtr.head(k) = qtr_full.head(k);
-            if (first) {
-                first = false;
-                double diagonal = 0.0;  // largest diagonal entry of the scaled JᵀJ
-                for (Index j = 0; j < m; ++j) diagonal = std::max(diagonal, std::pow(column_norm[j] / scale[j], 2));
-                lambda = settings.initial_damping * (diagonal > 0 ? diagonal : 1.0);
-            }
+            if (!changed) break;
         }
-        if (s.iterations >= settings.max_iterations) {
-            finish("iteration limit", false);
-            break;
-        }
-        ++s.iterations;
+    }
 
-        const TrialStep trial = make_trial(lambda, x_trial, step);
-        bool evaluable = trial.finite;
-        double f_trial = f;
-        if (trial.finite && trial.moves) {
-            ++s.residual_evaluations;
-            bool halted = false;
-            if (const AheadTrial* known = find_ahead(x_trial)) {  // evaluated next to an earlier rejected step
-                ++s.taken_ahead;
-                r_trial = known->r;
-                evaluable = known->ok;
-            } else {
-                evaluate_with_ahead(trial_count_left());
-                evaluable = side_ok[0] != 0;
-                halted = side_stopped[0] != 0;
+    // Step 2 of compute_trial_step: the parameters whose step would cross a bound put on it,
+    // and p of the others solved again for that displacement.
+    void put_crossing_parameters_on_bounds(double damping) {
+        on_bound_ = held_trial_;
+        to_bound_.setZero();
+        for (Index pass = 0; pass <= m_; ++pass) {
+            bool changed = false;
+            for (Index j = 0; j < m_; ++j) {
+                auto& b = on_bound_[static_cast<std::size_t>(j)];
+                if (b || !(x_[j] + p_[j] < lo_[j] || x_[j] + p_[j] > hi_[j])) continue;
+                to_bound_[j] = (x_[j] + p_[j] < lo_[j] ? lo_[j] : hi_[j]) - x_[j];
+                b = 1;
+                changed = true;
             }
-            if (!evaluable && halted) {  // drop this trial, stop at the last accepted point
-                --s.iterations;
-                finish("stopped", false);
-                break;
-            }
-            if (evaluable) evaluable = r_trial.allFinite();
-            if (evaluable) f_trial = 0.5 * r_trial.squaredNorm();
-            evaluable = evaluable && std::isfinite(f_trial);
-            if (!evaluable) ++s.failed_evaluations;
+            if (!changed) break;
+            qtr_on_bound_.noalias() = R_.triangularView<Eigen::Upper>() * to_bound_;
+            qtr_on_bound_ += qtr_;
+            damped_.solve(R_, qtr_on_bound_, scale_, damping, on_bound_, p_);
+            p_ += to_bound_;  // held: 0 + 0; put on a bound: 0 + δ_j
         }
-        const double predicted = trial.predicted;
-        const double f_before = f;
-        const double actual = f - f_trial;
-        const double rho = evaluable && predicted > 0 ? actual / predicted : -inf;  // gain ratio
-        bool accepted = rho > kAcceptRatio;
-        if (accepted) {
-            ahead_count = 0;  // the trials ahead were for this Jacobian's steps
-            ++s.jacobian_evaluations;
-            if (evaluate_jacobian(problem, x_trial, r_trial, J_trial)) {
-                x = x_trial;
-                r.swap(r_trial);
-                J.swap(J_trial);
-                f = 0.5 * r.squaredNorm();
-                fresh_jacobian = true;
-            } else if (problem.stopped()) {  // drop this trial, stop at the last accepted point
-                --s.iterations;
-                finish("stopped", false);
-                break;
-            } else {  // the model ran but its Jacobian did not: a failed step
-                ++s.failed_evaluations;
-                accepted = evaluable = false;
-            }
-        }
-        // Small only because the model fails a little further on (e.g. its simulation
-        // diverges there): the cost is not stationary, the solver is stuck at that region.
-        const bool blocked = failed_since_accept;
-        failed_since_accept = accepted ? false : (failed_since_accept || !evaluable);
-        // Nielsen's damping update (Madsen, Nielsen & Tingleff 2004, eq. 2.21).
-        if (accepted) {
-            lambda *= std::max(1.0 / 3.0, 1.0 - std::pow(2.0 * rho - 1.0, 3));
-            lambda = std::max(lambda, kMinDamping);
-            nu = 2.0;
-            rejected_in_row = 0;
+    }
+
+    // The residuals at x_trial (from the trials evaluated ahead when it is one of them) and
+    // its cost. A trial that does not move, or is not finite, is not evaluated.
+    TrialPoint evaluate_trial_point(const TrialStep& trial) {
+        TrialPoint point;
+        point.evaluable = trial.finite;
+        point.f = f_;
+        if (!(trial.finite && trial.moves)) return point;
+        ++s_.residual_evaluations;
+        if (const AheadTrial* known = find_ahead(x_trial_)) {  // evaluated next to an earlier rejected step
+            ++s_.taken_ahead;
+            r_trial_ = known->r;
+            point.evaluable = known->ok;
         } else {
-            lambda *= nu;
-            nu *= 2.0;
-            ++rejected_in_row;
+            evaluate_with_ahead(trial_count_left());
+            point.evaluable = side_ok_[0] != 0;
+            point.halted = side_stopped_[0] != 0;
         }
-        const bool go_on = record(s.iterations);
+        if (!point.evaluable && point.halted) return point;
+        point.halted = false;
+        if (point.evaluable) point.evaluable = r_trial_.allFinite();
+        if (point.evaluable) point.f = 0.5 * r_trial_.squaredNorm();
+        point.evaluable = point.evaluable && std::isfinite(point.f);
+        if (!point.evaluable) ++s_.failed_evaluations;
+        return point;
+    }
 
-        const double step_norm = scale.cwiseProduct(step).norm();
-        const double x_norm = scale.cwiseProduct(x).norm();
-        const bool small_step = trial.finite && step_norm <= settings.xtol * (x_norm + settings.xtol);
-        if (accepted && f_before > 0 && std::abs(actual) <= settings.ftol * f_before &&
-            predicted <= settings.ftol * f_before) {
-            finish("cost change below ftol", true);
-            break;
+    // The gain ratio was good: the Jacobian at the trial point, which becomes the current one.
+    Acceptance accept_trial_point() {
+        ahead_count_ = 0;  // the trials ahead were for this Jacobian's steps
+        ++s_.jacobian_evaluations;
+        if (evaluate_jacobian(problem_, x_trial_, r_trial_, J_trial_)) {
+            x_ = x_trial_;
+            r_.swap(r_trial_);
+            J_.swap(J_trial_);
+            f_ = 0.5 * r_.squaredNorm();
+            fresh_jacobian_ = true;
+            return Acceptance::accepted;
+        }
+        if (problem_.stopped()) return Acceptance::stopped;
+        ++s_.failed_evaluations;  // the model ran but its Jacobian did not: a failed step
+        return Acceptance::failed;
+    }
+
+    // Nielsen's damping update (Madsen, Nielsen & Tingleff 2004, eq. 2.21).
+    void update_damping_on_success(double rho) {
+        lambda_ *= std::max(1.0 / 3.0, 1.0 - std::pow(2.0 * rho - 1.0, 3));
+        lambda_ = std::max(lambda_, kMinDamping);
+        nu_ = 2.0;
+        rejected_in_row_ = 0;
+    }
+    void update_damping_on_rejection() {
+        lambda_ *= nu_;
+        nu_ *= 2.0;
+        ++rejected_in_row_;
+    }
+
+    // The convergence tests after an iteration, then the stop request and the rejection
+    // limit; true (and the run finished) when one of them ends the run.
+    bool converged_or_ended(const TrialStep& trial, bool evaluable, bool accepted, bool blocked, double f_before,
+                            double actual, bool go_on) {
+        const double step_norm = scale_.cwiseProduct(step_).norm();
+        const double x_norm = scale_.cwiseProduct(x_).norm();
+        const bool small_step = trial.finite && step_norm <= settings_.xtol * (x_norm + settings_.xtol);
+        if (accepted && f_before > 0 && std::abs(actual) <= settings_.ftol * f_before &&
+            trial.predicted <= settings_.ftol * f_before) {
+            finish(TerminationType::converged, "cost change below ftol");
+            return true;
         }
         // A step that cannot be evaluated says nothing about convergence; a tiny evaluable
         // step means the iterates have settled, or that no smaller one lowers the cost
         // (MINPACK's xtol test), unless failed evaluations forced it to be that small.
         if (evaluable && small_step) {
-            if (blocked) finish("no progress", false);
-            else finish("step below xtol", true);
-            break;
+            if (blocked) finish(TerminationType::no_progress, "no progress");
+            else finish(TerminationType::converged, "step below xtol");
+            return true;
         }
         if (!go_on) {
-            finish("stopped", false);
-            break;
+            finish(TerminationType::stopped, "stopped");
+            return true;
         }
-        if (!accepted && (rejected_in_row >= settings.max_consecutive_rejections || !std::isfinite(lambda))) {
-            finish("no progress", false);
-            break;
+        if (!accepted && (rejected_in_row_ >= settings_.max_consecutive_rejections || !std::isfinite(lambda_))) {
+            finish(TerminationType::no_progress, "no progress");
+            return true;
         }
+        return false;
     }
-    s.best_cost = 2.0 * f;
-    s.jacobian_at_best = std::move(J);
-    return s;
+
+    // Trials evaluated ahead: with the Jacobian unchanged, a rejection only raises λ (to λν,
+    // then ·2ν, ...), so the next trial points are known before the current one is judged.
+    // They are evaluated side by side with it; a later iteration takes its residuals
+    // from here when its trial point is the same to the bit.
+    void set_up_trials_ahead() {
+        concurrency_ = static_cast<std::size_t>(std::clamp(problem_.concurrent_residuals(), 1, kMaxTrialsSideBySide));
+        ahead_.assign(concurrency_ - 1, AheadTrial{Eigen::VectorXd(m_), Eigen::VectorXd(n_), false});
+        side_x_.resize(concurrency_);
+        side_r_.resize(concurrency_);
+        side_ok_.resize(concurrency_);
+        side_stopped_.resize(concurrency_);
+    }
+
+    const AheadTrial* find_ahead(const Eigen::VectorXd& point) const {
+        for (std::size_t k = 0; k < ahead_count_; ++k)
+            if (ahead_[k].x == point) return &ahead_[k];
+        return nullptr;
+    }
+
+    // The steps LM may still take before the Jacobian changes, the current one included.
+    std::size_t trial_count_left() const {
+        const int by_limit = std::min(settings_.max_iterations - s_.iterations + 1,
+                                      settings_.max_consecutive_rejections - rejected_in_row_);
+        return static_cast<std::size_t>(std::max(1, by_limit));
+    }
+
+    // x_trial into r_trial (side_ok[0], side_stopped[0]) and, beside it, the trials of the
+    // next rejections that move and are finite, into `ahead`.
+    void evaluate_with_ahead(std::size_t steps_left) {
+        std::size_t count = 1;
+        side_x_[0] = x_trial_.data();
+        side_r_[0] = r_trial_.data();
+        double damping = lambda_, growth = nu_;
+        const std::size_t wanted = std::min(concurrency_, steps_left);
+        while (count < wanted) {
+            damping *= growth;  // as a rejection updates λ and ν
+            growth *= 2.0;
+            if (!std::isfinite(damping)) break;
+            AheadTrial& a = ahead_[count - 1];
+            const TrialStep t = compute_trial_step(damping, a.x, ahead_step_);
+            if (!t.finite || !t.moves) break;  // that iteration evaluates nothing
+            side_x_[count] = a.x.data();
+            side_r_[count] = a.r.data();
+            ++count;
+        }
+        problem_.residuals_side_by_side(count, side_x_.data(), side_r_.data(), side_ok_.data(), side_stopped_.data());
+        ahead_count_ = 0;
+        for (std::size_t k = 1; k < count && !side_stopped_[k]; ++k) {
+            ahead_[k - 1].ok = side_ok_[k] != 0;
+            ahead_count_ = k;
+        }
+        s_.evaluated_ahead += static_cast<long long>(count - 1);
+    }
+
+    const LmSettings& settings_;
+    LeastSquaresProblem& problem_;
+    const LmProgress& progress_;
+    const Index m_, n_;
+    LmSummary s_;
+
+    // The iterate, the trial point, their residuals and Jacobians.
+    Eigen::VectorXd lo_, hi_, x_, x_trial_;
+    Eigen::VectorXd r_, r_trial_, qtr_full_;
+    Eigen::MatrixXd J_, J_trial_;
+    double f_ = 0.0;  // ½‖r‖² at x
+    // The current Jacobian's set-up and the trial step's work space.
+    Eigen::VectorXd gradient_, column_norm_, d_, scale_;
+    Eigen::VectorXd p_, step_, qtr_, Rs_;
+    Eigen::MatrixXd R_;
+    Eigen::HouseholderQR<Eigen::MatrixXd> qr_j_;
+    DampedStep damped_;
+    std::vector<char> held_, held_trial_, on_bound_;
+    Eigen::VectorXd to_bound_, qtr_on_bound_;
+    // The damping and the iteration state.
+    double lambda_ = 0.0, nu_ = 2.0;
+    int rejected_in_row_ = 0;
+    bool first_jacobian_ = true, fresh_jacobian_ = true;
+    bool failed_since_accept_ = false;  // a trial since the last accepted step could not be evaluated
+    // The trials evaluated ahead and the buffers of a side-by-side evaluation.
+    std::size_t concurrency_ = 1;
+    std::vector<AheadTrial> ahead_;
+    std::size_t ahead_count_ = 0;
+    Eigen::VectorXd ahead_step_;
+    std::vector<const double*> side_x_;
+    std::vector<double*> side_r_;
+    std::vector<char> side_ok_, side_stopped_;
+};
+
+}  // namespace
+
+LmSummary run_levenberg_marquardt(const LmSettings& settings, std::vector<double> x0,
+                                  const std::vector<double>& lower, const std::vector<double>& upper,
+                                  LeastSquaresProblem& problem, const LmProgress& progress) {
+    check_arguments(settings, x0, lower, upper, problem.residual_count());
+    return LevenbergMarquardt(settings, x0, lower, upper, problem, progress).minimize();
 }
 
 }  // namespace tvid

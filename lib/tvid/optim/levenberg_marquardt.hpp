@@ -31,6 +31,7 @@
 
 #include "tvid/optim/lm_options.hpp"
 #include "tvid/optim/pso.hpp"  // HistoryRow
+#include "tvid/optim/termination.hpp"
 
 namespace tvid {
 
@@ -95,7 +96,8 @@ struct LmSummary {
     /// are below xtol because the model fails just beyond the current point: stuck at the
     /// edge of a region where e.g. the simulation diverges), "start failed".
     std::string termination;
-    bool success = false;                ///< true for the three convergence reasons only
+    TerminationType termination_type = TerminationType::converged;  ///< converged for the three convergence reasons
+    bool success = false;                ///< termination_type == converged
     Eigen::MatrixXd jacobian_at_best;    ///< N×M at `best`; empty when the start failed
 };
 

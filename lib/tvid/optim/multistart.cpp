@@ -30,7 +30,7 @@ MultistartSummary run_multistart(const MultistartSettings& settings, const LmSet
     const auto n = static_cast<std::size_t>(settings.starts);
     const std::vector<double> points = multistart_points(settings, box);
     LmSettings per_start = lm;
-    if (settings.max_iterations > 0) per_start.max_iterations = settings.max_iterations;
+    if (settings.max_iterations) per_start.max_iterations = *settings.max_iterations;
 
     if (threads <= 0) threads = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
     MultistartSummary s;
@@ -44,6 +44,7 @@ MultistartSummary run_multistart(const MultistartSettings& settings, const LmSet
                          points.begin() + static_cast<std::ptrdiff_t>((i + 1) * m));
         r.best = r.initial;
         r.best_cost = r.initial_cost = std::numeric_limits<double>::infinity();
+        r.termination_type = TerminationType::not_run;
         r.termination = "not run";
     }
 
@@ -85,6 +86,7 @@ MultistartSummary run_multistart(const MultistartSettings& settings, const LmSet
                 r.evaluations = sims >= 0 ? sims : fit.residual_evaluations + fit.jacobian_evaluations;
                 r.failed_evaluations = fit.failed_evaluations;
                 r.right_hand_sides = problem->right_hand_sides();
+                r.termination_type = fit.termination_type;
                 r.termination = fit.termination;
                 r.success = fit.success;
             }
@@ -105,7 +107,7 @@ MultistartSummary run_multistart(const MultistartSettings& settings, const LmSet
     s.best_cost = best;
     int row = 0;
     for (const StartResult& r : s.starts) {
-        if (r.termination == "not run") continue;
+        if (r.termination_type == TerminationType::not_run) continue;
         for (const HistoryRow& h : r.history) {
             best = std::min(best, h.best_cost);
             s.history.push_back(HistoryRow{row++, s.evaluations + h.evaluations, best});
@@ -123,10 +125,12 @@ MultistartSummary run_multistart(const MultistartSettings& settings, const LmSet
     if (s.best_start == 0) {
         s.best_cost = std::numeric_limits<double>::infinity();
         s.best = s.starts.front().initial;
+        s.termination_type = stop ? TerminationType::stopped : TerminationType::all_failed;
         s.termination = stop ? "stopped" : "every start failed";
         return s;
     }
     const StartResult& winner = s.starts[static_cast<std::size_t>(s.best_start - 1)];
+    s.termination_type = stop ? TerminationType::stopped : winner.termination_type;
     s.termination = stop ? "stopped" : "best of " + std::to_string(n) + " starts: " + winner.termination;
     s.success = !stop && winner.success;
     return s;

@@ -32,6 +32,7 @@ struct StartResult {
     long long failed_evaluations = 0;
     long long right_hand_sides = 0;  ///< of the model, in its simulations (0 when not counted)
     std::string termination;         ///< LM's reason, or "not run" when the run was stopped before it
+    TerminationType termination_type = TerminationType::not_run;
     bool success = false;            ///< an LM tolerance was met
     std::vector<HistoryRow> history; ///< its own LM history
 };
@@ -49,6 +50,7 @@ struct MultistartSummary {
     /// evaluations cumulative, best cost the lowest so far over the starts before.
     std::vector<HistoryRow> history;
     std::string termination;          ///< "best of N starts: <best start's reason>", "stopped", ...
+    TerminationType termination_type = TerminationType::all_failed;  ///< the best start's, or stopped, all_failed
     bool success = false;             ///< the best start converged
     int threads = 1;                  ///< starts run at once
     int threads_per_start = 1;

@@ -88,6 +88,21 @@ std::string termination_text(nlopt::result r) {
     return "failure";
 }
 
+TerminationType termination_type(nlopt::result r) {
+    switch (r) {
+        case nlopt::SUCCESS:
+        case nlopt::STOPVAL_REACHED:
+        case nlopt::FTOL_REACHED:
+        case nlopt::XTOL_REACHED: return TerminationType::converged;
+        case nlopt::MAXEVAL_REACHED: return TerminationType::evaluation_limit;
+        case nlopt::MAXTIME_REACHED: return TerminationType::time_limit;
+        case nlopt::FORCED_STOP: return TerminationType::stopped;
+        case nlopt::ROUNDOFF_LIMITED: return TerminationType::no_progress;
+        default: break;  // FAILURE, OUT_OF_MEMORY, INVALID_ARGS
+    }
+    return TerminationType::failed;
+}
+
 void set_tolerances(nlopt::opt& opt, const NloptSettings& settings) {
     if (settings.xtol_rel > 0) opt.set_xtol_rel(settings.xtol_rel);
     if (settings.ftol_rel > 0) opt.set_ftol_rel(settings.ftol_rel);
@@ -162,17 +177,21 @@ NloptSummary run_nlopt(const NloptSettings& settings, std::vector<double> x0, co
     } catch (const std::runtime_error&) {
         result = nlopt::FAILURE;
     }
+    s.termination_type = run.stopped ? TerminationType::stopped : termination_type(result);
     s.termination = run.stopped ? "stopped" : termination_text(result);
     if (s.evaluations > 0 && s.history.back().iteration != run.last.iteration) s.history.push_back(run.last);
     if (!std::isfinite(s.best_cost)) {
-        s.termination = s.evaluations > 0 ? "all evaluations failed" : s.termination;
+        if (s.evaluations > 0) {
+            s.termination_type = TerminationType::all_failed;
+            s.termination = "all evaluations failed";
+        }
         s.success = false;
         return s;
     }
-    const bool tolerance = result == nlopt::SUCCESS || result == nlopt::STOPVAL_REACHED ||
-                           result == nlopt::FTOL_REACHED || result == nlopt::XTOL_REACHED;
-    const bool budget = result == nlopt::MAXEVAL_REACHED || result == nlopt::MAXTIME_REACHED;
-    s.success = !run.stopped && (tolerance || (algorithm.global && budget));
+    // A global algorithm has no tolerance of its own: its budget is its stopping rule.
+    const bool budget = s.termination_type == TerminationType::evaluation_limit ||
+                        s.termination_type == TerminationType::time_limit;
+    s.success = s.termination_type == TerminationType::converged || (algorithm.global && budget);
     return s;
 }
 

@@ -14,6 +14,7 @@
 #include "tvid/optim/differentiable_cost.hpp"
 #include "tvid/optim/nlopt_options.hpp"
 #include "tvid/optim/pso.hpp"  // HistoryRow
+#include "tvid/optim/termination.hpp"
 
 namespace tvid {
 
@@ -34,6 +35,7 @@ struct NloptSummary {
     /// "time limit", "stopped" (the progress callback), "roundoff limited", "failure",
     /// "all evaluations failed".
     std::string termination;
+    TerminationType termination_type = TerminationType::failed;
     /// A tolerance was met, or a global algorithm used up its budget (its only stopping rule).
     bool success = false;
 };

@@ -100,6 +100,7 @@ PsoSummary run_pso(const PsoSettings& options, const SearchBox& box, CandidateEv
 
     PsoSummary s;
     s.particles = static_cast<int>(n);
+    s.termination_type = TerminationType::iteration_limit;
     s.termination = "iteration limit";
     for (int k = 0;; ++k) {
         // Score the particles that moved (an unmoved particle keeps its cost: the model is deterministic).
@@ -115,6 +116,7 @@ PsoSummary run_pso(const PsoSettings& options, const SearchBox& box, CandidateEv
         // A batch cut short by a stop request is discarded whole: the best stays the best
         // of the last complete iteration, a fully evaluated point.
         if (count > 0 && evaluator.stopped()) {
+            s.termination_type = TerminationType::stopped;
             s.termination = "stopped";
             break;
         }
@@ -138,6 +140,7 @@ PsoSummary run_pso(const PsoSettings& options, const SearchBox& box, CandidateEv
         s.history.push_back(HistoryRow{k, s.evaluations, global_cost});
         s.iterations = k;
         if (progress && !progress(s.history.back())) {
+            s.termination_type = TerminationType::stopped;
             s.termination = "stopped";
             break;
         }
@@ -172,7 +175,10 @@ PsoSummary run_pso(const PsoSettings& options, const SearchBox& box, CandidateEv
     }
     s.best = global;
     s.best_cost = global_cost;
-    if (!std::isfinite(global_cost) && s.termination != "stopped") s.termination = "all candidates failed";
+    if (!std::isfinite(global_cost) && s.termination_type != TerminationType::stopped) {
+        s.termination_type = TerminationType::all_failed;
+        s.termination = "all candidates failed";
+    }
     return s;
 }
 

@@ -15,6 +15,7 @@
 
 #include "tvid/optim/candidate_evaluator.hpp"
 #include "tvid/optim/pso_options.hpp"
+#include "tvid/optim/termination.hpp"
 
 namespace tvid {
 
@@ -43,6 +44,7 @@ struct PsoSummary {
     /// "iteration limit", "stopped" (the progress callback returned false, or the evaluator
     /// was stopped mid-batch: that iteration is dropped), "all candidates failed"
     std::string termination;
+    TerminationType termination_type = TerminationType::iteration_limit;
 };
 
 /// Called after every iteration; return false to stop the swarm (e.g. on Ctrl-C).

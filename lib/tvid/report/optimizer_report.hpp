@@ -1,6 +1,7 @@
 #pragma once
 // The optimizer's own part of a report: its settings and phases in summary.json's
-// `optimizer` block, and starts.csv (one row per multistart start).
+// `optimizer` block, and starts.csv (one row per multistart start). Both come from the
+// optimizer's row of the optimizer table (fit/optimizer_table.hpp).
 
 #include <string>
 
@@ -15,7 +16,8 @@ namespace tvid {
 nlohmann::json optimizer_details_json(const Experiment& experiment, const FitResult& fit);
 
 /// starts.csv: start, the initial point, the final parameters, initial and final cost,
-/// iterations, evaluations, termination; one row per start. Empty unless multistart ran.
+/// iterations, evaluations, termination; one row per start. Empty unless an optimizer
+/// with starts (multistart) ran.
 std::string starts_csv(const IdentificationProblem& problem, const FitResult& fit);
 
 }  // namespace tvid

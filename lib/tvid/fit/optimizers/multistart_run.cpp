@@ -1,0 +1,102 @@
+// The optimizer table's row of `multistart`: Levenberg–Marquardt from Latin-hypercube
+// starts of the range box, in parallel, the best kept; starts.csv lists every start.
+
+#include <sstream>
+
+#include "tvid/estimation/experiment_least_squares.hpp"
+#include "tvid/estimation/parallel_evaluator.hpp"
+#include "tvid/fit/optimizer_table.hpp"
+#include "tvid/fit/optimizers/report_parts.hpp"
+#include "tvid/fit/optimizers/search_box.hpp"
+
+namespace tvid {
+
+namespace {
+
+OptimizerRun run_multistart_fit(const IdentificationProblem& problem, const FitOptions& options, FitResult& r) {
+    const EstimationSettings& settings = problem.experiment().estimation_settings;
+    r.multistart_settings = settings.multistart;
+    if (options.seed) r.multistart_settings.seed = *options.seed;
+    r.lm_settings = settings.lm;
+    if (r.multistart_settings.max_iterations) r.lm_settings.max_iterations = *r.multistart_settings.max_iterations;
+    const JacobianKind jacobian = settings.jacobian;
+    const std::atomic<bool>* stop = options.stop;
+    const LeastSquaresFactory make = [&problem, jacobian, stop](int threads) {
+        return std::make_unique<ExperimentLeastSquares>(problem, threads, jacobian, stop);
+    };
+    r.multistart = run_multistart(r.multistart_settings, r.lm_settings, search_box(problem),
+                                  resolve_thread_count(options.threads), make, options.progress);
+    r.threads = r.multistart.threads * r.multistart.threads_per_start;
+    const MultistartSummary& m = r.multistart;
+    return OptimizerRun{.name = {},  // run_fit names it after its row
+                        .best = m.best,
+                        .best_cost = m.best_cost,
+                        .iterations = m.iterations,
+                        .evaluations = m.evaluations,
+                        .failed_evaluations = m.failed_evaluations,
+                        .history = m.history,
+                        .termination = m.termination,
+                        .termination_type = m.termination_type,
+                        .converged = m.success,  // the best start converged
+                        .right_hand_sides = m.right_hand_sides};
+}
+
+nlohmann::json multistart_details(const Experiment& ex, const FitResult& fit) {
+    using nlohmann::json;
+    using optimizer_report::number;
+    const MultistartSummary& ms = fit.multistart;
+    json starts = json::array();
+    for (const StartResult& s : ms.starts)
+        starts.push_back(json{{"start", s.start},
+                              {"initial_cost", number(s.initial_cost)},
+                              {"cost", number(s.best_cost)},
+                              {"iterations", s.iterations},
+                              {"evaluations", s.evaluations},
+                              {"termination", s.termination},
+                              {"converged", s.success}});
+    return json{{"starts", fit.multistart_settings.starts},
+                {"seed", fit.multistart_settings.seed},
+                {"best_start", ms.best_start},
+                {"parallel_starts", ms.threads},
+                {"threads_per_start", ms.threads_per_start},
+                {"lm", optimizer_report::lm_settings(ex, fit)},
+                {"start_results", starts}};
+}
+
+// Every start's LM steps.
+int multistart_iterations(const EstimationSettings& settings) {
+    const int per_start = settings.multistart.max_iterations.value_or(settings.lm.max_iterations);
+    return settings.multistart.starts * per_start;
+}
+
+// starts.csv: start, the initial point, the final parameters, initial and final cost,
+// iterations, evaluations, termination, whether it is the best.
+std::string multistart_starts_csv(const IdentificationProblem& problem, const FitResult& fit) {
+    using optimizer_report::csv_cell;
+    std::ostringstream out;
+    out << "start";
+    for (const std::string& n : problem.free_names()) out << ",initial_" << n;
+    for (const std::string& n : problem.free_names()) out << ",final_" << n;
+    out << ",initial_cost,cost,iterations,evaluations,termination,best\n";
+    for (const StartResult& s : fit.multistart.starts) {
+        out << s.start;
+        for (double v : s.initial) out << ',' << csv_cell(v);
+        for (double v : s.best) out << ',' << csv_cell(v);
+        out << ',' << csv_cell(s.initial_cost) << ',' << csv_cell(s.best_cost) << ',' << s.iterations << ','
+            << s.evaluations << ',' << s.termination << ',' << (s.start == fit.multistart.best_start ? "true" : "false")
+            << '\n';
+    }
+    return out.str();
+}
+
+}  // namespace
+
+OptimizerEntry multistart_optimizer() {
+    return OptimizerEntry{.kind = OptimizerKind::multistart,
+                          .run = run_multistart_fit,
+                          .details = multistart_details,
+                          .planned_iterations = multistart_iterations,
+                          .starts_csv = multistart_starts_csv};
+}
+
+}  // namespace tvid

@@ -1,0 +1,77 @@
+// The optimizer table's row of `pso+lm`: the swarm on the l2 cost, then Levenberg–Marquardt
+// from its best particle.
+
+#include "tvid/estimation/experiment_least_squares.hpp"
+#include "tvid/estimation/parallel_evaluator.hpp"
+#include "tvid/fit/optimizer_table.hpp"
+#include "tvid/fit/optimizers/report_parts.hpp"
+#include "tvid/fit/optimizers/search_box.hpp"
+#include "tvid/optim/hybrid_pso_lm.hpp"
+#include "tvid/parallel/distributed_evaluator.hpp"
+
+namespace tvid {
+
+namespace {
+
+OptimizerRun run_hybrid_fit(const IdentificationProblem& problem, const FitOptions& options, FitResult& r) {
+    const EstimationSettings& settings = problem.experiment().estimation_settings;
+    r.pso_settings = settings.pso;
+    if (options.seed) r.pso_settings.seed = *options.seed;
+    r.lm_settings = settings.lm;
+    // The swarm's candidates are scored by every process under mpirun, as for pso alone;
+    // the polish runs on the root.
+    ParallelEvaluator local(problem, options.threads, options.stop);
+    DistributedEvaluator swarm_cost(options.processes, local);
+    ExperimentLeastSquares residuals(problem, options.threads, settings.jacobian, options.stop);
+    r.threads = local.threads();
+    r.processes = swarm_cost.processes();
+    HybridSummary h =
+        run_pso_then_lm(r.pso_settings, r.lm_settings, search_box(problem), swarm_cost, residuals, options.progress);
+    r.pso = std::move(h.pso);
+    r.lm = std::move(h.lm);
+    return OptimizerRun{.name = {},  // run_fit names it after its row
+                        .best = h.best,
+                        .best_cost = h.best_cost,
+                        .iterations = h.iterations,
+                        .evaluations = h.evaluations,
+                        .failed_evaluations = h.failed_evaluations,
+                        .history = h.history,
+                        .termination = h.termination,
+                        .termination_type = h.termination_type,
+                        .converged = h.success,  // the polish converged
+                        .right_hand_sides = static_cast<long long>(swarm_cost.right_hand_sides()) +
+                                            residuals.right_hand_sides()};
+}
+
+// Both phases minimize the l2 cost; the polish starts at the swarm's best particle.
+nlohmann::json hybrid_details(const Experiment& ex, const FitResult& fit) {
+    using optimizer_report::number;
+    nlohmann::json swarm = optimizer_report::swarm_settings(fit);
+    swarm["iterations"] = fit.pso.iterations;
+    swarm["evaluations"] = fit.pso.evaluations;
+    swarm["cost"] = number(fit.pso.best_cost);
+    swarm["termination"] = fit.pso.termination;
+    nlohmann::json polish = optimizer_report::lm_settings(ex, fit);
+    polish["ran"] = !fit.lm.history.empty();
+    polish["initial_cost"] = number(fit.lm.initial_cost);
+    polish["cost"] = number(fit.lm.best_cost);
+    polish["iterations"] = fit.lm.iterations;
+    polish["termination"] = fit.lm.termination;
+    return nlohmann::json{{"swarm", swarm}, {"polish", polish}};
+}
+
+// The swarm's updates, its initial evaluation, then the polish's steps.
+int hybrid_iterations(const EstimationSettings& settings) {
+    return settings.pso.iterations + 1 + settings.lm.max_iterations;
+}
+
+}  // namespace
+
+OptimizerEntry pso_lm_optimizer() {
+    return OptimizerEntry{.kind = OptimizerKind::pso_lm,
+                          .run = run_hybrid_fit,
+                          .details = hybrid_details,
+                          .planned_iterations = hybrid_iterations};
+}
+
+}  // namespace tvid

@@ -1,0 +1,50 @@
+// The optimizer table's row of `pso`: the particle swarm (seed 001) on the configured cost,
+// its candidates scored on every thread and, under mpirun, every process.
+
+#include "tvid/estimation/parallel_evaluator.hpp"
+#include "tvid/fit/optimizer_table.hpp"
+#include "tvid/fit/optimizers/report_parts.hpp"
+#include "tvid/fit/optimizers/search_box.hpp"
+#include "tvid/parallel/distributed_evaluator.hpp"
+
+namespace tvid {
+
+namespace {
+
+OptimizerRun run_swarm(const IdentificationProblem& problem, const FitOptions& options, FitResult& r) {
+    r.pso_settings = problem.experiment().estimation_settings.pso;
+    if (options.seed) r.pso_settings.seed = *options.seed;
+    ParallelEvaluator local(problem, options.threads, options.stop);
+    DistributedEvaluator evaluator(options.processes, local);
+    r.threads = local.threads();
+    r.processes = evaluator.processes();
+    r.pso = run_pso(r.pso_settings, search_box(problem), evaluator, options.progress);
+    return OptimizerRun{.name = {},  // run_fit names it after its row
+                        .best = r.pso.best,
+                        .best_cost = r.pso.best_cost,
+                        .iterations = r.pso.iterations,
+                        .evaluations = r.pso.evaluations,
+                        .failed_evaluations = r.pso.failed_evaluations,
+                        .history = r.pso.history,
+                        .termination = r.pso.termination,
+                        .termination_type = r.pso.termination_type,
+                        // The swarm has no convergence test: its iterations run out when it is done.
+                        .converged = r.pso.termination_type == TerminationType::iteration_limit,
+                        .right_hand_sides = static_cast<long long>(evaluator.right_hand_sides())};
+}
+
+nlohmann::json swarm_details(const Experiment&, const FitResult& fit) { return optimizer_report::swarm_settings(fit); }
+
+int swarm_iterations(const EstimationSettings& settings) { return settings.pso.iterations; }
+
+}  // namespace
+
+OptimizerEntry pso_optimizer() {
+    return OptimizerEntry{.kind = OptimizerKind::pso,
+                          .run = run_swarm,
+                          .details = swarm_details,
+                          .planned_iterations = swarm_iterations,
+                          .planned_is_cap = false};
+}
+
+}  // namespace tvid

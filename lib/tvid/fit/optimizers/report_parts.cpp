@@ -1,0 +1,33 @@
+#include "tvid/fit/optimizers/report_parts.hpp"
+
+#include <cmath>
+#include <cstdio>
+
+namespace tvid::optimizer_report {
+
+using nlohmann::json;
+
+json number(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
+
+std::string csv_cell(double v) {
+    if (!std::isfinite(v)) return std::isnan(v) ? "" : (v > 0 ? "inf" : "-inf");
+    char buf[40];
+    std::snprintf(buf, sizeof buf, "%.17g", v);
+    return buf;
+}
+
+json swarm_settings(const FitResult& fit) {
+    const PsoSettings& ps = fit.pso_settings;
+    return json{{"particles", fit.pso.particles}, {"seed", ps.seed}, {"w", ps.w}, {"c1", ps.c1}, {"c2", ps.c2}};
+}
+
+json lm_settings(const Experiment& ex, const FitResult& fit) {
+    const LmSettings& ls = fit.lm_settings;
+    return json{{"jacobian", ex.estimation_settings.jacobian == JacobianKind::fd ? "fd" : "sensitivity"},
+                {"ftol", ls.ftol},
+                {"xtol", ls.xtol},
+                {"gtol", ls.gtol},
+                {"max_iterations", ls.max_iterations}};
+}
+
+}  // namespace tvid::optimizer_report

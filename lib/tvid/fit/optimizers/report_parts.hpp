@@ -1,0 +1,25 @@
+#pragma once
+// Pieces the optimizers' rows share in their reports: a number for JSON or a CSV cell, and
+// the settings blocks of the swarm and of Levenberg–Marquardt.
+
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "tvid/fit/fit_run.hpp"
+
+namespace tvid::optimizer_report {
+
+/// v, or null when it is not finite (JSON has no inf or NaN).
+nlohmann::json number(double v);
+
+/// v with 17 significant digits; "inf", "-inf", or empty for NaN.
+std::string csv_cell(double v);
+
+/// The swarm's settings as run: particles, seed, w, c1, c2.
+nlohmann::json swarm_settings(const FitResult& fit);
+
+/// Levenberg–Marquardt's settings as run: jacobian, ftol, xtol, gtol, max_iterations.
+nlohmann::json lm_settings(const Experiment& experiment, const FitResult& fit);
+
+}  // namespace tvid::optimizer_report

@@ -1,0 +1,75 @@
+// The optimizer table: one row for every OptimizerKind, found by kind and by name, and
+// each row's own answers (planned iterations, a cap or not, starts.csv or not).
+#include <catch2/catch.hpp>
+#include <iterator>
+#include <set>
+#include <stdexcept>
+#include <string>
+
+#include "tvid/fit/optimizer_table.hpp"
+
+using namespace tvid;
+
+TEST_CASE("the optimizer table has one row for every optimizer kind, in the enum's order") {
+    const std::vector<OptimizerEntry>& table = optimizer_table();
+    REQUIRE(table.size() == std::size(kOptimizerKinds));
+    for (std::size_t i = 0; i < table.size(); ++i) {
+        CAPTURE(i);
+        CHECK(table[i].kind == kOptimizerKinds[i]);
+        CHECK(table[i].run != nullptr);
+        CHECK(table[i].details != nullptr);
+        CHECK(table[i].planned_iterations != nullptr);
+    }
+}
+
+TEST_CASE("every optimizer is found by its kind and by its name") {
+    std::set<std::string> names;
+    for (OptimizerKind kind : kOptimizerKinds) {
+        const OptimizerEntry& entry = optimizer_entry(kind);
+        CHECK(entry.kind == kind);
+        const std::string name = optimizer_name(kind);
+        CHECK(std::string(entry.name()) == name);
+        const OptimizerEntry* by_name = find_optimizer(name);
+        REQUIRE(by_name != nullptr);
+        CHECK(by_name->kind == kind);
+        names.insert(name);
+    }
+    CHECK(names == std::set<std::string>{"pso", "lm", "nlopt", "pso+lm", "multistart"});
+    CHECK(find_optimizer("pso_lm") == nullptr);  // the enum's spelling is not a name
+    CHECK(find_optimizer("") == nullptr);
+}
+
+TEST_CASE("a kind without a row is a logic error, not a silent default") {
+    CHECK_THROWS_AS(optimizer_entry(static_cast<OptimizerKind>(99)), std::logic_error);
+}
+
+TEST_CASE("each row plans its own iterations") {
+    EstimationSettings s;
+    s.pso.iterations = 30;
+    s.lm.max_iterations = 50;
+    s.nlopt.max_evaluations = 700;
+    s.multistart.starts = 4;
+    const auto planned = [&s](OptimizerKind kind) {
+        s.optimizer = kind;
+        return planned_iterations(s);
+    };
+    CHECK(planned(OptimizerKind::pso) == 30);
+    CHECK(planned(OptimizerKind::lm) == 50);
+    CHECK(planned(OptimizerKind::nlopt) == 700);
+    CHECK(planned(OptimizerKind::pso_lm) == 30 + 1 + 50);  // updates, the initial swarm, the polish
+    CHECK(planned(OptimizerKind::multistart) == 4 * 50);   // every start runs lm.max_iterations ...
+    s.multistart.max_iterations = 7;
+    CHECK(planned(OptimizerKind::multistart) == 4 * 7);    // ... unless multistart.max_iterations is given
+    s.nlopt.max_evaluations = 2000000000;
+    CHECK(planned(OptimizerKind::nlopt) == 1 << 30);       // an int for the progress line
+}
+
+TEST_CASE("only the swarm runs all its planned iterations; only multistart writes starts.csv") {
+    for (OptimizerKind kind : kOptimizerKinds) {
+        CAPTURE(optimizer_name(kind));
+        EstimationSettings s;
+        s.optimizer = kind;
+        CHECK(planned_iterations_are_a_cap(s) == (kind != OptimizerKind::pso));
+        CHECK((optimizer_entry(kind).starts_csv != nullptr) == (kind == OptimizerKind::multistart));
+    }
+}
