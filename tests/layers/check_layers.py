@@ -40,9 +40,10 @@ def main():
         if folder not in FLOOR_OF:
             problems.append(f"lib/tvid/{folder}/: a folder on no floor (add it to FLOORS and to docs/architecture.md)")
             continue
-        for name in sorted(os.listdir(path)):
-            if not name.endswith((".hpp", ".cpp")):
-                continue
+        # The folder's files and those of its subfolders (fit/optimizers/, model/elements/).
+        sources = sorted(os.path.relpath(os.path.join(d, n), path)
+                         for d, _, names in os.walk(path) for n in names if n.endswith((".hpp", ".cpp")))
+        for name in sources:
             with open(os.path.join(path, name), encoding="utf-8") as f:
                 text = f.read()
             for m in INCLUDE.finditer(text):
