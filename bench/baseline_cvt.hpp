@@ -1,5 +1,5 @@
 #pragma once
-// The straightforward implementation of the CVT clearance identification (seed 001
+// The straightforward implementation of the CVT clearance identification (Yoshida & Takamatsu
 // eqs. 15-21), kept apart from the library as the yardstick of its speed-ups: one
 // candidate at a time, scalar double, odeint's runge_kutta4 over a std::vector state,
 // the input found by binary search and interpolated at every right-hand side, the

@@ -1,4 +1,4 @@
-// Figures for the CVT clearance identification (seed 001): cost of one simulation of
+// Figures for the CVT clearance identification (Yoshida & Takamatsu): cost of one simulation of
 // the 1500-sample estimation window (RK4 at 1 ms), and the paper-sized particle swarm
 // (512 particles on the 2^9 grid, 250 iterations) per thread count.
 //

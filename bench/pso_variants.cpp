@@ -1,4 +1,4 @@
-// Which reading of seed 001 eq. 24 finds the lower cost? The paper does not say whether
+// Which reading of Yoshida & Takamatsu eq. 24 finds the lower cost? The paper does not say whether
 // the random factors η0, η1, η2 are drawn once per iteration, once per particle or once
 // per dimension, nor whether the position moves with v(k) (as printed) or v(k+1). This
 // program runs the paper-sized swarm (512 grid particles, 250 iterations) on a shipped

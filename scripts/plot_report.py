@@ -6,15 +6,15 @@ Usage:
 
 From REPORT_DIR (written by `tvid fit`, see docs/report-format.md):
   fit.png             measured vs simulated output, one panel per window and output
-                      (estimation windows, then validation windows; seed 000 Figs. 2a/3a,
-                      seed 001 Fig. 7), with each window's Q-index in its title
-  residual_ratio.png  residual ratio (y - y*)/y in percent per window (seed 000 Figs. 2b/3b)
+                      (estimation windows, then validation windows; the methodology paper Figs. 2a/3a,
+                      Yoshida & Takamatsu Fig. 7), with each window's Q-index in its title
+  residual_ratio.png  residual ratio (y - y*)/y in percent per window (the methodology paper Figs. 2b/3b)
   cost_history.png    best cost against iteration and against simulations, log scale
-                      (seed 001 Fig. 6)
+                      (Yoshida & Takamatsu Fig. 6)
 From SENS_DIR (written by `tvid sensitivity`, see docs/report-format.md; default
 REPORT_DIR/sensitivity when it holds a sensitivity.json):
   sensitivity_OUTPUT.png  p*dy/dp over time, one panel per free parameter
-                          (seed 000 Figs. 4-5); dy/dp for a parameter at 0
+                          (the methodology paper Figs. 4-5); dy/dp for a parameter at 0
 
 The figures go to OUT_DIR (default: REPORT_DIR/plots). Uses Debian's python3-matplotlib
 with the Agg backend (no display needed). Exit status: 0 done, 2 bad input (a missing or

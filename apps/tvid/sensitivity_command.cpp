@@ -1,4 +1,4 @@
-// `tvid sensitivity EXP.yaml`: how the outputs respond to each free parameter (seed 000
+// `tvid sensitivity EXP.yaml`: how the outputs respond to each free parameter (the methodology paper
 // Figs. 4–5), from forward sensitivities at one parameter set, and a ranking.
 
 #include <omp.h>

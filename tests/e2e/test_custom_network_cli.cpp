@@ -35,7 +35,7 @@ std::size_t column_index(const std::vector<std::string>& header, const std::stri
     return static_cast<std::size_t>(it - header.begin());
 }
 
-// The cvt_clearance preset (seed 001 eqs. 15-16) as a custom network. The parameters
+// The cvt_clearance preset (Yoshida & Takamatsu eqs. 15-16) as a custom network. The parameters
 // are declared in another order than the preset's, all fixed at `truth`.
 std::string cvt_as_custom_network(const json& truth) {
     std::ostringstream s;

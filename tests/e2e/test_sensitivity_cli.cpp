@@ -1,5 +1,5 @@
 // `tvid sensitivity`: the forward sensitivities ∂y/∂p of the outputs through the binary
-// (seed 000 Figs. 4–5), their files, their physics, and the input it refuses.
+// (the methodology paper Figs. 4–5), their files, their physics, and the input it refuses.
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
 #include <algorithm>
@@ -184,7 +184,7 @@ TEST_CASE("tvid sensitivity of the CVT shows the scaling symmetry of its paramet
     const std::map<std::string, double> rms = check_ranking(read_csv(out / "ranking.csv"), "Tds", free);
     // ∂Tds/∂Δds = 1: the offset's scaled sensitivity is Δds itself (init −7.5).
     CHECK(rms.at("d_ds") == Approx(7.5).epsilon(1e-9));
-    // Seed 001's parametrization is invariant under ρ1 → λρ1, μ → λμ, k±, c±, σ → ·/λ
+    // Yoshida & Takamatsu's parametrization is invariant under ρ1 → λρ1, μ → λμ, k±, c±, σ → ·/λ
     // (docs/model-library.md), so the scaled sensitivities along it cancel at every sample.
     double worst = 0, largest = 0;
     for (std::size_t i = 0; i < csv.rows.size(); ++i) {

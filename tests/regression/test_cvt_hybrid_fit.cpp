@@ -1,9 +1,9 @@
-// pso+lm on CVT data made with the fit's own simulation settings (seed 001 model, truth of
+// pso+lm on CVT data made with the fit's own simulation settings (Yoshida & Takamatsu model, truth of
 // data/cvt/truth.json): the truth's cost is zero up to rounding, and the hybrid drives the
 // cost down to that floor and recovers every identifiable combination within 0.1 %.
 //
 // The model has an exact symmetry: θ → λθ with ρ1 → λρ1, μ → λμ, k± → k±/λ, c± → c±/λ,
-// σ → σ/λ leaves Tds unchanged (seed 001 eqs. 15-21), so the nine raw parameters are not
+// σ → σ/λ leaves Tds unchanged (Yoshida & Takamatsu eqs. 15-21), so the nine raw parameters are not
 // identifiable, only ρ1k±, ρ1c±, μ/ρ1, σρ1, Δds and Δtm are.
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>

@@ -1,7 +1,7 @@
-// Reference fits of the CVT clearance model (seed 001) on the shipped synthetic
+// Reference fits of the CVT clearance model (Yoshida & Takamatsu) on the shipped synthetic
 // recordings, whose true parameters are known (data/cvt/truth.json). Both run the
 // shipped experiments unchanged: the paper's swarm of 2^9 = 512 grid particles,
-// 250 iterations, w = 1, c1 = c2 = 0.4 (seed 001 Section V-A).
+// 250 iterations, w = 1, c1 = c2 = 0.4 (Yoshida & Takamatsu Section V-A).
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
 

@@ -1,4 +1,4 @@
-// Multistart LM on the noise-free engine recording (seed 000 model, truth of
+// Multistart LM on the noise-free engine recording (the methodology paper model, truth of
 // data/engine/truth.json) from the range box ×0.5 … ×2 of the truth: the best of a few
 // Latin-hypercube starts reaches the global minimum, every parameter within 1 %.
 //

@@ -1,4 +1,4 @@
-// Reference fits of the engine-block model (seed 000) on the shipped idle recordings,
+// Reference fits of the engine-block model (the methodology paper) on the shipped idle recordings,
 // whose true parameters are known (data/engine/truth.json, made by an independent
 // simulation in scripts/generate_engine_data.py).
 #include <catch2/catch.hpp>
@@ -101,7 +101,7 @@ TEST_CASE("engine: LM on the noisy recording validates on every other cycle", "[
     const std::vector<double> p_true = true_parameters(ex);
     const FitResult fit = run_fit(problem, FitOptions{});
     REQUIRE(fit.success);
-    // Seed 000 reports a max residual ratio of about 0.6 %: below 1 % on the estimation
+    // The methodology paper reports a max residual ratio of about 0.6 %: below 1 % on the estimation
     // cycle and on every validation cycle.
     for (const WindowEvaluation* w : all_windows(fit.evaluation)) {
         INFO(w->trace.window->label);

@@ -1,4 +1,4 @@
-// The engine-block model of seed 000: slider-crank kinematics, the cylinder element with
+// The engine-block model of the methodology paper: slider-crank kinematics, the cylinder element with
 // its reciprocating mass, crank-angle channels, and the engine_block preset.
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -66,7 +66,7 @@ TEST_CASE("crank-angle channels interpolate linearly in the angle and hold the e
     CHECK(ch.at(0, 9.0, cursor) == 0.0);
 }
 
-TEST_CASE("engine_block builds the seed 000 network", "[engine]") {
+TEST_CASE("engine_block builds the methodology paper network", "[engine]") {
     const NetworkSpec spec = build_preset("engine_block", kEngine);
     REQUIRE(spec.nodes.size() == 6);
     CHECK(spec.nodes.front().name == "damping_wheel");

@@ -1,4 +1,4 @@
-// Static equilibrium (seed 001 eq. 18) of one- and several-node networks.
+// Static equilibrium (Yoshida & Takamatsu eq. 18) of one- and several-node networks.
 #include <catch2/catch.hpp>
 
 #include "tvid/model/equilibrium.hpp"

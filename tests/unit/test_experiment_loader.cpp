@@ -1,4 +1,4 @@
-// The experiment loader (DESIGN.md, "The experiment file (format 1)"): the shipped
+// The experiment loader (docs/experiment-format.md): the shipped
 // configuration resolves to the expected parameters, channels and windows; --set
 // overrides; and every bad input is one InputError "FILE:LINE: key.path: what is wrong"
 // that names the right line and key.

@@ -1,4 +1,4 @@
-// Cost, Q-index (seed 001 eqs. 19–21), fit %, RMSE and residual ratio (seed 000 Fig. 2b).
+// Cost, Q-index (Yoshida & Takamatsu eqs. 19–21), fit %, RMSE and residual ratio (the methodology paper Fig. 2b).
 #include <catch2/catch.hpp>
 #include <cmath>
 

@@ -1,4 +1,4 @@
-// Forward sensitivities (seed 000 eq. 9) against central finite differences of the
+// Forward sensitivities (the methodology paper eq. 9) against central finite differences of the
 // residuals, on both shipped problems: the engine (measured start whose warm-up shooting
 // depends on the parameters) and the CVT clearance model (equilibrium start whose angles
 // depend on the parameters). A sensitivity column that missed either dependence would

@@ -1,6 +1,6 @@
 // Identifiability at the optimum: rank, relative standard errors and flags, correlated
 // pairs, and null directions written as parameter combinations. On the CVT preset the
-// nine parameters have the exact scaling symmetry of seed 001 eqs. 15–21 (θ → sθ with
+// nine parameters have the exact scaling symmetry of Yoshida & Takamatsu eqs. 15–21 (θ → sθ with
 // ρ1 → sρ1, μ → sμ, k± → k±/s, c± → c±/s, σ → σ/s leaves Tds unchanged).
 #include <catch2/catch.hpp>
 #include <cmath>

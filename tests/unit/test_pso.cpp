@@ -1,4 +1,4 @@
-// Particle swarm (seed 001 eq. 24) on functions with a known minimum.
+// Particle swarm (Yoshida & Takamatsu eq. 24) on functions with a known minimum.
 #include <catch2/catch.hpp>
 #include <cmath>
 

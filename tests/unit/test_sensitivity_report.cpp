@@ -1,4 +1,4 @@
-// The sensitivity report (seed 000 Figs. 4–5): the ranking of the free parameters by the
+// The sensitivity report (the methodology paper Figs. 4–5): the ranking of the free parameters by the
 // RMS of the scaled sensitivity p·∂y/∂p, and the CSV/JSON files, on hand-made numbers.
 #include <catch2/catch.hpp>
 #include <cmath>

@@ -1,4 +1,4 @@
-// Seed 001 eqs. 7–11: the smoothed ramp/step and the clearance torque.
+// Yoshida & Takamatsu eqs. 7–11: the smoothed ramp/step and the clearance torque.
 #include <catch2/catch.hpp>
 #include <cmath>
 

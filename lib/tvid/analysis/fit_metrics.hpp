@@ -1,11 +1,11 @@
 #pragma once
 // Quality of a simulated output against its measurement:
-//   E      = mean |y* − y|                      (seed 001 eq. 19, the l1 cost)
+//   E      = mean |y* − y|                      (Yoshida & Takamatsu eq. 19, the l1 cost)
 //   E0     = mean |y − offset|                  (eq. 21, offset = the fitted amplitude shift)
 //   Q      = (1 − E/E0)·100 %                   (eq. 20)
 //   fit    = 100 (1 − ‖y − y*‖ / ‖y − ȳ‖) %     (normalized RMS fit)
 //   RMSE   = sqrt(mean (y − y*)²)
-//   r_i    = (y_i − y*_i) / y_i                 (seed 000 Fig. 2b), and max |r_i|
+//   r_i    = (y_i − y*_i) / y_i                 (the methodology paper Fig. 2b), and max |r_i|
 
 #include <cstddef>
 #include <vector>

@@ -3,7 +3,7 @@
 // and condition number of the scaled JᵀJ, each parameter's relative standard error with
 // a flag, strongly correlated pairs, and each near-null direction written as the
 // parameter combination an engineer can act on. For the CVT preset with all nine
-// parameters free (seed 001 eqs. 15–21) the null direction is the exact scaling
+// parameters free (Yoshida & Takamatsu eqs. 15–21) the null direction is the exact scaling
 //   ρ1 → sρ1, μ → sμ, k± → k±/s, c± → c±/s, σ → σ/s,
 // which leaves Tds unchanged, and is reported as
 //   "scaling rho1 and mu by s and k_minus, k_plus, c_minus, c_plus and sigma by 1/s

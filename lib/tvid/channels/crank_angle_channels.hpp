@@ -1,5 +1,5 @@
 #pragma once
-// Channels recorded against crank angle — the cylinder pressures of seed 000 — looked up
+// Channels recorded against crank angle — the cylinder pressures of the methodology paper — looked up
 // by an angle of the model, not by time: a throw's pressure is the measured pressure
 // at that throw's own angle. The angle grid is the recording's cumulative crank angle
 // [rad], strictly increasing; between grid points a channel is linear in the angle and

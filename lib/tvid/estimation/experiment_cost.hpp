@@ -1,9 +1,9 @@
 #pragma once
 // The estimation cost of an IdentificationProblem as a DifferentiableCost for general
 // minimizers (NLopt), with its gradient from the residuals' Jacobian (forward
-// sensitivities, seed 000 eq. 9, or finite differences, as `lm.jacobian` says):
-//   l2: E = Σ e²                     ∇E = 2 Jᵀ e                          (seed 000 eq. 7)
-//   l1: E = Σ_windows mean_i Σ_k |e|  ∇E = Σ_windows (1/n_w) Σ sign(e) ∂e/∂p  (seed 001 eq. 19)
+// sensitivities, the methodology paper eq. 9, or finite differences, as `lm.jacobian` says):
+//   l2: E = Σ e²                     ∇E = 2 Jᵀ e                          (the methodology paper eq. 7)
+//   l1: E = Σ_windows mean_i Σ_k |e|  ∇E = Σ_windows (1/n_w) Σ sign(e) ∂e/∂p  (Yoshida & Takamatsu eq. 19)
 // where n_w is the number of scored samples of window w (the cost sums its outputs over
 // a sample before dividing, as IdentificationProblem::cost does). |e| has no derivative
 // at e = 0: sign(0) = 0 gives the subgradient of least norm there.

@@ -1,7 +1,7 @@
 #pragma once
 // An IdentificationProblem seen as nonlinear least squares for the Levenberg–Marquardt
 // solver: the residuals y* − y of every scored sample of every estimation window and
-// output (seed 000 eq. 7), and their Jacobian either from forward sensitivities (seed 000
+// output (the methodology paper eq. 7), and their Jacobian either from forward sensitivities (the methodology paper
 // eq. 9; the free parameters split into column blocks, one augmented simulation each, run
 // in parallel) or by central finite differences (2M perturbed simulations in parallel).
 // Each column is computed from its own inputs, so the Jacobian is the same for any thread

@@ -1,5 +1,5 @@
 #pragma once
-// Forward sensitivities of an identification problem (seed 000 eq. 9): the derivatives
+// Forward sensitivities of an identification problem (the methodology paper eq. 9): the derivatives
 // ∂y/∂p of every simulated output at every scored sample with respect to the free
 // parameters, from the augmented system integrated alongside the state (SensitivitySystem)
 // through the same templated element code. The start of a window depends on the

@@ -85,7 +85,7 @@ bool IdentificationProblem::initial_state(std::size_t start, ProblemWorkspace& w
             return true;
         }
         case InitialStateKind::equilibrium: {
-            // Seed 001 eq. 18: θ(t1) = θ̄ with F(θ̄, 0) balancing the input at t1, θ'(t1) = 0.
+            // Yoshida & Takamatsu eq. 18: θ(t1) = θ̄ with F(θ̄, 0) balancing the input at t1, θ'(t1) = 0.
             EquilibriumResult eq = solve_equilibrium(ws.model, ws.u0.data());
             if (!eq.found) {
                 if (problem) *problem = "no static equilibrium: " + eq.problem;
@@ -273,7 +273,7 @@ SimulationStatus IdentificationProblem::shoot_warmup(const Window& w, ProblemWor
             default: break;
         }
     }
-    // Seed 000's measured initial state made consistent with the encoder. Every node starts
+    // The methodology paper's measured initial state made consistent with the encoder. Every node starts
     // at the measured crank angle turning at the measured speed, untwisted. The fast twist
     // modes forget that within milliseconds, but the slow rigid-body mode (its error decays
     // only with ΣJ/ΣC, seconds) would keep any error of the start, e.g. the twist between

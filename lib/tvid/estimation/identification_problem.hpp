@@ -115,8 +115,8 @@ public:
     void full_parameters(const double* free, std::vector<double>& out) const;
     std::vector<double> full_parameters(const std::vector<double>& free) const;
 
-    /// Cost over the estimation windows (l1: Σ_windows Σ_outputs mean|e| (seed 001 eq. 19);
-    /// l2: Σ e² (seed 000 eq. 7)). +inf when a simulation fails. Never throws.
+    /// Cost over the estimation windows (l1: Σ_windows Σ_outputs mean|e| (Yoshida & Takamatsu eq. 19);
+    /// l2: Σ e² (the methodology paper eq. 7)). +inf when a simulation fails. Never throws.
     double cost(const double* free, ProblemWorkspace& ws) const;
 
     /// The cost, or, once the partial sum of the non-negative terms already reaches `bound`,

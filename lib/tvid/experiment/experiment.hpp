@@ -1,5 +1,5 @@
 #pragma once
-// An identification experiment (DESIGN.md, "The experiment file (format 1)"), loaded
+// An identification experiment (docs/experiment-format.md), loaded
 // and validated: the model network, which parameters are free and their bounds, the
 // measured channels, the windows, and the simulation, estimation and report settings.
 
@@ -51,7 +51,7 @@ struct ChannelBinding {
 /// A window of the recording, resolved to 0-based sample indices. The simulation starts
 /// at sample `start` (= `first`, or earlier by the warm-up) from the initial state; the
 /// scored samples are those i with first <= i <= last and i > start (the start sample is
-/// the initial condition, not a prediction: seed 001 eq. 19 sums i = 1..m).
+/// the initial condition, not a prediction: Yoshida & Takamatsu eq. 19 sums i = 1..m).
 struct Window {
     std::string label;       ///< e.g. "time 1.5 to 3" (no comma: it is a CSV cell)
     std::size_t start = 0;
@@ -62,7 +62,7 @@ struct Window {
 
 enum class InitialStateKind { equilibrium, rest, measured };
 enum class CostKind { l1, l2 };
-/// pso: particle swarm (seed 001); lm: Levenberg–Marquardt (seed 000); nlopt: any NLopt
+/// pso: particle swarm (Yoshida & Takamatsu); lm: Levenberg–Marquardt (the methodology paper); nlopt: any NLopt
 /// algorithm; pso_lm: the swarm, then LM from its best particle; multistart: LM from
 /// Latin-hypercube starts of the range box.
 /// Each has a row in the optimizer table (lib/tvid/fit/optimizer_table.cpp).
@@ -82,7 +82,7 @@ constexpr const char* optimizer_name(OptimizerKind kind) {
     return "pso";
 }
 /// How the Jacobian of the residuals is formed (LM steps, standard errors): forward
-/// sensitivities (seed 000 eq. 9) or central finite differences.
+/// sensitivities (the methodology paper eq. 9) or central finite differences.
 enum class JacobianKind { sensitivity, fd };
 
 

@@ -1,4 +1,4 @@
-// load_experiment: reads an experiment file (format 1, DESIGN.md), applies command-line
+// load_experiment: reads an experiment file (format 1, docs/experiment-format.md), applies command-line
 // overrides, validates every key and resolves paths, columns and windows.
 
 #include <algorithm>
@@ -131,7 +131,7 @@ EstimationSettings read_estimation(const YamlMap& m) {
         if (lm.has("jacobian"))
             s.jacobian = lm.choice("jacobian", {"sensitivity", "fd"}) == "fd" ? JacobianKind::fd : JacobianKind::sensitivity;
     }
-    // Levenberg–Marquardt minimizes a sum of squares (seed 000 eq. 7), also as the polish
+    // Levenberg–Marquardt minimizes a sum of squares (the methodology paper eq. 7), also as the polish
     // of pso+lm and in every start of multistart.
     const bool least_squares = s.optimizer == OptimizerKind::lm || s.optimizer == OptimizerKind::pso_lm ||
                                s.optimizer == OptimizerKind::multistart;

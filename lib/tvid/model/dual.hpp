@@ -3,7 +3,7 @@
 // directions, held in place (no allocation). The model code is written once for any
 // scalar type; run with Dual it yields, besides every value, the derivatives of that value
 // with respect to whatever the inputs were seeded with — the parameters for the
-// forward sensitivities of seed 000 eq. 9, the state for a stiff integrator's Jacobian.
+// forward sensitivities of the methodology paper eq. 9, the state for a stiff integrator's Jacobian.
 //
 // The number of live directions is carried at run time (`size()`); a constant has none,
 // and an operation on two numbers uses the larger count, treating missing entries as 0.

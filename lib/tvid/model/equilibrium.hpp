@@ -1,6 +1,6 @@
 #pragma once
 // Static equilibrium of a network: node angles θ̄ with zero net torque on every node at
-// rest (ω = 0) under the inputs u. Seed 001 eq. 18: the simulation starts from the
+// rest (ω = 0) under the inputs u. Yoshida & Takamatsu eq. 18: the simulation starts from the
 // equilibrium for the input at the window's first sample.
 
 #include <vector>

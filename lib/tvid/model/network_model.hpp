@@ -115,7 +115,7 @@ public:
             dxdt[i] = omega[i];
             dxdt[node_count_ + i] = node_torque_[i] * inverse_inertia_[i];  // θ'' = T / J
         }
-        // A throw with a reciprocating mass: (J + Σ m s'(φ)²) θ'' = T (seed 000 eq. 2 with
+        // A throw with a reciprocating mass: (J + Σ m s'(φ)²) θ'' = T (the methodology paper eq. 2 with
         // the exact piston acceleration). The node's torque already holds −m s' s'' ω².
         for (std::size_t c = 0; c < cylinders_.size(); ++c) {
             const std::size_t node = static_cast<std::size_t>(cylinders_[c].node);
@@ -282,7 +282,7 @@ private:
             const T& th = theta[e.node];
             const SliderCrankMotion<T> k = kinematics(e, th);
             cylinder_lever_[c] = k.ds;
-            const T gas = gas_force(e, c, th) * k.ds;  // seed 000 eq. 4, pressure force
+            const T gas = gas_force(e, c, th) * k.ds;  // the methodology paper eq. 4, pressure force
             keep(gas);
             torque[e.node] += gas;
             if (with_speed) torque[e.node] -= e.mass * k.ds * k.dds * omega[e.node] * omega[e.node];  // −m s' s'' ω²

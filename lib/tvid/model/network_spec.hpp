@@ -36,7 +36,7 @@ struct SpringDamperSpec {
     Field k, c;
 };
 
-/// Smoothed impact model with a clearance (seed 001 eqs. 8–11) on the twist θa − θb.
+/// Smoothed impact model with a clearance (Yoshida & Takamatsu eqs. 8–11) on the twist θa − θb.
 /// Transmitted torque F = Gσ(θ) + Hσ(θ)·θ'; torque on a is −F, on b +F.
 /// `smooth == false` selects the non-smooth law of eq. 7.
 struct ClearanceSpec {
@@ -65,7 +65,7 @@ struct GearMeshSpec {
 };
 
 /// External torque on a node from a measured input channel:
-/// T = scale · (u(t) − offset); `offset` is the sensor's amplitude shift (seed 001 eq. 14).
+/// T = scale · (u(t) − offset); `offset` is the sensor's amplitude shift (Yoshida & Takamatsu eq. 14).
 struct TorqueSpec {
     std::string name;
     int node = 0;
@@ -74,7 +74,7 @@ struct TorqueSpec {
     Field scale = Field::value(1.0);
 };
 
-/// A cylinder of a piston engine on a crank throw (seed 000 eqs. 2, 4). Its local crank
+/// A cylinder of a piston engine on a crank throw (the methodology paper eqs. 2, 4). Its local crank
 /// angle is φ = θ_node + phase (phase = −k·720°/N for firing position k). Torque on the
 /// throw: gas (p(θ_node) − p_atm)·(πB²/4)·s'(φ) and reciprocating mass −m·s'(φ)·s̈ with the
 /// exact piston acceleration s̈ = s'(φ)·θ'' + s''(φ)·ω²; the θ'' part adds m·s'(φ)² to the
@@ -97,7 +97,7 @@ struct ElementRef {
 enum class OutputKind { speed, angle, torque };
 
 /// A model output compared with a measured channel: y = quantity + offset
-/// (`offset` is the measurement's amplitude shift, e.g. Δds of seed 001 eq. 15c).
+/// (`offset` is the measurement's amplitude shift, e.g. Δds of Yoshida & Takamatsu eq. 15c).
 struct OutputSpec {
     std::string name;
     OutputKind kind = OutputKind::speed;

@@ -3,7 +3,7 @@
 // (tvid/simd/pack.hpp): the value, and its derivatives along D directions as one SIMD
 // number, so every operation is the double operation on the value plus a few vector
 // operations on all directions at once. The forward sensitivities of a fixed-step RK4
-// simulation use them (seed 000 eq. 9): the free parameters of a column block and the
+// simulation use them (the methodology paper eq. 9): the free parameters of a column block and the
 // warm-up shooting's two directions, D = 8 or 16.
 //
 // As with Dual (dual.hpp), the value of every operation is computed exactly as with

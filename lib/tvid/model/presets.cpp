@@ -41,7 +41,7 @@ std::vector<int> default_firing_order(int cylinders) {
     }
 }
 
-// Seed 000 eqs. 1–4: damping wheel, one throw per cylinder, flywheel, joined by stiff
+// The methodology paper eqs. 1–4: damping wheel, one throw per cylinder, flywheel, joined by stiff
 // shaft sections; friction to ground on every inertia; a cylinder on every throw.
 NetworkSpec build_engine_block(const PresetConstants& c) {
     const double count = constant(c, "cylinders", 4.0);
@@ -116,7 +116,7 @@ NetworkSpec build_engine_block(const PresetConstants& c) {
     return net;
 }
 
-// Seed 001 eqs. 15–16: θ'' = ρ1 (Ttm − Δtm − Fσ(θ, θ')), Tds* = Fσ + Δds.
+// Yoshida & Takamatsu eqs. 15–16: θ'' = ρ1 (Ttm − Δtm − Fσ(θ, θ')), Tds* = Fσ + Δds.
 // As a network: one node with inverse inertia ρ1, the measured input torque with
 // amplitude shift Δtm, and a clearance element from the node to ground whose
 // transmitted torque Fσ, shifted by Δds, is the output.

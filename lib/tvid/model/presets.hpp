@@ -1,5 +1,5 @@
 #pragma once
-// Preset networks with the papers' parametrizations (DESIGN.md "Names the presets use").
+// Preset networks with the papers' parametrizations (docs/model-library.md, the presets cvt_clearance and engine_block).
 
 #include <map>
 #include <stdexcept>

@@ -1,5 +1,5 @@
 #pragma once
-// Piston kinematics of a slider-crank (seed 000 eq. 4, DESIGN.md "Preset engine_block"),
+// Piston kinematics of a slider-crank (the methodology paper eq. 4; docs/model-library.md, preset engine_block),
 // written once for any scalar type. φ is the crank angle from the cylinder's top dead
 // centre, r the crank radius, l the connecting-rod length.
 //
@@ -7,7 +7,7 @@
 //   s'(φ)  = r sin φ + r² sin 2φ / (2√(l² − r² sin²φ))
 //   s''(φ) = r cos φ + r² cos 2φ / √D + r⁴ sin² 2φ / (4 D^{3/2}),  D = l² − r² sin²φ
 //
-// Seed 000 eq. 4 prints sin²(2θ) under the root; that is a typo: the geometry gives sin²φ.
+// The methodology paper eq. 4 prints sin²(2θ) under the root; that is a typo: the geometry gives sin²φ.
 
 #include <cmath>
 

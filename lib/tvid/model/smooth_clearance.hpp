@@ -1,5 +1,5 @@
 #pragma once
-// The smoothed impact model of a gear clearance (seed 001 eqs. 7–11), written once for
+// The smoothed impact model of a gear clearance (Yoshida & Takamatsu eqs. 7–11), written once for
 // any scalar type T: double, the dual numbers of the sensitivities, and packs of
 // particles (every branch is a select, so a pack runs it lane by lane).
 

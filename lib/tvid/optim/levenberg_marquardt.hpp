@@ -1,5 +1,5 @@
 #pragma once
-// Levenberg–Marquardt nonlinear least squares with bounds (seed 000 uses LM for the
+// Levenberg–Marquardt nonlinear least squares with bounds (the methodology paper uses LM for the
 // engine-block fit): minimize ½‖r(x)‖² over lower ≤ x ≤ upper.
 //
 // The shape is Ceres-like: a LeastSquaresProblem (the residuals and their Jacobian) is
@@ -74,7 +74,7 @@ public:
 
 struct LmSummary {
     std::vector<double> best;            ///< the last accepted point (the lowest cost seen)
-    /// Σ r² at `best`: the l2 cost of the rest of the tool (seed 000 eq. 7), i.e. twice the
+    /// Σ r² at `best`: the l2 cost of the rest of the tool (the methodology paper eq. 7), i.e. twice the
     /// ½‖r‖² the solver minimizes internally. +inf when the start could not be evaluated.
     double best_cost = 0.0;
     double initial_cost = 0.0;           ///< Σ r² at the (projected) start

@@ -1,5 +1,5 @@
 #pragma once
-// Particle swarm optimization exactly as seed 001 eq. 24:
+// Particle swarm optimization exactly as Yoshida & Takamatsu eq. 24:
 //   p_i(k+1) = p_i(k) + v_i(k)
 //   v_i(k+1) = η0 v_i(k) + η1 (P_i(k) − p_i(k)) + η2 (G(k) − p_i(k))
 // with η0 ~ U[0,w], η1 ~ U[0,c1], η2 ~ U[0,c2], zero initial velocities and initial

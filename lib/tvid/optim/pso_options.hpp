@@ -1,5 +1,5 @@
 #pragma once
-// Options of the particle swarm (seed 001 eq. 24–27), with the paper's defaults.
+// Options of the particle swarm (Yoshida & Takamatsu eq. 24–27), with the paper's defaults.
 
 #include <cstdint>
 

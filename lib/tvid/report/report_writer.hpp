@@ -1,5 +1,5 @@
 #pragma once
-// The report directory of a fit (DESIGN.md "The report directory"): params.json,
+// The report directory of a fit (docs/report-format.md): params.json,
 // params.csv, summary.json, estimation.csv, validation.csv, history.csv. Every file is
 // written to a temporary name and renamed.
 

@@ -1,5 +1,5 @@
 #pragma once
-// The report of `tvid sensitivity` (seed 000 Figs. 4–5: how the output responds to each
+// The report of `tvid sensitivity` (the methodology paper Figs. 4–5: how the output responds to each
 // parameter): sensitivity.csv (∂y/∂p_j and the scaled sensitivity p_j·∂y/∂p_j at every
 // scored sample), ranking.csv (the free parameters of each output ranked by the RMS of
 // p_j·∂y/∂p_j) and sensitivity.json. Built from the forward sensitivities of the windows;

@@ -1,5 +1,5 @@
 #pragma once
-// The forward-sensitivity system of seed 000 eq. 9 as one odeint system of plain doubles:
+// The forward-sensitivity system of the methodology paper eq. 9 as one odeint system of plain doubles:
 // z = [x, S] with S = ∂x/∂q (state size N × D directions q, row-major), and
 //
 //   x' = f(x, p),   S' = ∂f/∂x · S + ∂f/∂q

@@ -1,6 +1,6 @@
 #pragma once
 // Simulation of a network over a span of samples with Boost.Odeint: fixed-step RK4
-// (the sampling interval, as seed 001 does, optionally split into substeps), adaptive
+// (the sampling interval, as Yoshida & Takamatsu does, optionally split into substeps), adaptive
 // Dormand–Prince 5(4) with rtol/atol, or the adaptive Rosenbrock 4(3) method for stiff
 // models (linearly implicit, with the dual-number Jacobian). The observer sees the state
 // at every sample.

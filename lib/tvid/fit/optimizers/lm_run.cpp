@@ -1,5 +1,5 @@
 // The optimizer table's row of `lm`: nonlinear least squares by Levenberg–Marquardt from
-// the experiment's init (seed 000), on the l2 cost.
+// the experiment's init (the methodology paper), on the l2 cost.
 
 #include "tvid/estimation/experiment_least_squares.hpp"
 #include "tvid/fit/optimizer_table.hpp"

@@ -1,4 +1,4 @@
-// The optimizer table's row of `pso`: the particle swarm (seed 001) on the configured cost,
+// The optimizer table's row of `pso`: the particle swarm (Yoshida & Takamatsu) on the configured cost,
 // its candidates scored on every thread and, under mpirun, every process.
 
 #include "tvid/estimation/parallel_evaluator.hpp"
