@@ -71,21 +71,6 @@ ChannelBinding read_binding(const YamlMap& section, const std::string& name, con
     return b;
 }
 
-// The element of that name as an ElementRef, or false.
-bool find_element(const NetworkSpec& n, const std::string& name, ElementRef& ref) {
-    auto look = [&](const auto& list, ElementKind kind) {
-        for (std::size_t i = 0; i < list.size(); ++i)
-            if (list[i].name == name) {
-                ref = ElementRef{kind, static_cast<int>(i)};
-                return true;
-            }
-        return false;
-    };
-    return look(n.spring_dampers, ElementKind::spring_damper) || look(n.clearances, ElementKind::clearance) ||
-           look(n.frictions, ElementKind::friction) || look(n.gear_meshes, ElementKind::gear_mesh) ||
-           look(n.torques, ElementKind::torque) || look(n.cylinders, ElementKind::cylinder);
-}
-
 OutputSpec read_custom_output(const YamlMap& section, const std::string& name, const NetworkSpec& net) {
     const YamlSource& src = section.source();
     const YAML::Node value = section.get(name);
@@ -101,7 +86,7 @@ OutputSpec read_custom_output(const YamlMap& section, const std::string& name, c
     if (m.has("torque")) {
         o.kind = OutputKind::torque;
         const std::string element = m.text("torque");
-        if (!find_element(net, element, o.element)) m.fail("torque", "no element named '" + element + "'");
+        if (!net.find_element(element, o.element)) m.fail("torque", "no element named '" + element + "'");
     } else {
         const std::string key = m.has("speed") ? "speed" : "angle";
         o.kind = key == "speed" ? OutputKind::speed : OutputKind::angle;

@@ -58,21 +58,28 @@ public:
 private:
     Field field(const YamlMap& m, const std::string& key) const {
         if (!m.has(key)) m.fail_missing(key);
-        const Field f = read_field(src_, m.get(key), m.key_path(key), net_.parameter_names);
-        // Stiffness, damping and backlash cannot be negative; a clearance's steepness σ (φ1
-        // divides by it) and the atmospheric pressure must be positive (parameters:
-        // parameter_reader).
-        static const std::set<std::string> non_negative{"k", "c", "k_minus", "k_plus", "c_minus", "c_plus", "mu"};
-        static const std::set<std::string> positive{"sigma", "p_atm"};
-        if (!f.is_parameter() && non_negative.count(key) && !(f.constant >= 0))
-            m.fail(key, "cannot be negative: a stiffness, damping coefficient or backlash (got " +
-                            number_text(f.constant) + ")");
-        if (!f.is_parameter() && positive.count(key) && !(f.constant > 0))
-            m.fail(key, "must be positive (got " + number_text(f.constant) + ")");
-        return f;
+        return read_field(src_, m.get(key), m.key_path(key), net_.parameter_names);
     }
     Field field_or(const YamlMap& m, const std::string& key, const Field& fallback) const {
         return m.has(key) ? field(m, key) : fallback;
+    }
+
+    // A constant field must keep the sign its element's field table asks for (a parameter
+    // is checked in parameter_reader). A clearance law's k_minus/k_plus and c_minus/c_plus
+    // may have come from the shorthand k and c: the error points at the key that was given.
+    template <class Kind>
+    void check_signs(const YamlMap& m, const typename Kind::Spec& e) const {
+        Kind::for_each_field(
+            [&](const FieldInfo& info, const Field& f) {
+                if (!info.in_use || f.is_parameter() || !violates_sign(info.sign, f.constant)) return;
+                const std::string name = info.name;
+                std::string key = name;
+                if (!m.has(key) && (name == "k_minus" || name == "k_plus")) key = "k";
+                if (!m.has(key) && (name == "c_minus" || name == "c_plus")) key = "c";
+                m.fail(key, std::string(info.sign == SignRule::positive ? "must be positive: " : "cannot be negative: ") +
+                                info.role + " (got " + number_text(f.constant) + ")");
+            },
+            e);
     }
 
     int node(const YamlMap& m, const std::string& key, const YAML::Node& value, bool ground_ok) const {
@@ -163,8 +170,9 @@ private:
             if (type == "spring_damper") {
                 m.allow_only({"type", "name", "between", "k", "c"});
                 const auto [a, b] = between(m, true);
-                net_.spring_dampers.push_back(
-                    SpringDamperSpec{name, a, b, field(m, "k"), field_or(m, "c", Field::value(0.0))});
+                const SpringDamperSpec e{name, a, b, field(m, "k"), field_or(m, "c", Field::value(0.0))};
+                check_signs<elements::SpringDamper>(m, e);
+                net_.spring_dampers.push_back(e);
             } else if (type == "clearance") {
                 m.allow_only({"type", "name", "between", "k", "c", "k_minus", "k_plus", "c_minus", "c_plus", "mu", "sigma"});
                 ClearanceSpec e;
@@ -173,11 +181,14 @@ private:
                 const Field k = field_or(m, "k", Field{}), c = field_or(m, "c", Field::value(0.0));
                 read_clearance_fields(m, e.k_minus, e.k_plus, e.c_minus, e.c_plus, e.mu, e.sigma, e.smooth,
                                       m.has("k") ? &k : nullptr, &c);
+                check_signs<elements::Clearance>(m, e);
                 net_.clearances.push_back(e);
             } else if (type == "friction") {
                 m.allow_only({"type", "name", "node", "c"});
                 if (!m.has("node")) m.fail_missing("node");
-                net_.frictions.push_back(FrictionSpec{name, node(m, "node", m.get("node"), false), field(m, "c")});
+                const FrictionSpec e{name, node(m, "node", m.get("node"), false), field(m, "c")};
+                check_signs<elements::Friction>(m, e);
+                net_.frictions.push_back(e);
             } else if (type == "gear_mesh") {
                 m.allow_only({"type", "name", "between", "ratio", "k", "c", "k_minus", "k_plus", "c_minus", "c_plus",
                               "mu", "sigma"});
@@ -196,6 +207,7 @@ private:
                     read_clearance_fields(m, e.k_minus, e.k_plus, e.c_minus, e.c_plus, e.mu, e.sigma, e.smooth,
                                           m.has("k") ? &e.k : nullptr, &e.c);
                 }
+                check_signs<elements::GearMesh>(m, e);
                 net_.gear_meshes.push_back(e);
             } else if (type == "cylinder") {
                 m.allow_only({"type", "name", "node", "pressure", "phase_deg", "bore", "crank_radius", "rod_length",
@@ -217,16 +229,12 @@ private:
                 e.bore = field(m, "bore");
                 e.crank_radius = field(m, "crank_radius");
                 e.rod_length = field(m, "rod_length");
-                for (const char* key : {"bore", "crank_radius", "rod_length"}) {
-                    const Field& f = std::string(key) == "bore" ? e.bore : std::string(key) == "crank_radius" ? e.crank_radius : e.rod_length;
-                    if (!f.is_parameter() && !(f.constant > 0)) m.fail(key, "must be positive");
-                }
+                e.mass = field_or(m, "mass", Field::value(0.0));
+                e.p_atm = field_or(m, "p_atm", Field::value(101325.0));
+                check_signs<elements::Cylinder>(m, e);
                 if (!e.crank_radius.is_parameter() && !e.rod_length.is_parameter() &&
                     !(e.rod_length.constant > e.crank_radius.constant))
                     m.fail("rod_length", "the connecting rod must be longer than the crank radius");
-                e.mass = field_or(m, "mass", Field::value(0.0));
-                if (!e.mass.is_parameter() && e.mass.constant < 0) m.fail("mass", "cannot be negative");
-                e.p_atm = field_or(m, "p_atm", Field::value(101325.0));
                 net_.cylinders.push_back(e);
             } else {  // torque
                 m.allow_only({"type", "name", "node", "input", "offset", "scale"});
@@ -246,6 +254,7 @@ private:
                 e.input = k;
                 e.offset = field_or(m, "offset", Field::value(0.0));
                 e.scale = field_or(m, "scale", Field::value(1.0));
+                check_signs<elements::Torque>(m, e);
                 net_.torques.push_back(e);
             }
         }
@@ -286,18 +295,7 @@ NetworkSpec read_model(const YamlMap& model, const std::vector<std::string>& dec
 std::vector<bool> parameters_in_use(const NetworkSpec& n) {
     std::vector<bool> used(n.parameter_names.size(), false);
     for (const auto& e : n.nodes) mark(e.inertia, used);
-    for (const auto& e : n.spring_dampers) { mark(e.k, used); mark(e.c, used); }
-    for (const auto& e : n.clearances)
-        for (const Field* f : {&e.k_minus, &e.k_plus, &e.c_minus, &e.c_plus, &e.mu, &e.sigma}) mark(*f, used);
-    for (const auto& e : n.frictions) mark(e.c, used);
-    for (const auto& e : n.gear_meshes) {
-        for (const Field* f : {&e.ratio, &e.k, &e.c}) mark(*f, used);
-        if (e.has_clearance)
-            for (const Field* f : {&e.k_minus, &e.k_plus, &e.c_minus, &e.c_plus, &e.mu, &e.sigma}) mark(*f, used);
-    }
-    for (const auto& e : n.torques) { mark(e.offset, used); mark(e.scale, used); }
-    for (const auto& e : n.cylinders)
-        for (const Field* f : {&e.bore, &e.crank_radius, &e.rod_length, &e.mass, &e.p_atm}) mark(*f, used);
+    for_each_element_field(n, [&](const FieldInfo&, const Field& f) { mark(f, used); });
     for (const auto& o : n.outputs) mark(o.offset, used);
     return used;
 }

@@ -29,30 +29,11 @@ std::vector<PhysicalRole> physical_roles(const NetworkSpec& n) {
         if (r.what != nullptr && !r.zero_allowed) return;  // a parameter that must be positive stays so
         r = PhysicalRole{what, zero_allowed};
     };
-    auto clearance = [&](const Field& k_minus, const Field& k_plus, const Field& c_minus, const Field& c_plus,
-                         const Field& mu, const Field& sigma, bool smooth) {
-        for (const Field* k : {&k_minus, &k_plus}) set(*k, "a contact stiffness", true);
-        for (const Field* c : {&c_minus, &c_plus}) set(*c, "a contact damping coefficient", true);
-        set(mu, "a half backlash", true);
-        if (smooth) set(sigma, "the smoothing steepness sigma", false);
-    };
     for (const NodeSpec& node : n.nodes) set(node.inertia, node.inverse ? "an inverse inertia" : "an inertia", false);
-    for (const SpringDamperSpec& e : n.spring_dampers) {
-        set(e.k, "a stiffness", true);
-        set(e.c, "a damping coefficient", true);
-    }
-    for (const ClearanceSpec& c : n.clearances) clearance(c.k_minus, c.k_plus, c.c_minus, c.c_plus, c.mu, c.sigma, c.smooth);
-    for (const FrictionSpec& f : n.frictions) set(f.c, "a friction coefficient", true);
-    for (const GearMeshSpec& g : n.gear_meshes) {
-        set(g.k, "a mesh stiffness", true);
-        set(g.c, "a mesh damping coefficient", true);
-        if (g.has_clearance) clearance(g.k_minus, g.k_plus, g.c_minus, g.c_plus, g.mu, g.sigma, g.smooth);
-    }
-    for (const CylinderSpec& c : n.cylinders) {
-        for (const Field* f : {&c.bore, &c.crank_radius, &c.rod_length}) set(*f, "a cylinder dimension", false);
-        set(c.mass, "a reciprocating mass", true);
-        set(c.p_atm, "an atmospheric pressure", false);
-    }
+    // Each element kind's field table says which sign its fields' physics allows.
+    for_each_element_field(n, [&](const FieldInfo& info, const Field& f) {
+        if (info.sign != SignRule::any) set(f, info.role, info.sign == SignRule::non_negative);
+    });
     return role;
 }
 

@@ -26,4 +26,36 @@ int NetworkSpec::node_index(const std::string& name) const {
     return find_index(nodes, [](const NodeSpec& n) { return n.name; }, name);
 }
 
+bool NetworkSpec::find_element(const std::string& name, ElementRef& ref) const {
+    bool found = false;
+    for_each_element_kind([&](auto kind) {
+        if (found) return;
+        using Row = ElementRow<decltype(kind)>;
+        const int i = find_index(Row::list(*this), [](const auto& e) { return e.name; }, name);
+        if (i >= 0) {
+            ref = ElementRef{Row::kind, i};
+            found = true;
+        }
+    });
+    return found;
+}
+
+std::array<std::size_t, kElementKindCount> element_counts(const NetworkSpec& n) {
+    std::array<std::size_t, kElementKindCount> counts{};
+    for_each_element_kind([&](auto kind) {
+        using Row = ElementRow<decltype(kind)>;
+        counts[static_cast<std::size_t>(Row::kind)] = Row::list(n).size();
+    });
+    return counts;
+}
+
+const char* element_kind_name(ElementKind kind) {
+    const char* name = "";
+    for_each_element_kind([&](auto k) {
+        using Row = ElementRow<decltype(k)>;
+        if (Row::kind == kind) name = Row::name;
+    });
+    return name;
+}
+
 }  // namespace tvid

@@ -3,24 +3,20 @@
 // angle θ and speed ω) joined by elements. Every numeric field of a node or element is
 // either a constant or a reference to a model parameter; a `NetworkSpec` is built once
 // (from a preset or from the experiment file) and turned into a fast `NetworkModel`
-// for each parameter vector.
+// for each parameter vector. The element kinds are the rows of
+// elements/element_kinds.hpp; each kind's spec, fields and torque are in its own file
+// there.
 
+#include <array>
+#include <cstddef>
 #include <string>
+#include <tuple>
 #include <vector>
 
+#include "tvid/model/elements/element_kinds.hpp"
+#include "tvid/model/field.hpp"
+
 namespace tvid {
-
-/// A number fixed in the experiment, or the index of a model parameter.
-struct Field {
-    double constant = 0.0;
-    int parameter = -1;  ///< index into NetworkSpec::parameter_names, or -1 for a constant
-
-    static Field value(double v) { return Field{v, -1}; }
-    static Field param(int index) { return Field{0.0, index}; }
-    bool is_parameter() const { return parameter >= 0; }
-};
-
-inline constexpr int kGround = -1;  ///< node index meaning "the fixed base"
 
 struct NodeSpec {
     std::string name;
@@ -28,66 +24,20 @@ struct NodeSpec {
     bool inverse = false;        ///< the CVT paper estimates ρ1 = 1/I1
 };
 
-/// Linear spring and viscous damper between node a and node b (or ground, b = kGround).
-/// Torque on a: −k(θa − θb) − c(ωa − ωb); the opposite on b.
-struct SpringDamperSpec {
-    std::string name;
-    int a = 0, b = kGround;
-    Field k, c;
+enum class ElementKind {
+#define TVID_ELEMENT_KIND_ENUMERATOR(kind, Type, list) kind,
+    TVID_ELEMENT_KINDS(TVID_ELEMENT_KIND_ENUMERATOR)
+#undef TVID_ELEMENT_KIND_ENUMERATOR
 };
 
-/// Smoothed impact model with a clearance (Yoshida & Takamatsu eqs. 8–11) on the twist θa − θb.
-/// Transmitted torque F = Gσ(θ) + Hσ(θ)·θ'; torque on a is −F, on b +F.
-/// `smooth == false` selects the non-smooth law of eq. 7.
-struct ClearanceSpec {
-    std::string name;
-    int a = 0, b = kGround;
-    Field k_minus, k_plus, c_minus, c_plus, mu, sigma;
-    bool smooth = true;
-};
+/// Every element type (tvid::elements::…), in the table's order.
+using ElementTypes = decltype(std::tuple_cat(
+#define TVID_ELEMENT_TYPE(kind, Type, list) std::tuple<elements::Type>{},
+    TVID_ELEMENT_KINDS(TVID_ELEMENT_TYPE)
+#undef TVID_ELEMENT_TYPE
+        std::tuple<>{}));
 
-/// Viscous friction to ground on one node: torque −c·ω.
-struct FrictionSpec {
-    std::string name;
-    int node = 0;
-    Field c;
-};
-
-/// Gear mesh between a and b with ratio n: twist θa − n·θb; mesh torque T = k·twist + c·twist'
-/// (or the clearance law when `has_clearance`); torque −T on a and +n·T on b.
-struct GearMeshSpec {
-    std::string name;
-    int a = 0, b = 0;
-    Field ratio, k, c;
-    bool has_clearance = false;
-    Field k_minus, k_plus, c_minus, c_plus, mu, sigma;  ///< used when has_clearance
-    bool smooth = true;                                 ///< false: no sigma, eq. 7
-};
-
-/// External torque on a node from a measured input channel:
-/// T = scale · (u(t) − offset); `offset` is the sensor's amplitude shift (Yoshida & Takamatsu eq. 14).
-struct TorqueSpec {
-    std::string name;
-    int node = 0;
-    int input = 0;  ///< index into NetworkSpec::input_names
-    Field offset = Field::value(0.0);
-    Field scale = Field::value(1.0);
-};
-
-/// A cylinder of a piston engine on a crank throw (the methodology paper eqs. 2, 4). Its local crank
-/// angle is φ = θ_node + phase (phase = −k·720°/N for firing position k). Torque on the
-/// throw: gas (p(θ_node) − p_atm)·(πB²/4)·s'(φ) and reciprocating mass −m·s'(φ)·s̈ with the
-/// exact piston acceleration s̈ = s'(φ)·θ'' + s''(φ)·ω²; the θ'' part adds m·s'(φ)² to the
-/// throw's inertia. The pressure is a crank-angle channel looked up at the throw's angle.
-struct CylinderSpec {
-    std::string name;
-    int node = 0;
-    int pressure = 0;  ///< index into NetworkSpec::angle_input_names
-    double phase = 0.0;  ///< [rad]
-    Field bore, crank_radius, rod_length, mass, p_atm;
-};
-
-enum class ElementKind { spring_damper, clearance, friction, gear_mesh, torque, cylinder };
+inline constexpr std::size_t kElementKindCount = std::tuple_size_v<ElementTypes>;
 
 struct ElementRef {
     ElementKind kind;
@@ -112,19 +62,68 @@ struct NetworkSpec {
     std::vector<std::string> input_names;     ///< model inputs by time, TorqueSpec::input indexes these
     std::vector<std::string> angle_input_names; ///< model inputs by crank angle, CylinderSpec::pressure indexes these
     std::vector<NodeSpec> nodes;
-    std::vector<SpringDamperSpec> spring_dampers;
-    std::vector<ClearanceSpec> clearances;
-    std::vector<FrictionSpec> frictions;
-    std::vector<GearMeshSpec> gear_meshes;
-    std::vector<TorqueSpec> torques;
-    std::vector<CylinderSpec> cylinders;
+    // One list per element kind: spring_dampers, clearances, frictions, gear_meshes, torques, cylinders.
+#define TVID_ELEMENT_LIST(kind, Type, list) std::vector<elements::Type::Spec> list;
+    TVID_ELEMENT_KINDS(TVID_ELEMENT_LIST)
+#undef TVID_ELEMENT_LIST
     std::vector<OutputSpec> outputs;          ///< every output the model offers
 
     int parameter_index(const std::string& name) const;  ///< -1 if absent
     int input_index(const std::string& name) const;
     int output_index(const std::string& name) const;
     int node_index(const std::string& name) const;
+    /// The element named `name` (element names are unique across kinds); false if absent.
+    bool find_element(const std::string& name, ElementRef& ref) const;
     std::size_t state_size() const { return 2 * nodes.size(); }
 };
+
+/// The table row of element type K: its ElementKind, its name and its list in a NetworkSpec.
+template <class K>
+struct ElementRow;
+#define TVID_ELEMENT_ROW(kind_, Type, list_)                                                              \
+    template <>                                                                                           \
+    struct ElementRow<elements::Type> {                                                                   \
+        static constexpr ElementKind kind = ElementKind::kind_;                                           \
+        static constexpr const char* name = #kind_;                                                       \
+        static std::vector<elements::Type::Spec>& list(NetworkSpec& n) { return n.list_; }                \
+        static const std::vector<elements::Type::Spec>& list(const NetworkSpec& n) { return n.list_; }    \
+    };
+TVID_ELEMENT_KINDS(TVID_ELEMENT_ROW)
+#undef TVID_ELEMENT_ROW
+
+/// f(K{}) for each element type K, in the table's order.
+/// Inlined throughout, with the lambdas given to it marked always_inline: the
+/// right-hand side walks the kinds this way.
+template <class F>
+[[gnu::always_inline]] inline void for_each_element_kind(F&& f) {
+    std::apply([&](auto... kind) __attribute__((always_inline)) { (f(kind), ...); }, ElementTypes{});
+}
+
+/// f(K{}, spec) for each element of `n`, kind by kind in the table's order.
+template <class F>
+void for_each_element(const NetworkSpec& n, F&& f) {
+    for_each_element_kind([&](auto kind) {
+        for (const auto& e : ElementRow<decltype(kind)>::list(n)) f(kind, e);
+    });
+}
+
+/// f(info, field) for each numeric field of each element of `n` that the element uses
+/// (a non-smooth clearance leaves σ unused, a gear mesh without backlash its clearance fields).
+template <class F>
+void for_each_element_field(const NetworkSpec& n, F&& f) {
+    for_each_element(n, [&](auto kind, const auto& e) {
+        decltype(kind)::for_each_field(
+            [&](const FieldInfo& info, const Field& field) {
+                if (info.in_use) f(info, field);
+            },
+            e);
+    });
+}
+
+/// How many elements of each kind `n` has, in the table's order.
+std::array<std::size_t, kElementKindCount> element_counts(const NetworkSpec& n);
+
+/// The experiment file's name of an element kind ("spring_damper", …).
+const char* element_kind_name(ElementKind kind);
 
 }  // namespace tvid

@@ -60,12 +60,14 @@ public:
     }
 
 private:
-    // The element counts the dual model's buffers were sized for.
-    using Shape = std::array<std::size_t, 9>;
+    // The counts the dual model's buffers were sized for: parameters, nodes, outputs and
+    // the elements of each kind.
+    using Shape = std::array<std::size_t, 3 + kElementKindCount>;
     static Shape shape_of(const NetworkSpec& s) {
-        return {s.parameter_names.size(), s.nodes.size(),       s.spring_dampers.size(),
-                s.clearances.size(),      s.frictions.size(),   s.gear_meshes.size(),
-                s.torques.size(),         s.cylinders.size(),   s.outputs.size()};
+        Shape shape{s.parameter_names.size(), s.nodes.size(), s.outputs.size()};
+        const auto counts = element_counts(s);
+        std::copy(counts.begin(), counts.end(), shape.begin() + 3);
+        return shape;
     }
 
     const NetworkSpec* spec_ = nullptr;

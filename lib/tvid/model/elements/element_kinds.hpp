@@ -1,0 +1,28 @@
+#pragma once
+// The element kinds of a torsional network, one row each: the YAML type and
+// ElementKind name, the element type (lib/tvid/model/elements/NAME.hpp) and the
+// NetworkSpec list that holds them. NetworkSpec's lists, ElementKind, NetworkModel's
+// storage and every walk over elements come from this table.
+//
+// The rows' order is the order in which the right-hand side sums the elements'
+// torques into each node (and so part of its floating-point result): keep it.
+//
+// Adding an element kind: write elements/NAME.hpp (its spec, field table, bound form,
+// torque formula and node loading, as spring_damper.hpp), add its row here, and read
+// it from the experiment file in lib/tvid/experiment/model_reader.cpp.
+
+#include "tvid/model/elements/clearance.hpp"
+#include "tvid/model/elements/cylinder.hpp"
+#include "tvid/model/elements/friction.hpp"
+#include "tvid/model/elements/gear_mesh.hpp"
+#include "tvid/model/elements/spring_damper.hpp"
+#include "tvid/model/elements/torque.hpp"
+
+//     X(kind,          Type,         list in NetworkSpec)
+#define TVID_ELEMENT_KINDS(X)                      \
+    X(spring_damper, SpringDamper, spring_dampers) \
+    X(clearance, Clearance, clearances)            \
+    X(friction, Friction, frictions)               \
+    X(gear_mesh, GearMesh, gear_meshes)            \
+    X(torque, Torque, torques)                     \
+    X(cylinder, Cylinder, cylinders)

@@ -1,0 +1,71 @@
+#pragma once
+// A gear mesh between two nodes, stiff and damped or with backlash.
+
+#include <string>
+
+#include "tvid/model/elements/clearance.hpp"
+#include "tvid/model/elements/node_motion.hpp"
+#include "tvid/model/field.hpp"
+#include "tvid/model/smooth_clearance.hpp"
+
+namespace tvid {
+
+/// Gear mesh between a and b with ratio n: twist θa − n·θb; mesh torque T = k·twist + c·twist'
+/// (or the clearance law when `has_clearance`); torque −T on a and +n·T on b.
+struct GearMeshSpec {
+    std::string name;
+    int a = 0, b = 0;
+    Field ratio, k, c;
+    bool has_clearance = false;
+    Field k_minus, k_plus, c_minus, c_plus, mu, sigma;  ///< used when has_clearance
+    bool smooth = true;                                 ///< false: no sigma, eq. 7
+};
+
+namespace elements {
+
+struct GearMesh {
+    using Spec = GearMeshSpec;
+    template <class T>
+    struct Bound : ClearanceLaw<T> {  ///< the law of the backlash, when has_clearance
+        int a = 0, b = 0;
+        T ratio, k, c;
+        bool has_clearance = false;
+    };
+
+    /// f(info, field...) for each numeric field, of each of s, e... (a spec first, then bound elements) in step.
+    template <class F, class Spec_, class... E>
+    static void for_each_field(F&& f, Spec_& s, E&... e) {
+        f(FieldInfo{"ratio"}, s.ratio, e.ratio...);
+        f(FieldInfo{"k", "a mesh stiffness", SignRule::non_negative}, s.k, e.k...);
+        f(FieldInfo{"c", "a mesh damping coefficient", SignRule::non_negative}, s.c, e.c...);
+        for_each_clearance_law_field(f, s.has_clearance, s.smooth, s, e...);
+    }
+
+    template <class T>
+    static void bind(const Spec& s, Bound<T>& e) {
+        e.a = s.a;
+        e.b = s.b;
+        e.has_clearance = s.has_clearance;
+        e.smooth = s.smooth;
+        e.prepare();
+    }
+
+    static constexpr bool acts_at_rest = true;
+
+    /// The mesh torque T of the twist θa − n·θb.
+    template <class T>
+    [[gnu::always_inline]] static T torque(const Bound<T>& e, const NodeMotion<T>& m) {
+        const T twist = m.theta[e.a] - e.ratio * m.theta[e.b];
+        const T rate = m.moving() ? m.omega[e.a] - e.ratio * m.omega[e.b] : T(0);
+        return e.has_clearance ? e.ClearanceLaw<T>::torque(twist, rate) : e.k * twist + e.c * rate;
+    }
+
+    template <class T>
+    [[gnu::always_inline]] static void load(const Bound<T>& e, const T& t, const NodeMotion<T>&, T* node_torque) {
+        node_torque[e.a] -= t;            // mesh torque T on a
+        node_torque[e.b] += e.ratio * t;  // and n·T on b
+    }
+};
+
+}  // namespace elements
+}  // namespace tvid

@@ -1,0 +1,59 @@
+#pragma once
+// The linear spring and viscous damper between two nodes, or a node and ground.
+
+#include <string>
+
+#include "tvid/model/elements/node_motion.hpp"
+#include "tvid/model/field.hpp"
+
+namespace tvid {
+
+/// Linear spring and viscous damper between node a and node b (or ground, b = kGround).
+/// Torque on a: −k(θa − θb) − c(ωa − ωb); the opposite on b.
+struct SpringDamperSpec {
+    std::string name;
+    int a = 0, b = kGround;
+    Field k, c;
+};
+
+namespace elements {
+
+struct SpringDamper {
+    using Spec = SpringDamperSpec;
+    template <class T>
+    struct Bound {
+        int a = 0, b = kGround;
+        T k, c;
+    };
+
+    /// f(info, field...) for each numeric field, of each of e... (a spec first, then bound elements) in step.
+    template <class F, class... E>
+    static void for_each_field(F&& f, E&... e) {
+        f(FieldInfo{"k", "a stiffness", SignRule::non_negative}, e.k...);
+        f(FieldInfo{"c", "a damping coefficient", SignRule::non_negative}, e.c...);
+    }
+
+    /// The rest of the binding once the fields hold their values.
+    template <class T>
+    static void bind(const Spec& s, Bound<T>& e) {
+        e.a = s.a;
+        e.b = s.b;
+    }
+
+    static constexpr bool acts_at_rest = true;
+
+    /// The torque transmitted from a to b.
+    template <class T>
+    [[gnu::always_inline]] static T torque(const Bound<T>& e, const NodeMotion<T>& m) {
+        return e.k * m.twist(e.a, e.b) + e.c * m.twist_rate(e.a, e.b);
+    }
+
+    template <class T>
+    [[gnu::always_inline]] static void load(const Bound<T>& e, const T& t, const NodeMotion<T>&, T* node_torque) {
+        node_torque[e.a] -= t;
+        if (e.b != kGround) node_torque[e.b] += t;
+    }
+};
+
+}  // namespace elements
+}  // namespace tvid

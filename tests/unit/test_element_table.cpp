@@ -1,0 +1,220 @@
+// The element table (lib/tvid/model/elements/element_kinds.hpp): every kind has a row,
+// each kind's field walk visits each field once, the binding hands every field in use to
+// the torque formulas, and those formulas give the same bits for double, the dual
+// numbers and every lane of a pack.
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "tvid/model/dual.hpp"
+#include "tvid/model/network_model.hpp"
+#include "tvid/model/network_spec.hpp"
+#include "tvid/simd/pack.hpp"
+
+using namespace tvid;
+
+namespace {
+
+// A value of the right size and sign for each field name.
+double typical_value(const std::string& field) {
+    static const std::map<std::string, double> values = {
+        {"k", 120.0},     {"c", 0.5},          {"k_minus", 200.0},     {"k_plus", 300.0}, {"c_minus", 1.5},
+        {"c_plus", 2.5},  {"mu", 0.01},        {"sigma", 10.0},       {"ratio", 2.5},    {"offset", 0.3},
+        {"scale", 1.7},   {"bore", 0.08},      {"crank_radius", 0.04}, {"rod_length", 0.13},
+        {"mass", 0.4},    {"p_atm", 1.0e5}};
+    return values.at(field);
+}
+
+// Three nodes and at least one element of every kind; every numeric field an element
+// uses is a parameter of its own (named ELEMENT.FIELD), and every element's torque is an
+// output.
+struct AllKindsNetwork {
+    NetworkSpec spec;
+    std::vector<double> p;
+    CrankAngleChannels pressure;
+
+    AllKindsNetwork() {
+        spec.preset = "custom";
+        spec.input_names = {"u"};
+        spec.angle_input_names = {"p_cyl"};
+        for (const char* name : {"n0", "n1", "n2"}) {
+            spec.parameter_names.push_back(std::string("J_") + name);
+            p.push_back(0.05);
+            spec.nodes.push_back(NodeSpec{name, Field::param(static_cast<int>(p.size() - 1)), false});
+        }
+        spec.spring_dampers.push_back(SpringDamperSpec{"spring", 0, 1, {}, {}});
+        spec.clearances.push_back(ClearanceSpec{"stop", 1, kGround, {}, {}, {}, {}, {}, {}, true});
+        spec.frictions.push_back(FrictionSpec{"bearing", 2, {}});
+        GearMeshSpec stiff_gear{"stiff_gear", 1, 2, {}, {}, {}, false, {}, {}, {}, {}, {}, {}, true};
+        GearMeshSpec loose_gear{"loose_gear", 0, 2, {}, {}, {}, true, {}, {}, {}, {}, {}, {}, true};
+        spec.gear_meshes = {stiff_gear, loose_gear};
+        spec.torques.push_back(TorqueSpec{"drive", 0, 0, {}, {}});
+        CylinderSpec cylinder;
+        cylinder.name = "cylinder";
+        cylinder.node = 2;
+        cylinder.phase = 1.0;
+        spec.cylinders.push_back(cylinder);
+
+        for_each_element_kind([&](auto kind) {
+            using Kind = decltype(kind);
+            for (auto& e : ElementRow<Kind>::list(spec)) {
+                Kind::for_each_field(
+                    [&](const FieldInfo& info, Field& f) {
+                        if (!info.in_use) return;
+                        spec.parameter_names.push_back(e.name + "." + info.name);
+                        p.push_back(typical_value(info.name));
+                        f = Field::param(static_cast<int>(p.size() - 1));
+                    },
+                    e);
+                OutputSpec torque;
+                torque.name = e.name;
+                torque.kind = OutputKind::torque;
+                REQUIRE(spec.find_element(e.name, torque.element));
+                spec.outputs.push_back(torque);
+            }
+        });
+
+        std::vector<double> angle, values;
+        for (int i = 0; i <= 720; ++i) {
+            angle.push_back(-4.0 + 0.01 * i);
+            values.push_back(1.0e5 + 3.0e6 * std::exp(-std::pow(angle.back() - 0.5, 2) * 4));
+        }
+        pressure = CrankAngleChannels(angle, {values});
+    }
+};
+
+// A state with every element loaded: both clearances in contact, all speeds nonzero.
+const std::vector<double> kState = {0.3, 0.05, -0.02, 10.0, -3.0, 7.0};
+const double kInput[] = {5.0};
+
+std::vector<double> derivative(const AllKindsNetwork& net, const std::vector<double>& p) {
+    NetworkModel<double> model(net.spec);
+    model.set_crank_angle_inputs(&net.pressure);
+    model.set_parameters(p.data());
+    std::vector<double> f(kState.size());
+    model.derivative(kState.data(), kInput, f.data());
+    return f;
+}
+
+}  // namespace
+
+TEST_CASE("every element kind has one row of the table", "[model][elements]") {
+    std::set<std::string> names;
+    std::size_t position = 0;
+    for_each_element_kind([&](auto kind) {
+        using Row = ElementRow<decltype(kind)>;
+        CHECK(static_cast<std::size_t>(Row::kind) == position++);  // ElementKind follows the table
+        CHECK(std::string(element_kind_name(Row::kind)) == Row::name);
+        names.insert(Row::name);
+    });
+    CHECK(position == kElementKindCount);
+    CHECK(names == std::set<std::string>{"spring_damper", "clearance", "friction", "gear_mesh", "torque", "cylinder"});
+    // The test network below has elements of every kind.
+    const AllKindsNetwork net;
+    for (std::size_t count : element_counts(net.spec)) CHECK(count >= 1);
+}
+
+TEST_CASE("each kind's field walk visits each field once, in step over a spec and a bound element", "[model][elements]") {
+    const std::map<std::string, std::vector<std::string>> expected = {
+        {"spring_damper", {"k", "c"}},
+        {"clearance", {"k_minus", "k_plus", "c_minus", "c_plus", "mu", "sigma"}},
+        {"friction", {"c"}},
+        {"gear_mesh", {"ratio", "k", "c", "k_minus", "k_plus", "c_minus", "c_plus", "mu", "sigma"}},
+        {"torque", {"offset", "scale"}},
+        {"cylinder", {"bore", "crank_radius", "rod_length", "mass", "p_atm"}}};
+    for_each_element_kind([&](auto kind) {
+        using Kind = decltype(kind);
+        typename Kind::Spec spec{};
+        typename Kind::template Bound<double> bound{};
+        std::vector<std::string> visited;
+        std::set<const void*> spec_fields, bound_fields;
+        Kind::for_each_field(
+            [&](const FieldInfo& info, Field& f, double& v) {
+                visited.push_back(info.name);
+                spec_fields.insert(&f);
+                bound_fields.insert(&v);
+                CHECK((info.sign == SignRule::any) == (info.role == nullptr));
+            },
+            spec, bound);
+        INFO(ElementRow<Kind>::name);
+        CHECK(visited == expected.at(ElementRow<Kind>::name));
+        CHECK(spec_fields.size() == visited.size());  // each visit a different member
+        CHECK(bound_fields.size() == visited.size());
+    });
+}
+
+TEST_CASE("every field in use, bound to a parameter, moves the right-hand side", "[model][elements]") {
+    const AllKindsNetwork net;
+    const std::vector<double> f0 = derivative(net, net.p);
+    for (std::size_t j = 0; j < net.p.size(); ++j) {
+        const std::string& name = net.spec.parameter_names[j];
+        INFO(name);
+        std::vector<double> p = net.p;
+        p[j] *= 1.01;
+        const bool moved = derivative(net, p) != f0;
+        // A gear mesh with backlash transmits the clearance law's torque: its k and c
+        // only stand in for k_minus/k_plus and c_minus/c_plus in the experiment file.
+        if (name == "loose_gear.k" || name == "loose_gear.c")
+            CHECK_FALSE(moved);
+        else
+            CHECK(moved);
+    }
+}
+
+TEST_CASE("an element's kept torque is the torque it transmits", "[model][elements]") {
+    const AllKindsNetwork net;
+    NetworkModel<double> model(net.spec);
+    model.set_crank_angle_inputs(&net.pressure);
+    model.set_parameters(net.p.data());
+    std::vector<double> f(kState.size());
+    model.derivative(kState.data(), kInput, f.data());
+    for (std::size_t k = 0; k < net.spec.outputs.size(); ++k) {
+        INFO(net.spec.outputs[k].name);
+        CHECK(model.output_after_derivative(k, kState.data()) == model.output(k, kState.data(), kInput));
+        CHECK(model.output(k, kState.data(), kInput) != 0.0);
+    }
+}
+
+TEST_CASE("the torque formulas give the same bits for double, Dual and every lane of a pack", "[model][elements]") {
+    constexpr int W = 4;
+    const AllKindsNetwork net;
+    const std::size_t m = net.p.size(), n = kState.size();
+    // Lane l scales every parameter by its own factor.
+    std::vector<std::vector<double>> lane_p(W, net.p);
+    for (int l = 0; l < W; ++l)
+        for (std::size_t j = 0; j < m; ++j) lane_p[l][j] *= 1.0 + 0.01 * l + 0.001 * static_cast<double>(j % 7);
+
+    NetworkModel<Pack<W>> packed(net.spec);
+    packed.set_crank_angle_inputs(&net.pressure);
+    std::vector<Pack<W>> pp(m), xp(n), fp(n);
+    for (std::size_t j = 0; j < m; ++j)
+        for (int l = 0; l < W; ++l) pp[j].set(l, lane_p[l][j]);
+    for (std::size_t i = 0; i < n; ++i) xp[i] = Pack<W>(kState[i]);
+    packed.set_parameters(pp.data());
+    packed.derivative(xp.data(), kInput, fp.data());
+
+    for (int l = 0; l < W; ++l) {
+        NetworkModel<double> model(net.spec);
+        model.set_crank_angle_inputs(&net.pressure);
+        model.set_parameters(lane_p[l].data());
+        std::vector<double> f(n);
+        model.derivative(kState.data(), kInput, f.data());
+        NetworkModel<Dual> dual(net.spec);
+        dual.set_crank_angle_inputs(&net.pressure);
+        std::vector<Dual> pd(lane_p[l].begin(), lane_p[l].end()), xd(kState.begin(), kState.end()), fd(n);
+        dual.set_parameters(pd.data());
+        dual.derivative(xd.data(), kInput, fd.data());
+        for (std::size_t i = 0; i < n; ++i) {
+            INFO("lane " << l << ", state " << i);
+            CHECK(fp[i][l] == f[i]);
+            CHECK(fd[i].value() == f[i]);
+        }
+        for (std::size_t k = 0; k < net.spec.outputs.size(); ++k) {
+            INFO("lane " << l << ", output " << net.spec.outputs[k].name);
+            CHECK(packed.output_after_derivative(k, xp.data())[l] == model.output_after_derivative(k, kState.data()));
+        }
+    }
+}
