@@ -22,6 +22,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -184,14 +185,15 @@ bool all_ok(const Run& run, std::string* problem) {
 void compare(const std::string& config, const std::string& truth_file, const std::vector<double>& rk4_steps,
              const char* unit, const std::string& probe, int repeats) {
     Experiment ex = load_experiment(config);
-    const IdentificationProblem problem(ex);  // reads ex.simulation at every simulation
+    std::optional<IdentificationProblem> problem;  // built for each integrator: it keeps the settings it was built with
     const std::vector<double> params = true_parameters(ex, truth_file);
     std::size_t probe_index = 0;
     while (probe_index + 1 < ex.parameters.size() && ex.parameters[probe_index].name != probe) ++probe_index;
     const std::vector<const Window*> windows = {&ex.estimation.front(), &ex.validation.front()};
 
     ex.simulation = adaptive(IntegrationMethod::dopri5, 1e-12);
-    const Run reference = simulate(problem, windows, params, 1);
+    problem.emplace(ex);
+    const Run reference = simulate(*problem, windows, params, 1);
     std::string problem_text;
     if (!all_ok(reference, &problem_text)) {
         std::printf("%s: the reference simulation failed: %s\n", ex.name.c_str(), problem_text.c_str());
@@ -211,14 +213,15 @@ void compare(const std::string& config, const std::string& truth_file, const std
     std::printf("|---|---|---:|---:|---:|---:|---:|---:|---:|\n");
     for (const Case& c : cases(rk4_steps)) {
         ex.simulation = c.settings;
-        const Run run = simulate(problem, windows, params, repeats);
+        problem.emplace(ex);
+        const Run run = simulate(*problem, windows, params, repeats);
         if (!all_ok(run, &problem_text)) {
             std::printf("| %s | %s | %.2f | %.0f | %.0f | failed: %s | | | |\n", c.method.c_str(), c.setting.c_str(),
                         run.seconds * 1e3, run.rhs, run.jacobians, problem_text.c_str());
             continue;
         }
         const Errors vs_reference = errors(run, &reference), vs_data = errors(run, nullptr);
-        const double noise = jacobian_noise(problem, *windows[0], params, probe_index);
+        const double noise = jacobian_noise(*problem, *windows[0], params, probe_index);
         std::printf("| %s | %s | %.2f | %.0f | %.0f | %.2e | %.2e | %.4e | %.1e |\n", c.method.c_str(),
                     c.setting.c_str(), run.seconds * 1e3, run.rhs, run.jacobians, vs_reference.rms, vs_reference.max,
                     vs_data.rms, noise);

@@ -10,8 +10,9 @@
 #include <mutex>
 #include <type_traits>
 
+#include "tvid/estimation/window_score.hpp"
 #include "tvid/sim/batch_rk4.hpp"
-#include "tvid/sim/fixed_state_rk4.hpp"
+#include "tvid/sim/state_size_dispatch.hpp"
 
 namespace tvid {
 
@@ -34,8 +35,7 @@ struct CandidateScores {
     std::size_t parameter_count = 0;
     std::vector<double> parameters;  ///< full model parameter vectors, one after the other
     std::vector<double> state;       ///< the state where the last piece ended
-    std::vector<double> total, window_sum, bound, result;
-    std::vector<std::size_t> scored;  ///< samples of the current window scored so far
+    std::vector<double> total, window_sum, bound, result;  ///< window_sum: of the current window so far
     std::vector<char> live;           ///< still being scored
 
     void finish(std::size_t c, double cost) {
@@ -135,10 +135,10 @@ class RegroupedScoring {
 public:
     RegroupedScoring(const IdentificationProblem& problem, std::span<BatchWorkspace* const> workspaces,
                      const std::atomic<bool>* stop)
-        : problem_(problem), ex_(problem.experiment()), workspaces_(workspaces), stop_(stop) {
+        : problem_(problem), d_(problem.definition()), workspaces_(workspaces), stop_(stop) {
         // Each window in pieces of kRegroupMinSamples samples or more, at most kRegroupPieces.
-        for (std::size_t wi = 0; wi < ex_.estimation.size(); ++wi) {
-            const Window& w = ex_.estimation[wi];
+        for (std::size_t wi = 0; wi < d_.estimation.size(); ++wi) {
+            const Window& w = d_.estimation[wi];
             const std::size_t from = problem_.warms_up(w) ? w.first : w.start;
             const std::size_t length = w.last > from ? w.last - from : 0;
             const std::size_t pieces = std::clamp<std::size_t>(length / kRegroupMinSamples, 1, kRegroupPieces);
@@ -152,12 +152,11 @@ public:
         const double inf = std::numeric_limits<double>::infinity();
         const std::size_t m = problem_.dimension();
         CandidateScores& s = scores_;
-        s.parameter_count = ex_.network.parameter_names.size();
+        s.parameter_count = d_.network.parameter_names.size();
         s.parameters.assign(count * s.parameter_count, 0.0);
         s.state.assign(count * N, 0.0);
         s.total.assign(count, 0.0);
         s.window_sum.assign(count, 0.0);
-        s.scored.assign(count, 0);
         s.result.assign(count, inf);
         s.bound.assign(count, inf);
         s.live.assign(count, 0);
@@ -196,7 +195,7 @@ public:
             complete = !queues.stopped();
         }
         for (std::size_t c = 0; c < count; ++c) {
-            if (s.live[c]) s.result[c] = complete && std::isfinite(s.total[c]) ? s.total[c] : inf;
+            if (s.live[c]) s.result[c] = complete ? finished_cost(s.total[c]) : inf;
             costs[c] = s.result[c];
         }
         return complete;
@@ -211,8 +210,7 @@ private:
                          s.parameters.begin() + static_cast<std::ptrdiff_t>((c + 1) * s.parameter_count));
         ws.model.set_parameters(ws.params.data());
         s.window_sum[c] = 0.0;
-        s.scored[c] = 0;
-        if (problem_.start_window(ex_.estimation[wi], ws, nullptr).status != SimulationStatus::ok) {
+        if (problem_.start_window(d_.estimation[wi], ws, nullptr).status != SimulationStatus::ok) {
             s.finish(c, std::numeric_limits<double>::infinity());
             return;
         }
@@ -224,16 +222,17 @@ private:
     // window's start solved).
     void march_stage(BatchWorkspace& ws, const Group& group, std::size_t k, std::vector<std::size_t>& next) {
         const Stage& stage = stages_[k];
-        march_group(ws, group, ex_.estimation[stage.window], stage.a, stage.b, stage.score_first);
+        const Window& w = d_.estimation[stage.window];
+        march_group(ws, group, w, stage.a, stage.b, stage.score_first);
         CandidateScores& s = scores_;
-        const bool l1 = ex_.estimation_settings.cost == CostKind::l1;
         next.clear();
         for (std::size_t l = 0; l < group.size; ++l) {
             const std::size_t c = group.candidate[l];
             if (!s.live[c]) continue;
             if (stage.ends_window) {
                 // The candidates that ran to the end add the window's share (l1: its mean).
-                s.total[c] = s.total[c] + (l1 ? s.window_sum[c] / static_cast<double>(s.scored[c]) : s.window_sum[c]);
+                const WindowScore<double> window(d_.cost, scored_sample_count(w), s.window_sum[c]);
+                s.total[c] = window.partial_cost(s.total[c]);
                 if (k + 1 == stages_.size()) continue;
                 start_window(c, stages_[k + 1].window, *ws.scalar);
                 if (!s.live[c]) continue;
@@ -246,8 +245,7 @@ private:
                      bool score_first) {
         CandidateScores& s = scores_;
         const double inf = std::numeric_limits<double>::infinity();
-        const bool l1 = ex_.estimation_settings.cost == CostKind::l1;
-        const std::size_t n_out = ex_.outputs.size();
+        const std::size_t n_out = d_.measured.size();
         // The group's lanes from the candidates' scores.
         std::array<P, N> x;
         P total, window_sum, bound;
@@ -270,23 +268,20 @@ private:
             live.set(l, false);
         };
 
-        const auto n_scored = static_cast<double>(problem_.scored_samples(w));
-        std::size_t scored = 0;
+        WindowScore<P> window(d_.cost, scored_sample_count(w), window_sum);
         // Adds sample i's terms and stops the lanes whose partial cost reaches their bound.
         // `after_derivative`: the model's last derivative() was at this sample (the march's).
         auto score = [&](std::size_t i, const std::array<P, N>& xs, const double* u, bool after_derivative) {
             for (std::size_t k = 0; k < n_out; ++k) {
-                const auto output = static_cast<std::size_t>(ex_.output_indices[k]);
+                const auto output = static_cast<std::size_t>(d_.output_indices[k]);
                 const P y = after_derivative ? ws.model.output_after_derivative(output, xs.data())
                                              : ws.model.output(output, xs.data(), u);
-                const P e = y - P(problem_.measured(k)[i]);
-                window_sum = window_sum + (l1 ? abs(e) : e * e);
+                window.add(y - P(problem_.measured(k)[i]));
             }
-            ++scored;
             const Lanes watched = bounded & live;
             if (!watched.any()) return;
-            const P partial = total + (l1 ? window_sum / P(n_scored) : window_sum);
-            const Lanes cut = watched & (partial >= bound);
+            const P partial = window.partial_cost(total);
+            const Lanes cut = watched & WindowScore<P>::reached(partial, bound);
             for (int l = 0; l < W; ++l)
                 if (cut[l]) lane_finish(l, partial[l]);
         };
@@ -304,20 +299,19 @@ private:
             return live;
         };
         Lanes active = live;
-        march_batch_rk4<N, W>(ws.model, problem_.inputs(), a, b, x, ex_.simulation.max_step, ws.u, ws.u_stage, active,
+        march_batch_rk4<N, W>(ws.model, problem_.inputs(), a, b, x, d_.simulation.max_step, ws.u, ws.u_stage, active,
                               ws.rhs_evaluations, ws.pack_rhs_evaluations, observe);
         // The lanes still live carry their state and sums to the next piece.
         for (int l = 0; l < W; ++l) {
             if (!live[l]) continue;
             const std::size_t c = group.candidate[static_cast<std::size_t>(l)];
             for (std::size_t j = 0; j < N; ++j) s.state[c * N + j] = x[j][l];
-            s.window_sum[c] = window_sum[l];
-            s.scored[c] += scored;
+            s.window_sum[c] = window.sum()[l];
         }
     }
 
     const IdentificationProblem& problem_;
-    const Experiment& ex_;
+    const ProblemDefinition& d_;
     std::span<BatchWorkspace* const> workspaces_;
     const std::atomic<bool>* stop_;
     CandidateScores scores_;
@@ -327,16 +321,15 @@ private:
 }  // namespace
 
 BatchWorkspace::BatchWorkspace(const IdentificationProblem& problem)
-    : scalar(problem.make_workspace()), model(problem.experiment().network) {
+    : scalar(problem.make_workspace()), model(problem.definition().network) {
     model.set_crank_angle_inputs(&problem.crank_angle_inputs());
-    params.resize(problem.experiment().network.parameter_names.size());
+    params.resize(problem.definition().network.parameter_names.size());
     u.resize(problem.inputs().count());
 }
 
 bool batch_supported(const IdentificationProblem& problem) {
-    const Experiment& ex = problem.experiment();
-    const std::size_t n = ex.network.state_size();
-    return ex.simulation.method == IntegrationMethod::rk4 && n >= 2 && n <= kMaxFixedState && n % 2 == 0;
+    const ProblemDefinition& d = problem.definition();
+    return d.simulation.method == IntegrationMethod::rk4 && has_fixed_state_size(d.network.state_size());
 }
 
 bool batch_costs(const IdentificationProblem& problem, const double* candidates, std::size_t count,
@@ -346,22 +339,13 @@ bool batch_costs(const IdentificationProblem& problem, const double* candidates,
     const auto run = [&]<std::size_t N>(std::integral_constant<std::size_t, N>) {
         return RegroupedScoring<N>(problem, workspaces, stop).run(candidates, count, bounds, costs);
     };
-    switch (problem.experiment().network.state_size()) {
-        case 2: return run(std::integral_constant<std::size_t, 2>{});
-        case 4: return run(std::integral_constant<std::size_t, 4>{});
-        case 6: return run(std::integral_constant<std::size_t, 6>{});
-        case 8: return run(std::integral_constant<std::size_t, 8>{});
-        case 10: return run(std::integral_constant<std::size_t, 10>{});
-        case 12: return run(std::integral_constant<std::size_t, 12>{});
-        case 14: return run(std::integral_constant<std::size_t, 14>{});
-        case 16: return run(std::integral_constant<std::size_t, 16>{});
-        default: break;
-    }
-    // Not batchable: one candidate at a time.
-    for (std::size_t l = 0; l < count; ++l)
-        costs[l] = problem.cost(candidates + l * problem.dimension(), *workspaces[0]->scalar,
-                                bounds ? bounds[l] : std::numeric_limits<double>::infinity());
-    return true;
+    const auto one_at_a_time = [&] {  // not batchable
+        for (std::size_t l = 0; l < count; ++l)
+            costs[l] = problem.cost(candidates + l * problem.dimension(), *workspaces[0]->scalar,
+                                    bounds ? bounds[l] : std::numeric_limits<double>::infinity());
+        return true;
+    };
+    return dispatch_state_size(problem.definition().network.state_size(), run, one_at_a_time);
 }
 
 void batch_costs(const IdentificationProblem& problem, const double* candidates, std::size_t count,

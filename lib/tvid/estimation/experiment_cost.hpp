@@ -4,8 +4,8 @@
 // sensitivities, the methodology paper eq. 9, or finite differences, as `lm.jacobian` says):
 //   l2: E = Σ e²                     ∇E = 2 Jᵀ e                          (the methodology paper eq. 7)
 //   l1: E = Σ_windows mean_i Σ_k |e|  ∇E = Σ_windows (1/n_w) Σ sign(e) ∂e/∂p  (Yoshida & Takamatsu eq. 19)
-// where n_w is the number of scored samples of window w (the cost sums its outputs over
-// a sample before dividing, as IdentificationProblem::cost does). |e| has no derivative
+// where n_w is the number of scored samples of window w (the rule of window_score.hpp,
+// as IdentificationProblem::cost applies it). |e| has no derivative
 // at e = 0: sign(0) = 0 gives the subgradient of least norm there.
 
 #include <Eigen/Core>
@@ -34,9 +34,9 @@ public:
 private:
     const IdentificationProblem* problem_;
     ExperimentLeastSquares least_squares_;
-    bool l1_;
-    std::vector<std::size_t> window_residuals_;  ///< residuals per estimation window (samples × outputs)
+    CostKind cost_;
     std::size_t outputs_;
+    std::vector<std::size_t> window_samples_;  ///< scored samples per estimation window
     std::vector<double> r_;
     Eigen::MatrixXd J_;
 };

@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "tvid/estimation/parallel_evaluator.hpp"
+#include "tvid/estimation/window_score.hpp"
 
 namespace tvid {
 
@@ -22,16 +23,21 @@ double difference_step(double x, double lower, double upper) {
 
 }  // namespace
 
-std::size_t estimation_residual_count(const Experiment& experiment) {
+std::size_t estimation_residual_count(const std::vector<Window>& windows, std::size_t outputs) {
     std::size_t n = 0;
-    for (const Window& w : experiment.estimation) n += w.last - std::max(w.first, w.start + 1) + 1;
-    return n * experiment.outputs.size();
+    for (const Window& w : windows) n += scored_sample_count(w);
+    return n * outputs;
+}
+
+std::size_t estimation_residual_count(const Experiment& experiment) {
+    return estimation_residual_count(experiment.estimation, experiment.outputs.size());
 }
 
 ExperimentLeastSquares::ExperimentLeastSquares(const IdentificationProblem& problem, int threads, JacobianKind kind,
                                                const std::atomic<bool>* stop)
     : problem_(&problem), kind_(kind), sensitivity_(problem), threads_(resolve_thread_count(threads)),
-      residual_count_(estimation_residual_count(problem.experiment())), stop_(stop) {
+      residual_count_(estimation_residual_count(problem.definition().estimation, problem.definition().measured.size())),
+      stop_(stop) {
     for (int t = 0; t < threads_; ++t) {
         workspaces_.push_back(problem.make_workspace());
         workspaces_.back()->stop = stop;  // an interrupt ends the simulations in flight, not only the next ones
@@ -43,7 +49,7 @@ ExperimentLeastSquares::ExperimentLeastSquares(const IdentificationProblem& prob
     const std::size_t m = problem.dimension();
     plus_.assign(m, std::vector<double>(residual_count_));
     minus_.assign(m, std::vector<double>(residual_count_));
-    start_slopes_ = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(2 * problem.experiment().estimation.size()),
+    start_slopes_ = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(2 * problem.definition().estimation.size()),
                                           static_cast<Eigen::Index>(m));
     evaluated_.resize(static_cast<std::size_t>(threads_));
     for (EvaluatedPoint& e : evaluated_) e.residuals.reserve(residual_count_);
@@ -125,7 +131,7 @@ bool ExperimentLeastSquares::jacobian(const double* x, double* r, Eigen::MatrixX
 }
 
 void ExperimentLeastSquares::keep_guesses(const double* x, const std::vector<SolvedStart>& starts) {
-    const std::vector<Window>& windows = problem_->experiment().estimation;
+    const std::vector<Window>& windows = problem_->definition().estimation;
     guesses_.clear();
     guess_windows_.clear();
     for (std::size_t wi = 0; wi < starts.size() && wi < windows.size(); ++wi)
@@ -158,7 +164,7 @@ bool ExperimentLeastSquares::sensitivity_jacobian(const double* x, const std::ve
     // Column blocks: one per thread with fixed-step RK4 (a column does not depend on its
     // block), otherwise blocks as large as the dual numbers carry.
     const std::size_t m = problem_->dimension();
-    const bool fixed_step = problem_->experiment().simulation.method == IntegrationMethod::rk4;
+    const bool fixed_step = problem_->definition().simulation.method == IntegrationMethod::rk4;
     std::size_t blocks = (m + ForwardSensitivity::kMaxBlock - 1) / ForwardSensitivity::kMaxBlock;
     if (fixed_step) blocks = std::max(blocks, std::min(m, static_cast<std::size_t>(threads_)));
     const std::size_t width = (m + blocks - 1) / blocks;

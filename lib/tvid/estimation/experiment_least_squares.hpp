@@ -86,6 +86,7 @@ private:
 };
 
 /// The number of residuals of the estimation windows (scored samples × outputs).
+std::size_t estimation_residual_count(const std::vector<Window>& windows, std::size_t outputs);
 std::size_t estimation_residual_count(const Experiment& experiment);
 
 }  // namespace tvid

@@ -7,16 +7,17 @@
 
 #include "tvid/sim/fixed_state_rk4.hpp"
 #include "tvid/sim/sensitivity_system.hpp"
+#include "tvid/sim/state_size_dispatch.hpp"
 
 namespace tvid {
 
 SensitivityWorkspace::SensitivityWorkspace(const IdentificationProblem& problem)
-    : plain(problem.make_workspace()), model(problem.experiment().network), packed8(problem), packed16(problem) {
+    : plain(problem.make_workspace()), model(problem.definition().network), packed8(problem), packed16(problem) {
     model.set_crank_angle_inputs(&problem.crank_angle_inputs());
-    params.resize(problem.experiment().network.parameter_names.size());
+    params.resize(problem.definition().network.parameter_names.size());
     x.resize(model.state_size());
     dxdt.resize(model.state_size());
-    y.resize(problem.experiment().outputs.size());
+    y.resize(problem.definition().measured.size());
     buffers.u.resize(problem.inputs().count());
 }
 
@@ -82,7 +83,7 @@ SimulationStatus ForwardSensitivity::simulate_augmented(const double* free, cons
                                                         std::size_t j1, SensitivityWorkspace& ws, std::string* problem,
                                                         FunctionRef<bool(std::size_t, const Dual*)> on_scored,
                                                         const SolvedStart* solved) const {
-    const Experiment& ex = problem_->experiment();
+    const ProblemDefinition& def = problem_->definition();
     const std::size_t cols = j1 - j0, state = ws.model.state_size(), n = ws.model.node_count();
     set_parameters(free, j0, j1, static_cast<int>(cols), ws);
     const WindowStart start = window_start(w, ws, problem, solved);
@@ -93,7 +94,7 @@ SimulationStatus ForwardSensitivity::simulate_augmented(const double* free, cons
     if (d != cols) set_parameters(free, j0, j1, static_cast<int>(d), ws);
     ws.z.assign(state * (1 + d), 0.0);
     std::copy(ws.plain->x_start.begin(), ws.plain->x_start.end(), ws.z.begin());
-    if (ex.initial_state == InitialStateKind::equilibrium) {
+    if (def.initial_state == InitialStateKind::equilibrium) {
         Eigen::MatrixXd dtheta;
         if (!equilibrium_sensitivity(j0, j1, ws, dtheta)) {
             if (problem) *problem = "the equilibrium start has no sensitivity (singular static stiffness)";
@@ -112,11 +113,11 @@ SimulationStatus ForwardSensitivity::simulate_augmented(const double* free, cons
     const auto outputs = [&](std::size_t i, const std::vector<double>& z, const std::vector<double>& u) {
         SensitivitySystem::unpack(z, state, d, ws.x);
         for (std::size_t k = 0; k < ws.y.size(); ++k)
-            ws.y[k] = ws.model.output(ex.output_indices[k], ws.x.data(), u.data());
+            ws.y[k] = ws.model.output(def.output_indices[k], ws.x.data(), u.data());
         return on_scored(i, ws.y.data());
     };
     std::size_t from = w.start;
-    if (ex.initial_state == InitialStateKind::measured && w.start < w.first) {
+    if (problem_->warms_up(w)) {
         // The warm-up, watching the encoder node's sensitivity row at the shooting's samples.
         SensitivitySystem warm(ws.model, problem_->inputs(), ws.buffers.u, ws.x, ws.dxdt, static_cast<int>(d));
         const std::size_t node = start.node;
@@ -126,7 +127,7 @@ SimulationStatus ForwardSensitivity::simulate_augmented(const double* free, cons
             return !ws.plain->stop_requested();
         };
         const SimulationStatus status =
-            march_samples(warm, problem_->inputs(), w.start, w.first, ws.z, state, ex.simulation, ws.buffers, watch);
+            march_samples(warm, problem_->inputs(), w.start, w.first, ws.z, state, def.simulation, ws.buffers, watch);
         if (status != SimulationStatus::ok) {
             if (problem) *problem = std::string("warm-up simulation ") + to_string(status);
             return status;
@@ -169,7 +170,7 @@ SimulationStatus ForwardSensitivity::simulate_augmented(const double* free, cons
         return i < w.first ? true : outputs(i, z, u);
     };
     const SimulationStatus status =
-        march_samples(system, problem_->inputs(), from, w.last, ws.z, state, ex.simulation, ws.buffers, scored);
+        march_samples(system, problem_->inputs(), from, w.last, ws.z, state, def.simulation, ws.buffers, scored);
     if (status != SimulationStatus::ok && problem) *problem = std::string("simulation ") + to_string(status);
     return status;
 }
@@ -180,27 +181,16 @@ SimulationStatus ForwardSensitivity::simulate(const double* free, const Window& 
                                               const SolvedStart* solved) const {
     // Fixed-step RK4 over a small state with few enough directions (the block's columns
     // and the shooting's two): the state itself carries its sensitivities as PackedDual.
-    const Experiment& ex = problem_->experiment();
+    const ProblemDefinition& def = problem_->definition();
     const std::size_t state = ws.model.state_size(), directions = j1 - j0 + 2;
-    if (packed_ && ex.simulation.method == IntegrationMethod::rk4 && state <= kMaxFixedState && state % 2 == 0 &&
-        ex.outputs.size() <= 8 && directions <= 16) {
-        const auto run = [&]<std::size_t N>(std::integral_constant<std::size_t, N>) {
-            return directions <= 8 ? simulate_packed<N, 8>(free, w, j0, j1, ws, problem, on_scored, solved)
-                                   : simulate_packed<N, 16>(free, w, j0, j1, ws, problem, on_scored, solved);
-        };
-        switch (state) {
-            case 2: return run(std::integral_constant<std::size_t, 2>{});
-            case 4: return run(std::integral_constant<std::size_t, 4>{});
-            case 6: return run(std::integral_constant<std::size_t, 6>{});
-            case 8: return run(std::integral_constant<std::size_t, 8>{});
-            case 10: return run(std::integral_constant<std::size_t, 10>{});
-            case 12: return run(std::integral_constant<std::size_t, 12>{});
-            case 14: return run(std::integral_constant<std::size_t, 14>{});
-            case 16: return run(std::integral_constant<std::size_t, 16>{});
-            default: break;
-        }
-    }
-    return simulate_augmented(free, w, j0, j1, ws, problem, on_scored, solved);
+    const auto augmented = [&] { return simulate_augmented(free, w, j0, j1, ws, problem, on_scored, solved); };
+    if (!packed_ || def.simulation.method != IntegrationMethod::rk4 || def.measured.size() > 8 || directions > 16)
+        return augmented();
+    const auto packed = [&]<std::size_t N>(std::integral_constant<std::size_t, N>) {
+        return directions <= 8 ? simulate_packed<N, 8>(free, w, j0, j1, ws, problem, on_scored, solved)
+                               : simulate_packed<N, 16>(free, w, j0, j1, ws, problem, on_scored, solved);
+    };
+    return dispatch_state_size(state, packed, augmented);
 }
 
 bool ForwardSensitivity::jacobian_columns(const double* free, std::size_t j0, std::size_t j1,
@@ -209,13 +199,13 @@ bool ForwardSensitivity::jacobian_columns(const double* free, std::size_t j0, st
     const std::size_t m = problem_->dimension();
     for (std::size_t j = 0; j < m; ++j)
         if (!std::isfinite(free[j])) return false;
-    const Experiment& ex = problem_->experiment();
+    const ProblemDefinition& def = problem_->definition();
     Eigen::Index row = 0;
-    if (starts && starts->size() != ex.estimation.size()) starts = nullptr;
-    for (std::size_t wi = 0; wi < ex.estimation.size(); ++wi) {
-        const Window& w = ex.estimation[wi];
+    if (starts && starts->size() != def.estimation.size()) starts = nullptr;
+    for (std::size_t wi = 0; wi < def.estimation.size(); ++wi) {
+        const Window& w = def.estimation[wi];
         const auto record = [&](std::size_t, const auto* outputs) {
-            for (std::size_t k = 0; k < ex.outputs.size(); ++k) {
+            for (std::size_t k = 0; k < def.measured.size(); ++k) {
                 const auto& y = outputs[k];
                 if (row >= J.rows()) return false;
                 for (std::size_t j = j0; j < j1; ++j)
@@ -242,7 +232,7 @@ WindowSensitivity ForwardSensitivity::window_sensitivity(const double* free, con
                                                          SensitivityWorkspace& ws) const {
     WindowSensitivity out;
     out.window = &w;
-    const std::size_t m = problem_->dimension(), n_out = problem_->experiment().outputs.size();
+    const std::size_t m = problem_->dimension(), n_out = problem_->definition().measured.size();
     out.output.assign(n_out, {});
     out.dydp.assign(n_out, std::vector<std::vector<double>>(m));
     for (std::size_t j0 = 0; j0 < std::max<std::size_t>(m, 1); j0 += kMaxBlock) {

@@ -32,7 +32,7 @@ namespace tvid {
 template <int D>
 struct PackedSensitivityModel {
     explicit PackedSensitivityModel(const IdentificationProblem& problem)
-        : model(problem.experiment().network), params(problem.experiment().network.parameter_names.size()) {
+        : model(problem.definition().network), params(problem.definition().network.parameter_names.size()) {
         model.set_crank_angle_inputs(&problem.crank_angle_inputs());
     }
     NetworkModel<PackedDual<D>> model;

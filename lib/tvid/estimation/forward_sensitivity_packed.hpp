@@ -19,7 +19,7 @@ SimulationStatus ForwardSensitivity::simulate_packed(const double* free, const W
                                                      PackedObserver<D> on_scored, const SolvedStart* solved) const {
     using T = PackedDual<D>;
     PackedSensitivityModel<D>& dual = ws.packed<D>();
-    const Experiment& ex = problem_->experiment();
+    const ProblemDefinition& def = problem_->definition();
     const InputChannels& inputs = problem_->inputs();
     const std::size_t cols = j1 - j0, n = N / 2;
     // The plain start (equilibrium, or the warm-up shooting) and the Dual model for the
@@ -36,7 +36,7 @@ SimulationStatus ForwardSensitivity::simulate_packed(const double* free, const W
     dual.model.set_parameters(dual.params.data());
     std::array<T, N> x;
     for (std::size_t i = 0; i < N; ++i) x[i] = T(ws.plain->x_start[i]);
-    if (ex.initial_state == InitialStateKind::equilibrium) {
+    if (def.initial_state == InitialStateKind::equilibrium) {
         Eigen::MatrixXd dtheta;
         if (!equilibrium_sensitivity(j0, j1, ws, dtheta)) {
             if (problem) *problem = "the equilibrium start has no sensitivity (singular static stiffness)";
@@ -55,8 +55,8 @@ SimulationStatus ForwardSensitivity::simulate_packed(const double* free, const W
 
     std::array<T, 8> y_store;  // the outputs at a sample (at most 8 outputs take this path)
     const auto outputs = [&](std::size_t i, const std::array<T, N>& state, const std::vector<double>& u) {
-        for (std::size_t k = 0; k < ex.outputs.size(); ++k)
-            y_store[k] = dual.model.output(static_cast<std::size_t>(ex.output_indices[k]), state.data(), u.data());
+        for (std::size_t k = 0; k < def.measured.size(); ++k)
+            y_store[k] = dual.model.output(static_cast<std::size_t>(def.output_indices[k]), state.data(), u.data());
         return on_scored(i, y_store.data());
     };
     std::size_t& rhs = ws.buffers.rhs_evaluations;
@@ -68,7 +68,7 @@ SimulationStatus ForwardSensitivity::simulate_packed(const double* free, const W
             if (i == start.mid) at_mid = state[start.node];
             return !ws.plain->stop_requested();
         };
-        const SimulationStatus status = march_fixed_rk4<N>(dual.model, inputs, w.start, w.first, x, ex.simulation.max_step,
+        const SimulationStatus status = march_fixed_rk4<N>(dual.model, inputs, w.start, w.first, x, def.simulation.max_step,
                                                            ws.buffers.u, ws.buffers.u_stages, rhs, watch);
         if (status != SimulationStatus::ok) {
             if (problem) *problem = std::string("warm-up simulation ") + to_string(status);
@@ -114,7 +114,7 @@ SimulationStatus ForwardSensitivity::simulate_packed(const double* free, const W
         if (ws.plain->stop_requested()) return false;
         return i < w.first ? true : outputs(i, state, u);
     };
-    const SimulationStatus status = march_fixed_rk4<N>(dual.model, inputs, from, w.last, x, ex.simulation.max_step,
+    const SimulationStatus status = march_fixed_rk4<N>(dual.model, inputs, from, w.last, x, def.simulation.max_step,
                                                        ws.buffers.u, ws.buffers.u_stages, rhs, scored);
     if (status != SimulationStatus::ok && problem) *problem = std::string("simulation ") + to_string(status);
     return status;

@@ -18,6 +18,7 @@
 
 #include "tvid/model/network_model.hpp"
 #include "tvid/channels/input_channels.hpp"
+#include "tvid/sim/observation_loops.hpp"
 #include "tvid/sim/simulation_status.hpp"
 #include "tvid/simd/pack.hpp"
 
@@ -43,7 +44,6 @@ void march_batch_rk4(NetworkModel<Pack<W>>& model, const InputChannels& inputs, 
                      std::vector<double>& u_stage, Mask<W>& active, std::size_t& rhs, std::size_t& pack_rhs,
                      Observer&& observer) {
     using P = Pack<W>;
-    const std::vector<double>& time = inputs.time();
     const std::size_t n_in = inputs.count();
     u.resize(n_in);
     u_stage.resize(3 * n_in);
@@ -54,47 +54,45 @@ void march_batch_rk4(NetworkModel<Pack<W>>& model, const InputChannels& inputs, 
     std::size_t hint = start;
     std::size_t needed = 0;
     for (int l = 0; l < W; ++l) needed += active[l] ? 1 : 0;
-    if (needed > 0 && start < last) {
-        for (std::size_t k = 0; k < n_in; ++k) u[k] = inputs.value(k, start);
-        model.derivative(x.data(), u.data(), k1.data());
-        ++pack_rhs;
-    }
-    for (std::size_t i = start; i < last && needed > 0; ++i) {
-        const double t0 = time[i], h = time[i + 1] - t0;
-        int substeps = 1;
-        if (max_step > 0.0 && h > max_step) substeps = static_cast<int>(std::ceil(h / max_step - 1e-9));
-        const double dt = h / substeps;
+    if (needed == 0 || start >= last) return;
+    for (std::size_t k = 0; k < n_in; ++k) u[k] = inputs.value(k, start);
+    model.derivative(x.data(), u.data(), k1.data());
+    ++pack_rhs;
+    const auto step = [&](const FixedStep& s) {
+        const std::size_t i = s.sample;
+        const double dt = s.dt;
         const P half(0.5 * dt), sixth((1.0 / 6.0) * dt), third((1.0 / 3.0) * dt), full(dt);
-        for (int s = 0; s < substeps; ++s) {
-            // The stage inputs (k1, at the substep's start, is known: the sample's, or below).
-            if (substeps == 1) {
-                for (std::size_t k = 0; k < n_in; ++k) {
-                    um[k] = inputs.midpoint(k, i);
-                    u1[k] = inputs.value(k, i + 1);
-                }
-            } else if (n_in > 0) {
-                const double t = t0 + s * dt;
-                inputs.at(t, hint, u0);
-                inputs.at(t + 0.5 * dt, hint, um);
-                inputs.at(t + dt, hint, u1);
+        // The stage inputs (k1, at the substep's start, is known: the sample's, or below).
+        if (s.substeps == 1) {
+            for (std::size_t k = 0; k < n_in; ++k) {
+                um[k] = inputs.midpoint(k, i);
+                u1[k] = inputs.value(k, i + 1);
             }
-            if (s > 0) model.derivative(x.data(), u0, k1.data());
-            for (std::size_t j = 0; j < N; ++j) xt[j] = x[j] + half * k1[j];
-            model.derivative(xt.data(), um, k2.data());
-            for (std::size_t j = 0; j < N; ++j) xt[j] = x[j] + half * k2[j];
-            model.derivative(xt.data(), um, k3.data());
-            for (std::size_t j = 0; j < N; ++j) xt[j] = x[j] + full * k3[j];
-            model.derivative(xt.data(), u1, k4.data());
-            for (std::size_t j = 0; j < N; ++j) x[j] = x[j] + sixth * k1[j] + third * k2[j] + third * k3[j] + sixth * k4[j];
+        } else if (n_in > 0) {
+            inputs.at(s.t, hint, u0);
+            inputs.at(s.t + 0.5 * dt, hint, um);
+            inputs.at(s.t + dt, hint, u1);
         }
-        rhs += 4 * static_cast<std::size_t>(substeps) * needed;
-        pack_rhs += 4 * static_cast<std::size_t>(substeps);
-        for (std::size_t k = 0; k < n_in; ++k) u[k] = inputs.value(k, i + 1);
-        model.derivative(x.data(), u.data(), k1.data());  // the next step's first stage, at sample i + 1
-        active = observer(i + 1, x, u, sane_lanes(x)) & active;
+        if (s.substep > 0) model.derivative(x.data(), u0, k1.data());
+        for (std::size_t j = 0; j < N; ++j) xt[j] = x[j] + half * k1[j];
+        model.derivative(xt.data(), um, k2.data());
+        for (std::size_t j = 0; j < N; ++j) xt[j] = x[j] + half * k2[j];
+        model.derivative(xt.data(), um, k3.data());
+        for (std::size_t j = 0; j < N; ++j) xt[j] = x[j] + full * k3[j];
+        model.derivative(xt.data(), u1, k4.data());
+        for (std::size_t j = 0; j < N; ++j) x[j] = x[j] + sixth * k1[j] + third * k2[j] + third * k3[j] + sixth * k4[j];
+        rhs += 4 * needed;
+        pack_rhs += 4;
+    };
+    const auto observe = [&](std::size_t i) {
+        for (std::size_t k = 0; k < n_in; ++k) u[k] = inputs.value(k, i);
+        model.derivative(x.data(), u.data(), k1.data());  // the next step's first stage, at sample i
+        active = observer(i, x, u, sane_lanes(x)) & active;
         needed = 0;
         for (int l = 0; l < W; ++l) needed += active[l] ? 1 : 0;
-    }
+        return needed > 0 ? SimulationStatus::ok : SimulationStatus::stopped_by_observer;
+    };
+    march_fixed_steps(inputs.time(), start, last, max_step, step, observe);
 }
 
 }  // namespace tvid

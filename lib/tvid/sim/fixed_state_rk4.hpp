@@ -16,13 +16,11 @@
 #include "tvid/model/network_model.hpp"
 #include "tvid/model/packed_dual.hpp"
 #include "tvid/channels/input_channels.hpp"
+#include "tvid/sim/observation_loops.hpp"
 #include "tvid/sim/simulation_status.hpp"
+#include "tvid/sim/state_size_dispatch.hpp"
 
 namespace tvid {
-
-/// The largest state simulate_samples marches with march_fixed_state_rk4 (engine block
-/// with 4 cylinders: 6 nodes, 12 states).
-inline constexpr std::size_t kMaxFixedState = 16;
 
 /// The sane-state test of simulate.hpp (state_is_sane) on the fixed-size state.
 template <std::size_t N>
@@ -53,7 +51,6 @@ template <std::size_t N, class T, class Observer>
 SimulationStatus march_fixed_rk4(NetworkModel<T>& model, const InputChannels& inputs, std::size_t start,
                                  std::size_t last, std::array<T, N>& x, double max_step, std::vector<double>& u,
                                  std::vector<double>& u_stage, std::size_t& rhs, Observer&& observer) {
-    const std::vector<double>& time = inputs.time();
     const std::size_t n_in = inputs.count();
     u.resize(n_in);
     u_stage.resize(3 * n_in);
@@ -61,42 +58,39 @@ SimulationStatus march_fixed_rk4(NetworkModel<T>& model, const InputChannels& in
     double* um = u_stage.data() + n_in;   // half a step on
     double* u1 = u_stage.data() + 2 * n_in;  // a step on
     std::array<T, N> xt, k1, k2, k3, k4;
-    SimulationStatus status = SimulationStatus::ok;
     std::size_t hint = start;
-    for (std::size_t i = start; i < last; ++i) {
-        const double t0 = time[i], h = time[i + 1] - t0;
-        int substeps = 1;
-        if (max_step > 0.0 && h > max_step) substeps = static_cast<int>(std::ceil(h / max_step - 1e-9));
-        const double dt = h / substeps;
+    const auto step = [&](const FixedStep& s) {
+        const std::size_t i = s.sample;
+        const double dt = s.dt;
         const double half = 0.5 * dt, sixth = (1.0 / 6.0) * dt, third = (1.0 / 3.0) * dt;
-        for (int s = 0; s < substeps; ++s) {
-            if (substeps == 1) {
-                for (std::size_t k = 0; k < n_in; ++k) {
-                    u0[k] = inputs.value(k, i);
-                    um[k] = inputs.midpoint(k, i);
-                    u1[k] = inputs.value(k, i + 1);
-                }
-            } else if (n_in > 0) {
-                const double t = t0 + s * dt;
-                inputs.at(t, hint, u0);
-                inputs.at(t + half, hint, um);
-                inputs.at(t + dt, hint, u1);
+        if (s.substeps == 1) {
+            for (std::size_t k = 0; k < n_in; ++k) {
+                u0[k] = inputs.value(k, i);
+                um[k] = inputs.midpoint(k, i);
+                u1[k] = inputs.value(k, i + 1);
             }
-            model.derivative(x.data(), u0, k1.data());
-            for (std::size_t j = 0; j < N; ++j) xt[j] = x[j] + half * k1[j];
-            model.derivative(xt.data(), um, k2.data());
-            for (std::size_t j = 0; j < N; ++j) xt[j] = x[j] + half * k2[j];
-            model.derivative(xt.data(), um, k3.data());
-            for (std::size_t j = 0; j < N; ++j) xt[j] = x[j] + dt * k3[j];
-            model.derivative(xt.data(), u1, k4.data());
-            for (std::size_t j = 0; j < N; ++j) x[j] = x[j] + sixth * k1[j] + third * k2[j] + third * k3[j] + sixth * k4[j];
-            rhs += 4;
+        } else if (n_in > 0) {
+            inputs.at(s.t, hint, u0);
+            inputs.at(s.t + half, hint, um);
+            inputs.at(s.t + dt, hint, u1);
         }
+        model.derivative(x.data(), u0, k1.data());
+        for (std::size_t j = 0; j < N; ++j) xt[j] = x[j] + half * k1[j];
+        model.derivative(xt.data(), um, k2.data());
+        for (std::size_t j = 0; j < N; ++j) xt[j] = x[j] + half * k2[j];
+        model.derivative(xt.data(), um, k3.data());
+        for (std::size_t j = 0; j < N; ++j) xt[j] = x[j] + dt * k3[j];
+        model.derivative(xt.data(), u1, k4.data());
+        for (std::size_t j = 0; j < N; ++j) x[j] = x[j] + sixth * k1[j] + third * k2[j] + third * k3[j] + sixth * k4[j];
+        rhs += 4;
+    };
+    const auto observe = [&](std::size_t i) {
+        SimulationStatus status = SimulationStatus::ok;
         if (!fixed_state_is_sane(x, status)) return status;
-        for (std::size_t k = 0; k < n_in; ++k) u[k] = inputs.value(k, i + 1);
-        if (!observer(i + 1, x, u)) return SimulationStatus::stopped_by_observer;
-    }
-    return status;
+        for (std::size_t k = 0; k < n_in; ++k) u[k] = inputs.value(k, i);
+        return observer(i, x, u) ? SimulationStatus::ok : SimulationStatus::stopped_by_observer;
+    };
+    return march_fixed_steps(inputs.time(), start, last, max_step, step, observe);
 }
 
 /// march_fixed_rk4 for a double state held in a vector (N = x.size()), calling

@@ -19,8 +19,10 @@
 #include "tvid/model/network_model.hpp"
 #include "tvid/sim/fixed_state_rk4.hpp"
 #include "tvid/channels/input_channels.hpp"
+#include "tvid/sim/observation_loops.hpp"
 #include "tvid/sim/simulation_settings.hpp"
 #include "tvid/sim/simulation_status.hpp"
+#include "tvid/sim/state_size_dispatch.hpp"
 #include "tvid/sim/stiff_network_system.hpp"
 
 namespace tvid {
@@ -89,49 +91,33 @@ SimulationStatus march_samples(System& system, const InputChannels& inputs, std:
                                std::vector<double>& x, std::size_t checked, const SimulationSettings& settings,
                                SimulationBuffers& buffers, Observer&& observer) {
     namespace odeint = boost::numeric::odeint;
-    const std::vector<double>& time = inputs.time();
     buffers.u.resize(inputs.count());
     std::size_t hint = start;
-    SimulationStatus status = SimulationStatus::ok;
+    const auto hand_over = [&](std::size_t i) {
+        inputs.at(inputs.time()[i], hint, buffers.u.data());
+        return observer(i, x, buffers.u) ? SimulationStatus::ok : SimulationStatus::stopped_by_observer;
+    };
     if (settings.method == IntegrationMethod::rk4) {
-        for (std::size_t i = start; i < last; ++i) {
-            const double t0 = time[i], h = time[i + 1] - t0;
-            int substeps = 1;
-            if (settings.max_step > 0.0 && h > settings.max_step)
-                substeps = static_cast<int>(std::ceil(h / settings.max_step - 1e-9));
-            const double dt = h / substeps;
-            for (int s = 0; s < substeps; ++s)
-                buffers.rk4.do_step(std::ref(system), x, t0 + s * dt, dt);
-            if (!state_is_sane(x, status, checked)) return status;
-            inputs.at(time[i + 1], hint, buffers.u.data());
-            if (!observer(i + 1, x, buffers.u)) return SimulationStatus::stopped_by_observer;
-        }
-        return status;
+        const auto step = [&](const FixedStep& s) { buffers.rk4.do_step(std::ref(system), x, s.t, s.dt); };
+        const auto observe = [&](std::size_t i) {
+            SimulationStatus status = SimulationStatus::ok;
+            return state_is_sane(x, status, checked) ? hand_over(i) : status;
+        };
+        return march_fixed_steps(inputs.time(), start, last, settings.max_step, step, observe);
     }
-    // Adaptive Dormand–Prince, restarted at every sample so the kinks of the linearly
-    // interpolated input fall on step boundaries. (A system without a Jacobian, such as
-    // the augmented sensitivity system, also marches this way under rosenbrock4.)
+    // Adaptive Dormand–Prince, the state checked after every step. (A system without a
+    // Jacobian, such as the augmented sensitivity system, also marches this way under
+    // rosenbrock4.)
     auto stepper = odeint::make_controlled(settings.atol, settings.rtol, buffers.dopri5);
-    std::size_t steps = 0;
-    double dt = (time[std::min(start + 1, last)] - time[start]);
-    for (std::size_t i = start; i < last; ++i) {
-        double t = time[i];
-        const double t_end = time[i + 1];
-        while (t < t_end) {
-            if (++steps > settings.max_steps) return SimulationStatus::step_budget_exceeded;
-            dt = std::min(dt, t_end - t);
-            const auto result = stepper.try_step(std::ref(system), x, t, dt);
-            if (result == odeint::fail) {
-                if (!(dt > 1e-14 * (1.0 + std::abs(t)))) return SimulationStatus::step_budget_exceeded;
-                continue;
-            }
-            if (!state_is_sane(x, status, checked)) return status;
-            if (t_end - t < 1e-12 * (1.0 + std::abs(t_end))) t = t_end;
-        }
-        inputs.at(time[i + 1], hint, buffers.u.data());
-        if (!observer(i + 1, x, buffers.u)) return SimulationStatus::stopped_by_observer;
-    }
-    return status;
+    const auto try_step = [&](double& t, double& dt) {
+        StepAttempt attempt;
+        attempt.accepted = stepper.try_step(std::ref(system), x, t, dt) != odeint::fail;
+        if (attempt.accepted) state_is_sane(x, attempt.status, checked);
+        return attempt;
+    };
+    const auto no_interval_setup = [](std::size_t) {};
+    return march_controlled_steps(inputs.time(), start, last, settings.max_steps, no_interval_setup, try_step,
+                                  hand_over);
 }
 
 /// march_samples for rosenbrock4: adaptive Rosenbrock 4(3) steps (odeint's controller on
@@ -143,7 +129,6 @@ SimulationStatus march_samples_stiff(StiffNetworkSystem& stiff, const InputChann
                                      std::size_t last, std::vector<double>& x, const SimulationSettings& settings,
                                      SimulationBuffers& buffers, Observer&& observer) {
     namespace odeint = boost::numeric::odeint;
-    const std::vector<double>& time = inputs.time();
     const auto system = stiff.odeint_system();
     // A fresh controller per simulation: its step-size history must not leak from one
     // simulation (or thread) into the next.
@@ -151,30 +136,24 @@ SimulationStatus march_samples_stiff(StiffNetworkSystem& stiff, const InputChann
     UblasVector& state = buffers.stiff.state;
     state.resize(x.size(), false);
     std::copy(x.begin(), x.end(), state.begin());
-    std::size_t hint = start, steps = 0;
-    SimulationStatus status = SimulationStatus::ok;
-    double dt = (time[std::min(start + 1, last)] - time[start]);
-    for (std::size_t i = start; i < last; ++i) {
-        stiff.enter_interval(i);
-        double t = time[i];
-        const double t_end = time[i + 1];
-        while (t < t_end) {
-            if (++steps > settings.max_steps) return SimulationStatus::step_budget_exceeded;
-            dt = std::min(dt, t_end - t);
-            const auto result = stepper.try_step(system, state, t, dt);
-            if (result == odeint::fail) {
-                if (!stiff.start_finite()) return SimulationStatus::not_finite;
-                if (!(dt > 1e-14 * (1.0 + std::abs(t)))) return SimulationStatus::step_budget_exceeded;
-                continue;
-            }
-            std::copy(state.begin(), state.end(), x.begin());
-            if (!state_is_sane(x, status)) return status;
-            if (t_end - t < 1e-12 * (1.0 + std::abs(t_end))) t = t_end;
+    std::size_t hint = start;
+    const auto enter_interval = [&](std::size_t i) { stiff.enter_interval(i); };
+    const auto try_step = [&](double& t, double& dt) {
+        StepAttempt attempt;
+        attempt.accepted = stepper.try_step(system, state, t, dt) != odeint::fail;
+        if (!attempt.accepted) {
+            if (!stiff.start_finite()) attempt.status = SimulationStatus::not_finite;
+            return attempt;
         }
-        inputs.at(time[i + 1], hint, buffers.u.data());
-        if (!observer(i + 1, x, buffers.u)) return SimulationStatus::stopped_by_observer;
-    }
-    return status;
+        std::copy(state.begin(), state.end(), x.begin());
+        state_is_sane(x, attempt.status);
+        return attempt;
+    };
+    const auto observe = [&](std::size_t i) {
+        inputs.at(inputs.time()[i], hint, buffers.u.data());
+        return observer(i, x, buffers.u) ? SimulationStatus::ok : SimulationStatus::stopped_by_observer;
+    };
+    return march_controlled_steps(inputs.time(), start, last, settings.max_steps, enter_interval, try_step, observe);
 }
 
 /// Integrates the model from sample `start` (state x at time[start]) to sample `last`,
@@ -194,29 +173,20 @@ SimulationStatus simulate_samples(NetworkModel<double>& model, const InputChanne
         buffers.jacobian_evaluations += stiff.jacobians;
         return status;
     }
-    if (settings.method == IntegrationMethod::rk4 && x.size() <= kMaxFixedState && x.size() % 2 == 0) {
-        // Small models (every preset): RK4 over a fixed-size state, the same arithmetic.
-        const auto fixed = [&]<std::size_t N>(std::integral_constant<std::size_t, N>) {
-            return march_fixed_state_rk4<N>(model, inputs, start, last, x, settings.max_step, buffers.u,
-                                            buffers.u_stages, buffers.rhs_evaluations, observer);
-        };
-        switch (x.size()) {
-            case 2: return fixed(std::integral_constant<std::size_t, 2>{});
-            case 4: return fixed(std::integral_constant<std::size_t, 4>{});
-            case 6: return fixed(std::integral_constant<std::size_t, 6>{});
-            case 8: return fixed(std::integral_constant<std::size_t, 8>{});
-            case 10: return fixed(std::integral_constant<std::size_t, 10>{});
-            case 12: return fixed(std::integral_constant<std::size_t, 12>{});
-            case 14: return fixed(std::integral_constant<std::size_t, 14>{});
-            case 16: return fixed(std::integral_constant<std::size_t, 16>{});
-            default: break;
-        }
-    }
-    NetworkSystem system(model, inputs, buffers.u);
-    const SimulationStatus status = march_samples(system, inputs, start, last, x, x.size(), settings, buffers,
-                                                  std::forward<Observer>(observer));
-    buffers.rhs_evaluations += system.evaluations;
-    return status;
+    const auto odeint_march = [&] {
+        NetworkSystem system(model, inputs, buffers.u);
+        const SimulationStatus status = march_samples(system, inputs, start, last, x, x.size(), settings, buffers,
+                                                      std::forward<Observer>(observer));
+        buffers.rhs_evaluations += system.evaluations;
+        return status;
+    };
+    if (settings.method != IntegrationMethod::rk4) return odeint_march();
+    // Small models (every preset): RK4 over a fixed-size state, the same arithmetic.
+    const auto fixed = [&]<std::size_t N>(std::integral_constant<std::size_t, N>) {
+        return march_fixed_state_rk4<N>(model, inputs, start, last, x, settings.max_step, buffers.u, buffers.u_stages,
+                                        buffers.rhs_evaluations, observer);
+    };
+    return dispatch_state_size(x.size(), fixed, odeint_march);
 }
 
 }  // namespace tvid

@@ -1,0 +1,49 @@
+#pragma once
+// Per-thread scratch space of an IdentificationProblem: a model instance and integrator
+// buffers, built once (IdentificationProblem::make_workspace).
+
+#include <array>
+#include <atomic>
+#include <cstddef>
+#include <vector>
+
+#include "tvid/model/network_model.hpp"
+#include "tvid/model/packed_dual.hpp"
+#include "tvid/sim/simulate.hpp"
+
+namespace tvid {
+
+/// ∂(the encoder's miss at the warm-up's mid, at its first scored sample)/∂(offset, speed).
+using MissJacobian = std::array<std::array<double, 2>, 2>;
+
+/// A warm-up shooting's solution (common angle offset a, common speed s) at other parameters,
+/// as the first guess of the shooting of the window with the same start and first samples.
+struct ShootingGuess {
+    std::size_t start = 0, first = 0;
+    double offset = 0.0, speed = 0.0;
+    MissJacobian miss_jacobian{};  ///< at that solution
+};
+
+struct ProblemWorkspace {
+    explicit ProblemWorkspace(const NetworkSpec& spec) : model(spec), tangent_model(spec) {}
+    NetworkModel<double> model;
+    /// The model with the warm-up shooting's two directions (angle offset, speed) carried
+    /// along the state, for Newton's method with the exact Jacobian.
+    NetworkModel<PackedDual<2>> tangent_model;
+    std::vector<PackedDual<2>> tangent_params;
+    SimulationBuffers buffers;
+    std::vector<double> params;  ///< full model parameter vector
+    std::vector<double> x;       ///< state
+    std::vector<double> u0;      ///< inputs at the window start
+    std::vector<double> x0;      ///< initial state of a warm-up being shot
+    std::vector<double> x_start; ///< the state at the window start a simulation set out from
+    /// Set by an optimizer that can be interrupted: once the flag is up, a simulation on this
+    /// workspace (warm-up shooting included) ends at its next sample as stopped_by_observer.
+    const std::atomic<bool>* stop = nullptr;
+    bool stop_requested() const { return stop && stop->load(std::memory_order_relaxed); }
+    /// Set by a least-squares solver between its evaluations: the shootings of the point it
+    /// last took a Jacobian at, where the next trial point is near (empty: none).
+    std::vector<ShootingGuess> shooting_guesses;
+};
+
+}  // namespace tvid

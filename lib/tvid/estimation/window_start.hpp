@@ -1,0 +1,70 @@
+#pragma once
+// How a window's simulation starts (Yoshida & Takamatsu eq. 18's static equilibrium, at rest, or
+// the methodology paper's measured state made consistent with the encoder by a warm-up shooting), for
+// the parameters already set in a workspace's model.
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "tvid/estimation/problem_definition.hpp"
+#include "tvid/estimation/problem_workspace.hpp"
+
+namespace tvid {
+
+/// How a window's simulation starts: from ws.x_start at sample `start`, possibly through a
+/// warm-up whose common angle offset and speed were solved for so that the encoder's node
+/// meets the measured crank angle at samples `mid` and `first` (then the start depends on
+/// the parameters through that solution).
+struct WindowStart {
+    SimulationStatus status = SimulationStatus::ok;
+    bool shot = false;       ///< the warm-up shooting was solved
+    double offset = 0.0;     ///< its solution: the common angle offset added to the measured angles
+    double speed = 0.0;      ///< and the common speed
+    /// The Jacobian of the miss that the shooting last computed (all 0 when it computed none).
+    MissJacobian miss_jacobian{};
+    std::size_t mid = 0;     ///< its first matching sample
+    std::size_t node = 0;    ///< the encoder's node
+};
+
+/// A window's start as a simulation solved it, to set out from again without solving it
+/// again (the sensitivities at the point whose residuals were just computed): what
+/// start_window returned, and the workspace's state at w.start (x_start), where the march
+/// begins (x: at w.first after a warm-up) and the inputs at w.start (u0).
+struct SolvedStart {
+    WindowStart start;
+    std::vector<double> x_start, x, u0;
+};
+
+/// The starts of the windows of one problem definition.
+class WindowStarts {
+public:
+    explicit WindowStarts(const ProblemDefinition& definition) : d_(&definition) {}
+
+    /// Whether window w is simulated from a measured start through a warm-up (then its
+    /// march begins at w.first, whose sample is scored too).
+    bool warms_up(const Window& w) const { return d_->initial_state == InitialStateKind::measured && w.start < w.first; }
+
+    /// Prepares window w with the parameters already set in ws.model: ws.x_start gets the
+    /// state at w.start and, after a warm-up, ws.x the state at w.first.
+    WindowStart start(const Window& w, ProblemWorkspace& ws, std::string* problem) const;
+
+    /// start's effect on ws from a start solved before for the same parameters.
+    static WindowStart restore(const SolvedStart& solved, ProblemWorkspace& ws);
+
+private:
+    // Sets ws.x to the initial state at sample `start`; false (with a reason) if impossible.
+    bool initial_state(std::size_t start, ProblemWorkspace& ws, std::string* problem) const;
+    // Measured initial state with a warm-up: leaves ws.x at the window's first sample.
+    SimulationStatus shoot_warmup(const Window& w, ProblemWorkspace& ws, WindowStart& start) const;
+    // The same by Newton's method with the Jacobian from the warm-up simulated with the
+    // two directions (fixed-step RK4, state of N values).
+    template <std::size_t N>
+    SimulationStatus shoot_warmup_newton(const Window& w, ProblemWorkspace& ws, WindowStart& start) const;
+    // The same by chord Newton with the Jacobian from differences (any integrator).
+    SimulationStatus shoot_warmup_by_differences(const Window& w, ProblemWorkspace& ws, WindowStart& start) const;
+
+    const ProblemDefinition* d_;
+};
+
+}  // namespace tvid
