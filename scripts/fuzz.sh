@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer targets (clang, ASan/UBSan) and runs each for SECONDS (default 60)
-# on a seed corpus from configs/ and data/. Exits non-zero on any crash, sanitizer report,
+# on a seed corpus from configs/, data/ and fuzz/corpus/. Exits non-zero on any crash, sanitizer report,
 # timeout or leak; the failing input is left in build/fuzz/findings/.
 #   scripts/fuzz.sh [SECONDS]
 set -euo pipefail
@@ -13,7 +13,8 @@ cmake --build --preset fuzz --target fuzz_experiment_loader fuzz_csv_table
 work=build/fuzz
 rm -rf "$work/corpus-loader" "$work/corpus-csv"
 mkdir -p "$work/corpus-loader" "$work/corpus-csv" "$work/findings"
-cp configs/*.yaml "$work/corpus-loader/"
+cp configs/*.yaml fuzz/corpus/loader/* "$work/corpus-loader/"
+cp fuzz/corpus/csv/* "$work/corpus-csv/"
 # The recordings' first rows (whole files would make every run slow).
 for f in data/*/*.csv; do
   head -n 40 "$f" > "$work/corpus-csv/$(basename "$(dirname "$f")")-$(basename "$f")"

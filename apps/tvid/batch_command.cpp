@@ -11,6 +11,7 @@
 #include <optional>
 
 #include "commands.hpp"
+#include "tvid/batch/batch_identity.hpp"
 #include "tvid/batch/batch_plan.hpp"
 #include "tvid/batch/batch_runner.hpp"
 #include "tvid/batch/batch_summary.hpp"
@@ -22,6 +23,8 @@
 #include "tvid/io/output_directory.hpp"
 #include "tvid/parallel/on_every_process.hpp"
 #include "tvid/util/input_error.hpp"
+#include "tvid/util/stop_request.hpp"
+#include "tvid/io/json_text.hpp"
 
 namespace tvid::cli {
 
@@ -29,6 +32,8 @@ std::vector<Override> parse_overrides(const std::vector<std::string>& texts);
 std::filesystem::path report_directory(const Experiment& ex, const std::string& output_dir);
 
 namespace {
+
+constexpr int kInterruptedExit = 130;  // 128 + SIGINT, as tvid fit
 
 // The experiment as the batch's jobs see it: as written, or else with the first job's
 // overrides (an experiment whose data.file is only a placeholder for the recordings).
@@ -156,6 +161,7 @@ struct PreparedBatch {
     std::map<std::size_t, BatchRow> rows;   ///< kept by --resume
     std::vector<std::size_t> pending;
     std::unique_ptr<BatchAppender> appender;  ///< batch.csv, open for the rows to come
+    OutputDirectoryLock lock;                 ///< this run's claim on the batch directory
 };
 
 std::unique_ptr<PreparedBatch> prepare_batch(const BatchCommand& cmd, const BatchSettings& settings) {
@@ -182,6 +188,10 @@ std::unique_ptr<PreparedBatch> prepare_batch(const BatchCommand& cmd, const Batc
     std::vector<std::string> outputs;
     for (const ChannelBinding& o : ex.outputs) outputs.push_back(o.model_name);
     const BatchColumns columns(problem.free_names(), outputs);
+    if (const std::string name = columns.repeated_column(); !name.empty())
+        throw InputError(ex.file.string(), 0, "parameters." + name,
+                         "is named like a column batch.csv has already (id, status, message, cost, the metrics, "
+                         "evaluations, wall_seconds): rename the parameter to fit it in a batch");
 
     // The output directory: a fresh batch.csv, or the rows of an interrupted one (--resume).
     const std::filesystem::path dir = batch_directory(ex, cmd.output_dir);
@@ -190,9 +200,13 @@ std::unique_ptr<PreparedBatch> prepare_batch(const BatchCommand& cmd, const Batc
     if (!cmd.resume && !cmd.force && std::filesystem::exists(table))
         throw InputError(table.string(), 0, "",
                          "a batch is already here: use --resume to continue it or --force to start over");
-    prepare_output_directory(dir, "batch directory");
+    OutputDirectoryLock lock = prepare_output_directory(dir, "batch directory");
+    // --resume continues only the batch that began here (same experiment, --set, --seed, recordings).
+    const BatchIdentity identity = batch_identity(settings, request.recordings);
+    if (cmd.resume && std::filesystem::exists(table)) require_same_batch(dir, identity);
     std::map<std::size_t, BatchRow> rows = cmd.resume ? resumed_rows(table, columns, jobs, cmd.common.quiet)
                                                       : std::map<std::size_t, BatchRow>{};
+    write_batch_identity(dir, identity);
     std::filesystem::remove(summary_file, ec);  // its presence marks a complete batch
     std::string kept = header_line(columns);
     for (const auto& [job, row] : rows) kept += batch_csv_line(row);
@@ -204,7 +218,7 @@ std::unique_ptr<PreparedBatch> prepare_batch(const BatchCommand& cmd, const Batc
     auto appender = std::make_unique<BatchAppender>(table, kept);
     return std::make_unique<PreparedBatch>(PreparedBatch{std::move(jobs), ex.name, outputs, columns, dir, table,
                                                          summary_file, std::move(rows), std::move(pending),
-                                                         std::move(appender)});
+                                                         std::move(appender), std::move(lock)});
 }
 
 }  // namespace
@@ -216,6 +230,9 @@ int run_batch_command(const BatchCommand& cmd) {
     ProcessGroup& group = cmd.processes ? *cmd.processes : alone;
     const BatchSettings settings{cmd.common.experiment, parse_overrides(cmd.common.overrides), cmd.seed};
 
+    // Ctrl-C / SIGTERM from here on: no new job starts, running fits stop at their best
+    // point and are left for --resume.
+    install_stop_signal_handlers();
     // The root sets the batch up; under mpirun the others then take its plan and run jobs for it.
     const std::unique_ptr<PreparedBatch> prepared = on_every_process(group, [&] {
         return group.is_root() ? prepare_batch(cmd, settings) : std::unique_ptr<PreparedBatch>();
@@ -246,6 +263,7 @@ int run_batch_command(const BatchCommand& cmd) {
     // rewritten atomically each time, so a kill never leaves it torn.
     std::size_t done = 0;
     const BatchJobFinished finished = [&](std::size_t job, const BatchRow& row) {
+        if (row[1] == kBatchInterrupted) return;  // cut short: --resume runs it again
         prepared->appender->append(row);
         rows[job] = row;
         ++done;
@@ -265,16 +283,23 @@ int run_batch_command(const BatchCommand& cmd) {
         text += batch_csv_line(row);
     }
     prepared->appender->rewrite(text);
+    if (stop_requested()) {
+        // Ctrl-C or SIGTERM: the finished jobs are in batch.csv; no summary marks it complete.
+        if (!cmd.common.quiet)
+            std::cerr << "tvid batch: interrupted after " << done << " of " << pending.size()
+                      << " jobs; batch.csv holds the finished ones: run again with --resume to complete it\n";
+        return kInterruptedExit;
+    }
     const double seconds = std::chrono::duration<double>(clock::now() - start).count();
     BatchSummary summary = summarize_batch(columns, ordered, pending.size(), seconds, threads);
     summary.processes = group.size();
     const BatchRunContext context{TVID_VERSION, cmd.common.command_line, cmd.common.experiment, prepared->name,
                                   dir.string()};
     const nlohmann::json json = batch_summary_json(summary, context);
-    write_file_atomically(prepared->summary_file, json.dump(2) + "\n");
+    write_file_atomically(prepared->summary_file, json_text(json) + "\n");
 
     if (cmd.common.json) {
-        std::cout << json.dump(2) << std::endl;
+        std::cout << json_text(json) << std::endl;
     } else if (!cmd.common.quiet) {
         std::cout << batch_summary_text(summary, prepared->name, dir) << std::flush;
     }

@@ -12,6 +12,8 @@
 #include "tvid/io/atomic_file.hpp"
 #include "tvid/check/reference_check.hpp"
 #include "tvid/util/input_error.hpp"
+#include "tvid/io/json_file.hpp"
+#include "tvid/io/json_text.hpp"
 
 namespace tvid::cli {
 
@@ -27,7 +29,7 @@ std::string value_text(const nlohmann::json& v) {
     if (v.is_null()) return "-";
     if (v.is_string()) return v.get<std::string>();
     if (v.is_number()) return number(v.get<double>());
-    return v.dump();
+    return json_text(v, -1);
 }
 
 // The actual value with enough digits to show how far it is from what it is compared
@@ -121,13 +123,21 @@ std::string table_text(const CheckResult& result) {
 int write_reference(const CheckCommand& cmd) {
     const FitReportFiles report = read_fit_report(cmd.report_dir);
     const nlohmann::ordered_json reference = reference_from_report(report, cmd.rel);
-    write_file_atomically(cmd.write_reference, reference.dump(2) + "\n");
-    // Read back: what was written is a valid reference that this report passes.
-    const CheckResult result = check_report(report, read_reference(cmd.write_reference));
+    // Checked before it is written: only a valid reference that this report passes reaches
+    // the disk (its text parsed back, as a later tvid check reads it).
+    const std::string text = json_text(reference) + "\n";
+    const CheckResult result = check_report(
+        report, parse_reference(parse_json_text<nlohmann::ordered_json>(text, cmd.write_reference), cmd.write_reference));
+    if (!result.passed()) {
+        std::cerr << "tvid check: the reference made from " << cmd.report_dir
+                  << " fails on that report itself; nothing was written\n";
+        return 1;
+    }
+    write_file_atomically(cmd.write_reference, text);
     if (!cmd.quiet)
         std::cout << "tvid check: wrote " << cmd.write_reference << " with " << result.rows.size() << " checks from "
                   << cmd.report_dir << "\n  " << reference["description"].get<std::string>() << '\n';
-    return result.passed() ? 0 : 1;
+    return 0;
 }
 
 }  // namespace
@@ -140,7 +150,7 @@ int run_check_command(const CheckCommand& cmd) {
     const FitReportFiles report = read_fit_report(cmd.report_dir);
     const CheckResult result = check_report(report, reference);
     if (cmd.json) {
-        std::cout << check_result_json(result).dump(2) << std::endl;
+        std::cout << json_text(check_result_json(result)) << std::endl;
     } else {
         if (!cmd.quiet) std::cout << table_text(result);
         std::cout << final_line(result) << std::endl;

@@ -10,6 +10,7 @@
 #include "tvid/io/atomic_file.hpp"
 #include "tvid/report/parameter_file.hpp"
 #include "tvid/report/report_writer.hpp"
+#include "tvid/io/json_text.hpp"
 
 namespace tvid::cli {
 
@@ -58,8 +59,8 @@ int run_validate_command(const EvaluateCommand& cmd) {
                      {"cost", std::isfinite(ev.cost) ? nlohmann::json(ev.cost) : nlohmann::json(nullptr)},
                      {"estimation", split_json(ex, ev.estimation)},
                      {"validation", split_json(ex, ev.validation)}};
-    if (!cmd.output.empty()) write_file_atomically(cmd.output, j.dump(2) + "\n");
-    if (cmd.common.json || cmd.output.empty()) std::cout << j.dump(2) << std::endl;
+    if (!cmd.output.empty()) write_file_atomically(cmd.output, json_text(j) + "\n");
+    if (cmd.common.json || cmd.output.empty()) std::cout << json_text(j) << std::endl;
     return report_failed_windows(ev);
 }
 

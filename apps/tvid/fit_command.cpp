@@ -16,6 +16,7 @@
 #include "tvid/report/report_writer.hpp"
 #include "tvid/util/input_error.hpp"
 #include "tvid/util/stop_request.hpp"
+#include "tvid/io/json_text.hpp"
 
 namespace tvid::cli {
 
@@ -42,6 +43,7 @@ struct LoadedFit {
     explicit LoadedFit(Experiment e) : experiment(std::move(e)), problem(experiment) {}
     Experiment experiment;
     IdentificationProblem problem;
+    OutputDirectoryLock directory_lock;  ///< the root's claim on the report directory
 };
 
 }  // namespace
@@ -57,8 +59,10 @@ int run_fit_command(const FitCommand& cmd) {
         if (l->problem.dimension() == 0)
             throw InputError(l->experiment.file.string(), 0, "parameters",
                              "every parameter is fixed: there is nothing to identify");
-        // Before the fit: refuse early, not after it.
-        if (group.is_root()) prepare_report_directory(report_directory(l->experiment, cmd.output_dir), cmd.force);
+        // Before the fit: refuse early, not after it. The root holds the directory until
+        // the report is written.
+        if (group.is_root())
+            l->directory_lock = prepare_report_directory(report_directory(l->experiment, cmd.output_dir), cmd.force);
         return l;
     });
     const Experiment& ex = loaded->experiment;
@@ -92,16 +96,20 @@ int run_fit_command(const FitCommand& cmd) {
     const RunContext context{TVID_VERSION, cmd.common.command_line};
     write_fit_report(dir, problem, fit, context);
     if (cmd.common.json) {
-        std::cout << fit_summary_json(problem, fit, context).dump(2) << std::endl;
+        std::cout << json_text(fit_summary_json(problem, fit, context)) << std::endl;
     } else if (!cmd.common.quiet) {
         std::cout << fit_summary_text(problem, fit, dir.string()) << std::flush;
     }
-    if (fit.interrupted || stop_requested()) {
+    // The exit status agrees with summary.json's "interrupted": a stop that came after the
+    // optimizer had finished left a complete fit.
+    if (fit.interrupted) {
         if (!cmd.common.quiet)
-            std::cerr << "tvid: interrupted; the report in " << dir.string()
-                      << (fit.interrupted ? " holds the best parameters so far\n" : " is complete\n");
+            std::cerr << "tvid: interrupted; the report in " << dir.string() << " holds the best parameters so far\n";
         return kInterruptedExit;
     }
+    if (stop_requested() && !cmd.common.quiet)
+        std::cerr << "tvid: the stop request came after the fit had finished; the report in " << dir.string()
+                  << " is complete\n";
     if (!fit.success) {
         // Why, where it shows at the init values (the parameters the report holds).
         const std::string at_init = first_failed_window(fit.evaluation);

@@ -2,10 +2,12 @@
 // Exit status: 0 done, 1 ran but did not succeed, 2 bad input.
 
 #include <CLI/CLI.hpp>
+#include <cmath>
 #include <iostream>
 #include <iterator>
 
 #include "commands.hpp"
+#include "tvid/estimation/parallel_evaluator.hpp"
 #include "tvid/experiment/experiment.hpp"
 #include "tvid/parallel/process_group.hpp"
 #include "tvid/util/input_error.hpp"
@@ -32,11 +34,35 @@ std::string joined_command_line(int argc, char** argv) {
     return s;
 }
 
+// A seed is a whole number from 0 to 2^64 - 1, written as such (CLI11 would wrap "-1").
+const CLI::Validator kSeed(
+    [](std::string& text) -> std::string {
+        if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos)
+            return "a seed is a whole number from 0 to 18446744073709551615, not '" + text + "'";
+        return {};
+    },
+    "SEED");
+
+// A relative tolerance: a finite number >= 0 (CLI::NonNegativeNumber lets "nan" through).
+const CLI::Validator kTolerance(
+    [](std::string& text) -> std::string {
+        double v = 0;
+        if (!CLI::detail::lexical_cast(text, v) || !std::isfinite(v) || v < 0)
+            return "a tolerance is a finite number >= 0, not '" + text + "'";
+        return {};
+    },
+    "TOL");
+
+// An output path given as -o must name something: "" is refused rather than falling back.
+const CLI::Validator kNonEmptyPath(
+    [](std::string& text) -> std::string { return text.empty() ? "the path is empty" : std::string(); }, "PATH");
+
 void add_common(CLI::App* sub, tvid::cli::CommonOptions& o) {
     sub->add_option("experiment", o.experiment, "experiment file (YAML)")->required();
     sub->add_option("--set", o.overrides, "override a setting, e.g. --set estimation.pso.iterations=50")
         ->type_name("KEY=VALUE");
-    sub->add_option("--threads", o.threads, "threads (default: all cores)")->check(CLI::NonNegativeNumber);
+    sub->add_option("--threads", o.threads, "threads (default: all cores; at most " + std::to_string(tvid::kMaxThreads) + ")")
+        ->check(CLI::Range(0, tvid::kMaxThreads));
     sub->add_flag("-q,--quiet", o.quiet, "print nothing but errors");
     sub->add_flag("--json", o.json, "print the summary as JSON on stdout");
 }
@@ -58,8 +84,8 @@ int main(int argc, char** argv) {
     FitCommand fit;
     auto* fit_cmd = app.add_subcommand("fit", "identify the free parameters and write a report directory");
     add_common(fit_cmd, fit.common);
-    fit_cmd->add_option("-o,--output", fit.output_dir, "report directory (default: report.dir or results/NAME)");
-    fit_cmd->add_option("--seed", fit.seed, "random seed of the optimizer");
+    fit_cmd->add_option("-o,--output", fit.output_dir, "report directory (default: report.dir or results/NAME)")->check(kNonEmptyPath);
+    fit_cmd->add_option("--seed", fit.seed, "random seed of the optimizer")->check(kSeed);
     fit_cmd->add_option("--optimizer", fit.optimizer, optimizer_names() + " (overrides estimation.optimizer)");
     fit_cmd->add_flag("--force", fit.force, "replace a report already in the report directory");
 
@@ -67,13 +93,13 @@ int main(int argc, char** argv) {
     auto* sim_cmd = app.add_subcommand("simulate", "simulate every window and print measured vs simulated as CSV");
     add_common(sim_cmd, simulate.common);
     sim_cmd->add_option("--params", simulate.params_file, "parameter file (params.json of a fit, or {name: value})");
-    sim_cmd->add_option("-o,--output", simulate.output, "write the CSV to this file");
+    sim_cmd->add_option("-o,--output", simulate.output, "write the CSV to this file")->check(kNonEmptyPath);
 
     EvaluateCommand validate;
     auto* val_cmd = app.add_subcommand("validate", "score a parameter set on the estimation and validation windows");
     add_common(val_cmd, validate.common);
     val_cmd->add_option("--params", validate.params_file, "parameter file")->required();
-    val_cmd->add_option("-o,--output", validate.output, "write the JSON to this file");
+    val_cmd->add_option("-o,--output", validate.output, "write the JSON to this file")->check(kNonEmptyPath);
 
     SensitivityCommand sensitivity;
     auto* sens_cmd = app.add_subcommand(
@@ -81,7 +107,8 @@ int main(int argc, char** argv) {
     add_common(sens_cmd, sensitivity.common);
     sens_cmd->add_option("--params", sensitivity.params_file, "parameter file (default: the experiment's init values)");
     sens_cmd->add_option("-o,--output", sensitivity.output_dir,
-                         "output directory (default: report.dir or results/NAME, then /sensitivity)");
+                         "output directory (default: report.dir or results/NAME, then /sensitivity)")
+        ->check(kNonEmptyPath);
     sens_cmd->add_flag("--validation", sensitivity.validation, "include the validation windows");
 
     CheckCommand check;
@@ -93,21 +120,21 @@ int main(int argc, char** argv) {
     reference_opt->excludes(write_opt);
     check_cmd->add_option("--rel", check.rel, "default relative tolerance written (default 0.01)")
         ->needs(write_opt)
-        ->check(CLI::NonNegativeNumber);
+        ->check(kTolerance);
     check_cmd->add_flag("-q,--quiet", check.quiet, "print only the final line");
     check_cmd->add_flag("--json", check.json, "print the checks as JSON");
 
     BatchCommand batch;
     auto* batch_cmd = app.add_subcommand("batch", "fit the experiment to many recordings and/or cycles, one row per job");
     add_common(batch_cmd, batch.common);
-    batch_cmd->add_option("-o,--output", batch.output_dir, "output directory (default: the report directory + -batch)");
-    batch_cmd->add_option("--seed", batch.seed, "random seed of the optimizer, the same for every job");
+    batch_cmd->add_option("-o,--output", batch.output_dir, "output directory (default: the report directory + -batch)")->check(kNonEmptyPath);
+    batch_cmd->add_option("--seed", batch.seed, "random seed of the optimizer, the same for every job")->check(kSeed);
     batch_cmd->add_option("--data", batch.data_globs, "recordings: files, or globs such as 'recordings/*.csv'");
     batch_cmd->add_option("--data-list", batch.data_list, "file with one recording per line (relative to it)");
     batch_cmd->add_option("--cycles", batch.cycles, "fit each cycle on its own: 3-9 or 3,5,7");
     batch_cmd->add_flag("--no-validation", batch.no_validation, "no validation (else the next cycle validates)");
-    batch_cmd->add_flag("--resume", batch.resume, "continue an interrupted batch: skip the jobs in batch.csv");
-    batch_cmd->add_flag("--force", batch.force, "replace an existing batch.csv");
+    auto* resume_flag = batch_cmd->add_flag("--resume", batch.resume, "continue an interrupted batch: skip the jobs in batch.csv");
+    batch_cmd->add_flag("--force", batch.force, "replace an existing batch.csv")->excludes(resume_flag);
 
     bool models_json = false;
     auto* models_cmd = app.add_subcommand("models", "list the preset models with their parameters, inputs, outputs");

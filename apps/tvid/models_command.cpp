@@ -6,6 +6,7 @@
 
 #include "commands.hpp"
 #include "tvid/model/presets.hpp"
+#include "tvid/io/json_text.hpp"
 
 namespace tvid::cli {
 
@@ -21,7 +22,7 @@ int run_models_command(bool json) {
                            {"parameters", params}, {"inputs", p.inputs}, {"outputs", p.outputs},
                            {"constants", p.constants}});
         }
-        std::cout << out.dump(2) << std::endl;
+        std::cout << json_text(out) << std::endl;
         return 0;
     }
     for (const PresetInfo& p : preset_catalogue()) {

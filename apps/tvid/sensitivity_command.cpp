@@ -15,8 +15,10 @@
 #include "tvid/estimation/parallel_evaluator.hpp"
 #include "tvid/experiment/experiment.hpp"
 #include "tvid/report/parameter_file.hpp"
+#include "tvid/io/output_directory.hpp"
 #include "tvid/report/sensitivity_report.hpp"
 #include "tvid/util/input_error.hpp"
+#include "tvid/io/json_text.hpp"
 
 namespace tvid::cli {
 
@@ -34,6 +36,8 @@ int run_sensitivity_command(const SensitivityCommand& cmd) {
     for (std::size_t i : problem.free_indices()) free.push_back(params[i]);
     const std::filesystem::path dir =
         cmd.output_dir.empty() ? report_directory(ex, "") / "sensitivity" : std::filesystem::path(cmd.output_dir);
+    // Before the work: an unusable place is bad input, and this run holds it until written.
+    const OutputDirectoryLock lock = prepare_output_directory(dir, "sensitivity directory");
 
     std::vector<const Window*> windows;
     for (const Window& w : ex.estimation) windows.push_back(&w);
@@ -73,7 +77,7 @@ int run_sensitivity_command(const SensitivityCommand& cmd) {
     const SensitivityRunInfo run{TVID_VERSION, cmd.common.command_line, threads, seconds};
     write_sensitivity_report(dir, study, rankings, run);
     if (cmd.common.json) {
-        std::cout << sensitivity_json(study, rankings, run).dump(2) << std::endl;
+        std::cout << json_text(sensitivity_json(study, rankings, run)) << std::endl;
     } else if (!cmd.common.quiet) {
         std::cout << sensitivity_summary_text(study, rankings, run, dir.string()) << std::flush;
     }

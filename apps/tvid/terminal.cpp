@@ -1,6 +1,7 @@
 #include "terminal.hpp"
 
 #include "tvid/analysis/identifiability.hpp"
+#include "tvid/fit/optimizer_table.hpp"
 
 #include <unistd.h>
 
@@ -78,8 +79,9 @@ std::string fit_summary_text(const IdentificationProblem& problem, const FitResu
     const Experiment& ex = problem.experiment();
     std::ostringstream out;
     char line[512];
-    const std::string method =
-        fit.run.name == "pso" ? "pso, " + std::to_string(fit.pso.particles) + " particles" : fit.run.name + " (" + fit.run.termination + ")";
+    const OptimizerEntry* optimizer = find_optimizer(fit.run.name);
+    const std::string method = optimizer && optimizer->headline ? optimizer->headline(fit)
+                                                                : fit.run.name + " (" + fit.run.termination + ")";
     std::snprintf(line, sizeof line,
                   "tvid fit %s: %s, %d iterations, %lld simulations (%lld failed), %.2f s on %d thread%s%s\n",
                   ex.name.c_str(), method.c_str(), fit.run.iterations, fit.run.evaluations, fit.run.failed_evaluations,
@@ -92,7 +94,8 @@ std::string fit_summary_text(const IdentificationProblem& problem, const FitResu
     if (fit.interrupted && !fit.success) {
         out << "  interrupted before a candidate was evaluated: no parameters were identified\n";
     } else if (!fit.success) {
-        out << (fit.run.name == "lm" ? "  the simulation at the start failed: no parameters were identified\n"
+        out << (fit.run.termination_type == TerminationType::start_failed
+                    ? "  the simulation at the start failed: no parameters were identified\n"
                                      : "  every candidate failed to simulate: no parameters were identified\n");
     } else {
         std::snprintf(line, sizeof line, "  cost (%s) %.6g\n", ex.estimation_settings.cost == CostKind::l1 ? "l1" : "l2",

@@ -93,7 +93,7 @@ TEST_CASE("tvid check: a missing or incomplete report and a malformed reference 
 
     const RunResult not_json = run_tvid({"check", tmp.path().string(), "--reference", tmp.write("x.json", "{").string()});
     CHECK(not_json.exit_code == 2);
-    CHECK(not_json.err.find("x.json: not valid JSON") != std::string::npos);
+    CHECK(not_json.err.find("x.json:1: not valid JSON") != std::string::npos);
 
     const RunResult neither = run_tvid({"check", tmp.path().string()});
     CHECK(neither.exit_code == 2);

@@ -54,7 +54,7 @@ TEST_CASE("tvid fit writes a complete report directory", "[e2e][fit]") {
     for (const char* f : {"params.json", "params.csv", "summary.json", "estimation.csv", "validation.csv", "history.csv"})
         CHECK(std::filesystem::is_regular_file(out / f));
     for (const auto& entry : std::filesystem::directory_iterator(out))
-        CHECK(entry.path().filename().string().find(".tmp") == std::string::npos);
+        CHECK(entry.path().filename().string().find(".tvid-tmp.") == std::string::npos);
 
     const json params = read_json(out / "params.json");
     REQUIRE(params["parameters"].size() == 9);

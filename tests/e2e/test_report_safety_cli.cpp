@@ -93,11 +93,14 @@ TEST_CASE("a report directory that holds a run is refused without --force", "[e2
     CHECK(again.err.find("--force") != std::string::npos);
     CHECK(std::count(again.err.begin(), again.err.end(), '\n') == 1);  // one line
     CHECK(read_text(out / "params.json") == before);
-    // With --force it is replaced, and temporary files a killed run left are swept away.
-    const fs::path leftover = out / "params.json.tmp.99999";
-    tmp.write("run/params.json.tmp.99999", "{ torn");
+    // With --force it is replaced, and temporary files a killed run left are swept away;
+    // a user's own file that merely looks temporary is kept.
+    const fs::path leftover = out / "params.json.tvid-tmp.99999";
+    tmp.write("run/params.json.tvid-tmp.99999", "{ torn");
+    tmp.write("run/notes.tmp.2024", "my notes");
     REQUIRE(run_tvid(quick_fit(out)).exit_code == 0);
     CHECK_FALSE(fs::exists(leftover));
+    CHECK(read_text(out / "notes.tmp.2024") == "my notes");
 }
 
 TEST_CASE("an unusable report place is bad input before the fit", "[e2e][report]") {
@@ -227,7 +230,7 @@ TEST_CASE("a batch killed with SIGKILL leaves batch files complete or absent, an
                 CHECK(rows_by_id(*table) == complete);
                 CHECK(fs::exists(out / "batch_summary.json"));
                 for (const fs::directory_entry& e : fs::directory_iterator(out))
-                    CHECK(e.path().filename().string().find(".tmp.") == std::string::npos);  // swept away
+                    CHECK(e.path().filename().string().find(".tvid-tmp.") == std::string::npos);  // swept away
             }
         }
     }

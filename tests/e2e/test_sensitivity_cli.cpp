@@ -255,5 +255,7 @@ TEST_CASE("tvid sensitivity exits 1 and names the window when its simulation fai
     CHECK(r.err.find("step budget exceeded") != std::string::npos);
     CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
     CHECK(r.out.empty());
-    CHECK(!std::filesystem::exists(out));
+    // The directory was claimed before the work; nothing was written into it.
+    CHECK(!std::filesystem::exists(out / "sensitivity.json"));
+    CHECK(!std::filesystem::exists(out / "sensitivity.csv"));
 }

@@ -822,7 +822,7 @@ TEST_CASE("YAML syntax errors, empty and non-text files", "[experiment][yaml]") 
         const auto e = load_error(file);
         REQUIRE(e.has_value());
         CHECK(e->file() == file.string());
-        CHECK(contains(e->what(), "no such file"));
+        CHECK(contains(e->what(), "no such experiment file"));
     }
 }
 

@@ -267,7 +267,7 @@ TEST_CASE("a report directory that is missing, incomplete or not a tvid report",
     tmp.write("summary.json", example.summary.dump());
     CHECK_THROWS_WITH(read_fit_report(tmp.path()), Catch::EndsWith("params.json: missing: not a complete tvid fit report"));
     tmp.write("params.json", "{\"parameters\": [");
-    CHECK_THROWS_WITH(read_fit_report(tmp.path()), Catch::Contains("params.json: not valid JSON"));
+    CHECK_THROWS_WITH(read_fit_report(tmp.path()), Catch::Contains("params.json:1: not valid JSON"));
     tmp.write("params.json", example.params.dump());
     CHECK(read_fit_report(tmp.path()).params["parameters"].size() == 4);
 }

@@ -14,6 +14,10 @@ constexpr double kFractionTolerance = 0.02;  // how close an exponent must be to
 
 // n/d with d <= kMaxDenominator within kFractionTolerance of a, or d = 0 when none is.
 void nearby_fraction(double a, int& n, int& d) {
+    if (!(std::abs(a) < 1e6)) {  // no small fraction, and lround would overflow
+        n = d = 0;
+        return;
+    }
     for (d = 1; d <= kMaxDenominator; ++d) {
         n = static_cast<int>(std::lround(a * d));
         if (std::abs(a - static_cast<double>(n) / d) <= kFractionTolerance) return;

@@ -5,6 +5,7 @@
 #include <exception>
 
 #include "tvid/util/input_error.hpp"
+#include "tvid/util/stop_request.hpp"
 
 namespace tvid {
 
@@ -87,7 +88,9 @@ BatchRow run_batch_job(const BatchSettings& settings, const BatchJob& job, const
         FitOptions options;
         options.threads = 1;
         options.seed = settings.seed;
+        options.stop = &stop_request();
         const FitResult fit = run_fit(problem, options);
+        if (fit.interrupted || stop_requested()) return stopped(kBatchInterrupted, "stopped by a stop request before its fit finished");
         return fit_row(columns, job.id, problem, fit, seconds());
     } catch (const InputError& e) {
         return stopped(kBatchBadInput, batch_input_message(e, job));

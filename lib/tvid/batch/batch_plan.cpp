@@ -7,7 +7,9 @@
 #include <fstream>
 #include <numbers>
 #include <set>
+#include <sstream>
 
+#include "tvid/io/input_file.hpp"
 #include "tvid/util/input_error.hpp"
 
 namespace tvid {
@@ -79,7 +81,10 @@ std::vector<std::string> recording_ids(const std::vector<std::filesystem::path>&
 }  // namespace
 
 std::vector<int> parse_cycle_list(const std::string& text) {
+    // More jobs than any recording has cycles would only exhaust the memory.
+    constexpr long long kMaxCycles = 100000;
     std::vector<int> cycles;
+    std::set<int> given;
     std::size_t start = 0;
     for (;;) {
         const std::size_t comma = text.find(',', start);
@@ -89,9 +94,10 @@ std::vector<int> parse_cycle_list(const std::string& text) {
         const int first = parse_cycle_number(trimmed(part.substr(0, dash)), text);
         const int last = dash == std::string::npos ? first : parse_cycle_number(trimmed(part.substr(dash + 1)), text);
         if (last < first) fail_cycles("the range " + part + " runs backwards");
+        if (static_cast<long long>(last) - first + 1 + static_cast<long long>(cycles.size()) > kMaxCycles)
+            fail_cycles("more than " + std::to_string(kMaxCycles) + " cycles");
         for (int k = first; k <= last; ++k) {
-            if (std::find(cycles.begin(), cycles.end(), k) != cycles.end())
-                fail_cycles("cycle " + std::to_string(k) + " is given twice");
+            if (!given.insert(k).second) fail_cycles("cycle " + std::to_string(k) + " is given twice");
             cycles.push_back(k);
         }
         if (comma == std::string::npos) break;
@@ -116,8 +122,10 @@ std::vector<std::filesystem::path> expand_recording_glob(const std::string& patt
 }
 
 std::vector<std::filesystem::path> read_recording_list(const std::filesystem::path& list_file) {
-    std::ifstream in(list_file);
-    if (!in) throw InputError(list_file.string(), 0, "", "cannot read the recording list");
+    std::string text = read_input_file(list_file, "recording list", kMaxListBytes);
+    if (text.rfind("\xEF\xBB\xBF", 0) == 0) text.erase(0, 3);  // a UTF-8 byte-order mark, as editors write
+    std::replace(text.begin(), text.end(), '\r', '\n');          // CRLF and lone CR line ends (blank lines are skipped)
+    std::istringstream in(text);
     std::vector<std::filesystem::path> files;
     std::string line;
     while (std::getline(in, line)) {
@@ -137,7 +145,8 @@ int complete_cycles(const Experiment& experiment) {
     // As the window reader counts: cycle 0 starts at the first multiple of the cycle at or
     // after the first sample.
     const double first_start = std::ceil(experiment.crank_angle.front() * to_deg / c - 1e-9) * c;
-    return static_cast<int>(std::floor((experiment.crank_angle.back() * to_deg - first_start) / c + 1e-9));
+    const double cycles = std::floor((experiment.crank_angle.back() * to_deg - first_start) / c + 1e-9);
+    return static_cast<int>(std::min(cycles, 2e9));  // a crank angle of 1e300 deg must not overflow the count
 }
 
 void check_cycles_in_recording(const Experiment& experiment, const std::vector<int>& cycles, bool validation) {

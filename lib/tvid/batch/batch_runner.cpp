@@ -7,6 +7,7 @@
 #include <thread>
 
 #include "tvid/estimation/parallel_evaluator.hpp"
+#include "tvid/util/stop_request.hpp"
 
 namespace tvid {
 
@@ -18,7 +19,7 @@ void run_batch_jobs(const BatchSettings& settings, const std::vector<BatchJob>& 
     std::exception_ptr error;
     const auto work = [&] {
         for (;;) {
-            if (stop) return;
+            if (stop || stop_requested()) return;  // a stop request: no new job starts
             const std::optional<std::size_t> job = next();
             if (!job) return;
             const BatchRow row = run_batch_job(settings, jobs[*job], columns);

@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "tvid/io/atomic_file.hpp"
+#include "tvid/io/input_file.hpp"
 
 namespace tvid {
 
@@ -34,6 +35,13 @@ BatchColumns::BatchColumns(std::vector<std::string> parameters, std::vector<std:
             for (const char* m : kMetrics) header_.push_back(metric(m, split, out));
     header_.push_back("evaluations");
     header_.push_back("wall_seconds");
+}
+
+std::string BatchColumns::repeated_column() const {
+    for (std::size_t i = 0; i < header_.size(); ++i)
+        if (std::find(header_.begin() + static_cast<std::ptrdiff_t>(i) + 1, header_.end(), header_[i]) != header_.end())
+            return header_[i];
+    return {};
 }
 
 std::size_t BatchColumns::index(const std::string& name) const {
@@ -88,11 +96,7 @@ double batch_cell_value(const std::string& cell) {
 std::optional<BatchFile> read_batch_file(const std::filesystem::path& file) {
     std::error_code ec;
     if (!std::filesystem::exists(file, ec)) return std::nullopt;
-    std::ifstream in(file, std::ios::binary);
-    if (!in) throw std::runtime_error("cannot read " + file.string());
-    std::ostringstream buffer;
-    buffer << in.rdbuf();
-    const std::string text = buffer.str();
+    const std::string text = read_input_file(file, "batch table", kMaxRecordingBytes);
 
     // RFC 4180 records: a record ends at a line break outside quotes.
     BatchFile out;

@@ -14,6 +14,9 @@ namespace tvid {
 inline constexpr const char* kBatchOk = "ok";
 inline constexpr const char* kBatchFailed = "failed";
 inline constexpr const char* kBatchBadInput = "bad_input";
+/// A job a stop request (Ctrl-C, SIGTERM) cut short: never written to batch.csv, so that
+/// --resume runs it again.
+inline constexpr const char* kBatchInterrupted = "interrupted";
 
 bool is_batch_status(const std::string& status);
 
@@ -29,6 +32,8 @@ public:
     const std::vector<std::string>& header() const { return header_; }
     const std::vector<std::string>& parameters() const { return parameters_; }
     std::size_t size() const { return header_.size(); }
+    /// A column name the header holds twice (a parameter named "cost" or "status"), or "".
+    std::string repeated_column() const;
     /// Index of a column by name; throws std::out_of_range when absent.
     std::size_t index(const std::string& name) const;
     /// The metric column for a split ("estimation"/"validation"), a metric ("q", "fit",

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <fstream>
 
+#include "tvid/io/json_file.hpp"
 #include "tvid/util/input_error.hpp"
 
 namespace tvid {
@@ -12,14 +13,9 @@ namespace {
 using nlohmann::json;
 
 json read_json_file(const std::filesystem::path& file, const std::string& missing) {
-    if (!std::filesystem::exists(file)) throw InputError(file.string(), 0, "", missing);
-    std::ifstream in(file);
-    if (!in) throw InputError(file.string(), 0, "", "cannot open the file");
-    try {
-        return json::parse(in);
-    } catch (const json::parse_error& e) {
-        throw InputError(file.string(), 0, "", std::string("not valid JSON: ") + e.what());
-    }
+    std::error_code ec;
+    if (!std::filesystem::exists(file, ec)) throw InputError(file.string(), 0, "", missing);
+    return tvid::read_json_file(file, "report file");
 }
 
 void require(const json& j, const std::string& file, const std::string& key, bool (json::*is_kind)() const noexcept,

@@ -54,6 +54,13 @@ private:
     }
 
     void factor() {
+        // Each nesting ("-", "(") recurses once: bound it, or a hostile expression
+        // overflows the stack.
+        if (++depth_ > kMaxNesting) fail("nested more than " + std::to_string(kMaxNesting) + " levels deep");
+        struct Leave {
+            int& depth;
+            ~Leave() { --depth; }
+        } leave{depth_};
         if (accept('-')) {
             factor();
             steps_.push_back(step(Kind::negate));
@@ -104,14 +111,19 @@ private:
     }
 
     [[noreturn]] void fail(const std::string& what) const {
-        const std::string rest = pos_ < text_.size() ? "at '" + text_.substr(pos_) + "'" : "at the end";
+        const std::string rest = pos_ >= text_.size() ? "at the end"
+                                 : text_.size() - pos_ <= 40 ? "at '" + text_.substr(pos_) + "'"
+                                                             : "at '" + text_.substr(pos_, 40) + "...'";
         throw std::invalid_argument(what + " " + rest);
     }
+
+    static constexpr int kMaxNesting = 100;
 
     const std::string& text_;
     std::vector<std::string>& names_;
     std::vector<Step>& steps_;
     std::size_t pos_ = 0;
+    int depth_ = 0;
 };
 
 }  // namespace

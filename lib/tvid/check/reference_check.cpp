@@ -7,6 +7,8 @@
 #include <stdexcept>
 
 #include "tvid/check/parameter_expression.hpp"
+#include "tvid/io/json_file.hpp"
+#include "tvid/io/json_text.hpp"
 #include "tvid/util/input_error.hpp"
 #include "tvid/util/text.hpp"
 
@@ -228,7 +230,7 @@ Reference parse_reference(const ordered_json& j, const std::string& file) {
         reader.fail("tvid_reference", "missing: not a tvid reference file (it starts with \"tvid_reference\": 1)");
     const ordered_json& version = j["tvid_reference"];
     if (!version.is_number_integer() || version.get<int>() != reference_version)
-        reader.fail("tvid_reference", "version " + version.dump() + " is not supported (this tvid reads version 1)");
+        reader.fail("tvid_reference", "version " + json_text(version, -1) + " is not supported (this tvid reads version 1)");
     for (const auto& [k, v] : j.items())
         if (!is_one_of(k, top_level_keys)) reader.fail(k, "unknown key (known: " + join_words(top_level_keys) + ")");
 
@@ -289,16 +291,7 @@ Reference parse_reference(const ordered_json& j, const std::string& file) {
 
 Reference read_reference(const std::filesystem::path& file) {
     const std::string name = file.string();
-    std::ifstream in(file);
-    if (!in) throw InputError(name, 0, "", std::filesystem::exists(file) ? "cannot open the reference file"
-                                                                          : "no such reference file");
-    ordered_json j;
-    try {
-        j = ordered_json::parse(in);
-    } catch (const ordered_json::parse_error& e) {
-        throw InputError(name, 0, "", std::string("not valid JSON: ") + e.what());
-    }
-    return parse_reference(j, name);
+    return parse_reference(read_json_file<ordered_json>(file, "reference file"), name);
 }
 
 std::size_t CheckResult::failures() const {
@@ -400,7 +393,7 @@ ordered_json reference_from_report(const FitReportFiles& report, double rel) {
     const json& s = report.summary;
     if (s["status"] != "ok")
         throw InputError(report.summary_file(), 0, "status",
-                         "is " + s["status"].dump() + ": a failed fit cannot be a reference");
+                         "is " + json_text(s["status"], -1) + ": a failed fit cannot be a reference");
     std::vector<std::string> undetermined;
     const json& identifiability = s.value("identifiability", json::object());
     if (identifiability.value("available", false))

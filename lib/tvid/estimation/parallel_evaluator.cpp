@@ -9,7 +9,7 @@
 namespace tvid {
 
 int resolve_thread_count(int threads) {
-    if (threads > 0) return threads;
+    if (threads > 0) return std::min(threads, kMaxThreads);
     const unsigned hw = std::thread::hardware_concurrency();
     return hw > 0 ? static_cast<int>(hw) : 1;
 }

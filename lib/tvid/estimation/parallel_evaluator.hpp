@@ -56,4 +56,8 @@ private:
 /// The number of threads `threads` means (<= 0: all hardware threads).
 int resolve_thread_count(int threads);
 
+/// The most threads a run may ask for (the command line refuses more; the library clamps):
+/// far beyond any machine's cores, and below what the OpenMP runtime can start.
+inline constexpr int kMaxThreads = 1024;
+
 }  // namespace tvid

@@ -7,6 +7,7 @@
 #include <numbers>
 
 #include "tvid/experiment/model_reader.hpp"
+#include "tvid/util/input_error.hpp"
 
 namespace tvid {
 
@@ -153,6 +154,19 @@ std::vector<ChannelBinding> read_inputs(const YamlMap& inputs, const NetworkSpec
     return out;
 }
 
+// A measured output so large that a squared residual overflows the cost would make every
+// candidate fail and be blamed on the simulation: refused with the cell.
+static void check_output_magnitude(const ChannelBinding& b, const CsvTable& data) {
+    constexpr double kMaxMeasuredOutput = 1e100;
+    const std::vector<double>& v = data.column(b.column);
+    for (std::size_t i = 0; i < v.size(); ++i)
+        if (std::abs(v[i] * b.scale) > kMaxMeasuredOutput)
+            throw InputError(data.file().string(), data.line_of_row(i), "column " + b.column,
+                             "the measured output " + b.model_name + " is " + number_text(v[i] * b.scale) +
+                                 ", beyond the 1e100 at which a squared residual overflows the cost: check the "
+                                 "column and its unit");
+}
+
 OutputBindings read_outputs(const YamlMap& outputs, NetworkSpec& network, const CsvTable& data) {
     const bool custom = network.preset == "custom";
     OutputBindings out;
@@ -170,6 +184,7 @@ OutputBindings read_outputs(const YamlMap& outputs, NetworkSpec& network, const 
             out.channels.push_back(read_binding(outputs, name, data, {}));
         }
         out.indices.push_back(network.output_index(name));
+        check_output_magnitude(out.channels.back(), data);
     }
     if (out.channels.empty())
         outputs.source().fail(outputs.node(), outputs.path(), "no outputs: name at least one model output and its CSV column");

@@ -98,6 +98,7 @@ struct EstimationSettings {
 
 struct Experiment {
     std::filesystem::path file;          ///< the experiment file
+    std::string config_sha256;           ///< SHA-256 of the experiment file's bytes as read (before --set)
     std::string name;
     std::filesystem::path data_file;     ///< resolved against the experiment's folder
     CsvTable data;                       ///< the whole recording

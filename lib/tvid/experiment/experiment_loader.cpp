@@ -14,6 +14,9 @@
 #include "tvid/experiment/parameter_reader.hpp"
 #include "tvid/experiment/window_reader.hpp"
 #include "tvid/experiment/yaml_reader.hpp"
+#include "tvid/io/input_file.hpp"
+#include "tvid/io/sha256.hpp"
+#include "tvid/sim/observation_loops.hpp"
 #include "tvid/util/input_error.hpp"
 #include "tvid/util/text.hpp"
 
@@ -41,16 +44,15 @@ std::vector<double> cumulative_crank_angle(const CsvTable& data, const std::stri
     return a;
 }
 
-YAML::Node parse_file(const std::filesystem::path& file) {
+// The experiment file's YAML; `sha256` receives the digest of the bytes parsed.
+YAML::Node parse_file(const std::filesystem::path& file, std::string& sha256) {
     const std::string name = file.string();
-    std::error_code ec;
-    if (!std::filesystem::exists(file, ec)) throw InputError(name, 0, "", "no such file");
-    if (std::filesystem::is_directory(file, ec)) throw InputError(name, 0, "", "is a directory, not an experiment file");
-    std::ifstream in(file, std::ios::binary);
-    if (!in) throw InputError(name, 0, "", "cannot open file");
-    std::ostringstream text;
-    text << in.rdbuf();
-    const std::string content = text.str();
+    std::string content = read_input_file(file, "experiment file", kMaxExperimentBytes);
+    sha256 = sha256_of_text(content);
+    // Lone CR line ends (classic Mac OS), which yaml-cpp reads as one long line (a file
+    // opening with a comment then looked empty): made LF, so lines count as an editor shows.
+    for (std::size_t i = 0; i < content.size(); ++i)
+        if (content[i] == '\r' && (i + 1 == content.size() || content[i + 1] != '\n')) content[i] = '\n';
     for (std::size_t i = 0; i < content.size(); ++i) {
         const auto c = static_cast<unsigned char>(content[i]);
         if (c == 0 || (c < 0x20 && c != '\n' && c != '\r' && c != '\t')) {
@@ -60,7 +62,11 @@ YAML::Node parse_file(const std::filesystem::path& file) {
     }
     YAML::Node root;
     try {
-        root = YAML::Load(content);
+        std::vector<YAML::Node> documents = YAML::LoadAll(content);
+        if (documents.size() > 1)
+            throw InputError(name, documents[1].Mark().is_null() ? 0 : documents[1].Mark().line + 1, "",
+                             "a second YAML document (after '---'): an experiment file holds one");
+        if (!documents.empty()) root = documents.front();
     } catch (const YAML::Exception& e) {
         throw InputError(name, e.mark.is_null() ? 0 : e.mark.line + 1, "", "YAML syntax error: " + e.msg);
     }
@@ -117,6 +123,22 @@ SimulationSettings read_simulation(const YamlMap& m) {
     return s;
 }
 
+// A fixed step so small, or a gap in the time column so long, that one simulation would
+// take more than kMaxFixedStepsPerSimulation steps: refused, naming the longest interval.
+void check_fixed_step_count(const YamlMap& simulation, const CsvTable& data, const std::string& time_column,
+                            double max_step) {
+    const std::vector<double>& time = data.column(time_column);
+    const FixedStepCount steps = fixed_steps_over(time, max_step);
+    if (steps.total <= kMaxFixedStepsPerSimulation) return;
+    const std::size_t i = steps.longest_at;
+    simulation.fail("step", "a step of " + number_text(max_step) + " s takes " + number_text(steps.total) +
+                                " steps per simulation of the recording, more than the " +
+                                number_text(kMaxFixedStepsPerSimulation) + " allowed (its longest sample interval, " +
+                                number_text(time[i + 1] - time[i]) + " s from line " +
+                                std::to_string(data.line_of_row(i)) + " of " + data.file().string() + ", takes " +
+                                number_text(steps.longest) + "); use a larger step or check the time column");
+}
+
 EstimationSettings read_estimation(const YamlMap& m) {
     m.allow_only({"cost", "optimizer", "pso", "lm", "nlopt", "multistart"});
     EstimationSettings s;
@@ -144,7 +166,8 @@ EstimationSettings read_estimation(const YamlMap& m) {
 }  // namespace
 
 Experiment load_experiment(const std::filesystem::path& file, const std::vector<Override>& overrides) {
-    YAML::Node root = parse_file(file);
+    std::string config_sha256;
+    YAML::Node root = parse_file(file, config_sha256);
     apply_overrides(root, overrides);
     std::vector<std::string> override_keys;
     for (const Override& o : overrides) override_keys.push_back(reader_path(o.key));
@@ -155,9 +178,15 @@ Experiment load_experiment(const std::filesystem::path& file, const std::vector<
 
     Experiment ex;
     ex.file = file;
+    ex.config_sha256 = config_sha256;
     if (!top.has("tvid")) top.fail_missing("tvid", "format version: the file must start with 'tvid: 1'");
     if (top.integer("tvid") != 1) top.fail("tvid", "format version " + top.get("tvid").Scalar() + " is not known (this tvid reads format 1)");
     ex.name = top.has("name") ? top.text("name") : file.stem().string();
+    // The name is the default report folder's (results/NAME): one plain folder name.
+    if (top.has("name") && (ex.name.empty() || ex.name == "." || ex.name == ".." ||
+                            ex.name.find_first_of("/\\") != std::string::npos))
+        top.fail("name", "'" + ex.name + "' names the report folder results/NAME: use a plain name without '/' "
+                         "(give the place with report.dir or -o)");
 
     // The recording.
     const YamlMap data = top.map("data");
@@ -166,9 +195,9 @@ Experiment load_experiment(const std::filesystem::path& file, const std::vector<
     const std::string data_name = data.text("file");
     ex.data_file = (std::filesystem::path(data_name).is_absolute() ? std::filesystem::path(data_name) : folder / data_name)
                        .lexically_normal();
-    std::error_code ec;
-    if (!std::filesystem::is_regular_file(ex.data_file, ec))
-        data.fail("file", "no such data file: " + ex.data_file.string());
+    if (const std::string why = not_a_file_reason(ex.data_file); !why.empty())
+        data.fail("file", why == "does not exist" ? "no such data file: " + ex.data_file.string()
+                                                  : "the data file " + ex.data_file.string() + " " + why + ", not a file");
     ex.time_column = data.text("time");
     ex.data = CsvTable::read(ex.data_file);
     if (!ex.data.has_column(ex.time_column))
@@ -264,7 +293,12 @@ Experiment load_experiment(const std::filesystem::path& file, const std::vector<
             data.fail_missing("angle_node", "(the node whose angle the crank-angle channel measures: the warm-up is "
                                             "shot to meet it)");
     }
-    if (top.has("simulation")) ex.simulation = read_simulation(top.map("simulation"));
+    if (top.has("simulation")) {
+        const YamlMap simulation = top.map("simulation");
+        ex.simulation = read_simulation(simulation);
+        if (ex.simulation.method == IntegrationMethod::rk4 && ex.simulation.max_step > 0)
+            check_fixed_step_count(simulation, ex.data, ex.time_column, ex.simulation.max_step);
+    }
     if (top.has("report")) {
         const YamlMap report = top.map("report");
         report.allow_only({"dir"});

@@ -128,4 +128,16 @@ std::vector<ParameterSetting> read_parameters(const YamlMap& parameters, const N
     return out;
 }
 
+std::string parameter_value_problem(const NetworkSpec& network, const ParameterSetting& setting, std::size_t index,
+                                    double value) {
+    const std::vector<PhysicalRole> roles = physical_roles(network);
+    if (index < roles.size() && roles[index].what != nullptr && violates(roles[index], value))
+        return role_problem(roles[index], setting.name, value);
+    if (!setting.fixed && ((setting.has_min && value < setting.min) || (setting.has_max && value > setting.max)))
+        return number_text(value) + " is outside the bounds of " + setting.name + " in the experiment (" +
+               (setting.has_min ? number_text(setting.min) : std::string("-inf")) + " to " +
+               (setting.has_max ? number_text(setting.max) : std::string("inf")) + ")";
+    return {};
+}
+
 }  // namespace tvid

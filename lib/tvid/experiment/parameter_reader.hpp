@@ -5,6 +5,8 @@
 //   rho1:  { init: 1.5, min: 0.1, max: 10, range: [1, 2] }   # free
 //   sigma: { value: 1132.81, fixed: true }                   # fixed (`value:` alone also fixes)
 
+#include <cstddef>
+#include <string>
 #include <vector>
 
 #include "tvid/experiment/yaml_reader.hpp"
@@ -20,5 +22,12 @@ namespace tvid {
 /// reciprocating mass cannot be negative.
 std::vector<ParameterSetting> read_parameters(const YamlMap& parameters, const NetworkSpec& network,
                                               bool needs_search_box);
+
+/// Why `value` cannot be parameter `index` of `network` with the setting `setting`: a
+/// sign its physics forbids ("must be positive: J1 is an inertia, got -1"), or outside
+/// the bounds of a free parameter; "" when it can. For parameter files given to
+/// simulate, validate and sensitivity.
+std::string parameter_value_problem(const NetworkSpec& network, const ParameterSetting& setting, std::size_t index,
+                                    double value);
 
 }  // namespace tvid

@@ -19,7 +19,9 @@ public:
             angle_tolerance_ = 1e-3 * smallest_step(axes.crank_deg);
             const double c = axes.cycle_deg;
             first_cycle_start_ = std::ceil(axes.crank_deg.front() / c - 1e-9) * c;
-            cycle_count_ = static_cast<long long>(std::floor((axes.crank_deg.back() - first_cycle_start_) / c + 1e-9));
+            // Clamped: a crank angle of 1e300 deg must not overflow the count.
+            cycle_count_ = static_cast<long long>(
+                std::min(std::floor((axes.crank_deg.back() - first_cycle_start_) / c + 1e-9), 1e15));
         }
     }
 

@@ -89,7 +89,11 @@ double read_number(const YamlSource& src, const YAML::Node& node, const std::str
     const double v = std::strtod(s.c_str(), &end);
     if (s.empty() || end != s.c_str() + s.size() || std::isspace(static_cast<unsigned char>(s.front())))
         src.fail(node, path, "expected a number, got '" + s + "'");
-    if (!std::isfinite(v) || errno == ERANGE) src.fail(node, path, "'" + s + "' is not a finite number");
+    if (!std::isfinite(v)) src.fail(node, path, "'" + s + "' is not a finite number");
+    // ERANGE with a finite result is an underflow ('1e-400' reads as 0 or a subnormal), as
+    // in the CSV reader; with HUGE_VAL it is an overflow.
+    if (errno == ERANGE && std::abs(v) > 1.0)
+        src.fail(node, path, "'" + s + "' is too large for a number (at most about 1.8e308)");
     return v;
 }
 

@@ -2,9 +2,11 @@
 
 #include <chrono>
 #include <cmath>
+#include <optional>
 
 #include "tvid/estimation/parallel_evaluator.hpp"
 #include "tvid/fit/optimizer_table.hpp"
+#include "tvid/util/stop_request.hpp"
 
 namespace tvid {
 
@@ -20,6 +22,9 @@ std::function<bool(const HistoryRow&)> stoppable_progress(const FitOptions& opti
     };
 }
 
+// How long the evaluation of an interrupted fit's best point may simulate.
+constexpr double kStopGraceSeconds = 2.0;
+
 }  // namespace
 
 FitResult run_fit(const IdentificationProblem& problem, const FitOptions& options) {
@@ -30,7 +35,12 @@ FitResult run_fit(const IdentificationProblem& problem, const FitOptions& option
     FitOptions stoppable = options;
     stoppable.progress = stoppable_progress(options);
     const OptimizerEntry& optimizer = optimizer_entry(problem.experiment().estimation_settings.optimizer);
-    r.run = optimizer.run(problem, stoppable, r);
+    {
+        // A stop request (Ctrl-C, SIGTERM) reaches into a running simulation while the
+        // optimizer runs; the final evaluation below runs whole.
+        const InterruptibleSimulations interruptible(options.stop == &stop_request());
+        r.run = optimizer.run(problem, stoppable, r);
+    }
     r.run.name = optimizer.name();
     r.optimizer_seconds = std::chrono::duration<double>(clock::now() - t0).count();
     r.interrupted = stop_requested(options);
@@ -43,7 +53,13 @@ FitResult run_fit(const IdentificationProblem& problem, const FitOptions& option
     r.success = std::isfinite(r.run.best_cost);
     r.best_free = r.success ? r.run.best : problem.initial();
     r.best_params = problem.full_parameters(r.best_free);
-    r.evaluation = evaluate_parameters(problem, r.best_params, resolve_thread_count(options.threads));
+    {
+        // After a stop request the report's evaluation gets a few seconds; a simulation
+        // still running then is cut short and its window reported as stopped.
+        std::optional<SimulationGracePeriod> grace;
+        if (r.interrupted) grace.emplace(kStopGraceSeconds);
+        r.evaluation = evaluate_parameters(problem, r.best_params, resolve_thread_count(options.threads));
+    }
     if (r.interrupted) r.uncertainty.problem = "skipped: interrupted";  // the user wants out: no extra Jacobian
     else if (r.success) {
         // A least-squares fit ended on the point it last took the Jacobian at: that one.

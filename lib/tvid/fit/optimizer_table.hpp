@@ -33,6 +33,9 @@ struct OptimizerEntry {
     bool planned_is_cap = true;
     /// starts.csv, one row per start; null when the optimizer has no starts.
     std::string (*starts_csv)(const IdentificationProblem& problem, const FitResult& result) = nullptr;
+    /// How the terminal's summary line names the run ("pso, 512 particles"); null: the
+    /// name and the termination ("lm (converged)").
+    std::string (*headline)(const FitResult& result) = nullptr;
 
     const char* name() const { return optimizer_name(kind); }
 };

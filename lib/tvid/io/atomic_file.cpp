@@ -17,7 +17,7 @@ namespace {
 }  // namespace
 
 void write_file_atomically(const std::filesystem::path& path, std::string_view content) {
-    const std::filesystem::path tmp = path.string() + ".tmp." + std::to_string(::getpid());
+    const std::filesystem::path tmp = path.string() + kAtomicTemporaryMarker + std::to_string(::getpid());
     const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
     if (fd < 0) fail(path, "open");
     const char* data = content.data();

@@ -14,6 +14,8 @@
 #include <string_view>
 #include <system_error>
 
+#include "tvid/io/input_file.hpp"
+#include "tvid/io/sha256.hpp"
 #include "tvid/util/input_error.hpp"
 
 // Reading strategy: the whole file is read into one string, then walked line by line
@@ -169,45 +171,11 @@ NumberStatus parse_number(string_view s, double& value) {
     return NumberStatus::ok;
 }
 
-/// Reads the whole file into a string; throws InputError if it cannot be read.
-std::string read_whole_file(const std::filesystem::path& file, const std::string& fname) {
-    std::error_code ec;
-    if (std::filesystem::is_directory(file, ec))
-        throw InputError(fname, 0, "", "cannot open file: it is a directory");
-    errno = 0;
-    std::ifstream in(file, std::ios::binary);
-    if (!in) {
-        const int err = errno;
-        throw InputError(fname, 0, "",
-                         "cannot open file: " +
-                             (err != 0 ? std::generic_category().message(err) : std::string("unknown reason")));
-    }
-    constexpr std::size_t kChunk = std::size_t{1} << 16;
-    std::string data;
-    const auto size = std::filesystem::file_size(file, ec);
-    if (!ec && size < (std::uintmax_t{1} << 32)) data.reserve(static_cast<std::size_t>(size) + kChunk + 1);
-    for (;;) {
-        const std::size_t old = data.size();
-        data.resize(old + kChunk);
-        in.read(data.data() + old, static_cast<std::streamsize>(kChunk));
-        const auto got = static_cast<std::size_t>(in.gcount());
-        data.resize(old + got);
-        if (got < kChunk) break;
-    }
-    if (in.bad()) {
-        const int err = errno;
-        throw InputError(fname, 0, "",
-                         "cannot open file: read error" +
-                             (err != 0 ? " (" + std::generic_category().message(err) + ")" : std::string()));
-    }
-    return data;
-}
-
 }  // namespace
 
 CsvTable CsvTable::read(const std::filesystem::path& file) {
     const std::string fname = file.string();
-    const std::string data = read_whole_file(file, fname);
+    const std::string data = read_input_file(file, "data file", kMaxRecordingBytes);
 
     const char* begin = data.data();
     const char* const end = begin + data.size();
@@ -228,6 +196,7 @@ CsvTable CsvTable::read(const std::filesystem::path& file) {
 
     CsvTable table;
     table.file_ = file;
+    table.content_sha256_ = sha256_of_text(data);
 
     // Header.
     LineReader lines(begin, end);
@@ -269,12 +238,12 @@ CsvTable CsvTable::read(const std::filesystem::path& file) {
         if (name.size() == raw.size() && (raw.front() == '"' || raw.back() == '"'))
             throw InputError(fname, header_line, "",
                              position + ": unbalanced double quote in column name " + shown(raw));
-        const auto dup = std::find(table.names_.begin(), table.names_.end(), name);
-        if (dup != table.names_.end())
+        // A hash map: a header of 200 000 names is checked in linear time.
+        const auto [dup, added] = table.column_index_.emplace(std::string(name), table.names_.size());
+        if (!added)
             throw InputError(fname, header_line, "",
-                             "column " + std::string(name) + " appears twice (columns " +
-                                 std::to_string(dup - table.names_.begin() + 1) + " and " +
-                                 std::to_string(index) + ")");
+                             "column " + std::string(name) + " appears twice (columns " + std::to_string(dup->second + 1) +
+                                 " and " + std::to_string(index) + ")");
         table.names_.emplace_back(name);
         if (comma == string_view::npos) break;
         start = comma + 1;
@@ -351,18 +320,17 @@ CsvTable CsvTable::read(const std::filesystem::path& file) {
     return table;
 }
 
-bool CsvTable::has_column(const std::string& name) const {
-    return std::find(names_.begin(), names_.end(), name) != names_.end();
-}
+bool CsvTable::has_column(const std::string& name) const { return column_index_.count(name) > 0; }
 
 const std::vector<double>& CsvTable::column(const std::string& name) const {
-    const auto it = std::find(names_.begin(), names_.end(), name);
-    if (it == names_.end()) {
+    const auto it = column_index_.find(name);
+    if (it == column_index_.end()) {
         std::string known;
-        for (const auto& n : names_) known += (known.empty() ? "" : ", ") + n;
+        for (std::size_t i = 0; i < names_.size() && i < 20; ++i) known += (i ? ", " : "") + names_[i];
+        if (names_.size() > 20) known += ", ...";
         throw std::out_of_range(file_.string() + ": no column '" + name + "' (columns: " + known + ")");
     }
-    return columns_[static_cast<std::size_t>(it - names_.begin())];
+    return columns_[it->second];
 }
 
 void CsvTable::require_strictly_increasing(const std::string& name) const {

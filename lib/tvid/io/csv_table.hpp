@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <filesystem>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 namespace tvid {
@@ -20,6 +21,8 @@ public:
     static CsvTable read(const std::filesystem::path& file);
 
     const std::filesystem::path& file() const { return file_; }
+    /// SHA-256 (hex) of the bytes this table was read from, hashed as they were read.
+    const std::string& content_sha256() const { return content_sha256_; }
     const std::vector<std::string>& column_names() const { return names_; }
     std::size_t rows() const { return rows_; }
     bool has_column(const std::string& name) const;
@@ -36,7 +39,9 @@ public:
 
 private:
     std::filesystem::path file_;
+    std::string content_sha256_;
     std::vector<std::string> names_;
+    std::unordered_map<std::string, std::size_t> column_index_;  ///< name -> position in names_
     std::vector<std::vector<double>> columns_;
     std::vector<int> row_lines_;
     std::size_t rows_ = 0;

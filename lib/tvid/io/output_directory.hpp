@@ -1,19 +1,39 @@
 #pragma once
 // An output directory made ready before any work is done: created if needed, checked by
 // writing a probe file (permission bits do not tell the whole story: read-only mounts,
-// ACLs), and cleared of the temporary files (`NAME.tmp.PID`) that write_file_atomically
-// leaves behind when a run is killed mid-write.
+// ACLs), claimed by this run for as long as it writes there (a lock file, so that two
+// runs into one directory cannot mix their files), and cleared of the temporary files
+// (`NAME.tvid-tmp.PID`) that write_file_atomically leaves behind when a run is killed
+// mid-write.
 
 #include <filesystem>
 #include <string>
 
 namespace tvid {
 
-/// Throws InputError (exit status 2) naming `dir` when it is a file, cannot be created or
-/// cannot be written; `what` names it in the message (e.g. "report directory").
-void prepare_output_directory(const std::filesystem::path& dir, const std::string& what);
+/// This run's claim on an output directory: an exclusive lock on `DIR/.tvid.lock`, held
+/// until the object is destroyed (or the process ends, however it ends).
+class OutputDirectoryLock {
+public:
+    OutputDirectoryLock() = default;
+    explicit OutputDirectoryLock(int fd) : fd_(fd) {}
+    OutputDirectoryLock(OutputDirectoryLock&& other) noexcept : fd_(other.fd_) { other.fd_ = -1; }
+    OutputDirectoryLock& operator=(OutputDirectoryLock&& other) noexcept;
+    OutputDirectoryLock(const OutputDirectoryLock&) = delete;
+    OutputDirectoryLock& operator=(const OutputDirectoryLock&) = delete;
+    ~OutputDirectoryLock();
+    bool held() const { return fd_ >= 0; }
 
-/// True for "NAME.tmp.PID", the temporary name of write_file_atomically.
+private:
+    int fd_ = -1;
+};
+
+/// Throws InputError (exit status 2) naming `dir` when it is a file, cannot be created or
+/// cannot be written, or another run holds it; `what` names it in the message (e.g.
+/// "report directory"). Keep the returned lock while writing into `dir`.
+[[nodiscard]] OutputDirectoryLock prepare_output_directory(const std::filesystem::path& dir, const std::string& what);
+
+/// True for "NAME.tvid-tmp.PID", the temporary name of write_file_atomically.
 bool is_leftover_temporary(const std::string& file_name);
 
 }  // namespace tvid

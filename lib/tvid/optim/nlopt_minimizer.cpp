@@ -35,6 +35,8 @@ struct RunState {
     nlopt::opt* opt = nullptr;
     NloptSummary* summary = nullptr;
     bool stopped = false;
+    long long max_evaluations = 0;  ///< 0: none; else enforced here (some algorithms, e.g. GN_ORIG_DIRECT, overrun it)
+    bool budget_spent = false;
     HistoryRow last;
 
     long long counted() const {
@@ -66,6 +68,9 @@ double objective(unsigned n, const double* x, double* gradient, void* data) {
     }
     if (*run.progress && !(*run.progress)(run.last)) {
         run.stopped = true;
+        run.opt->force_stop();
+    } else if (run.max_evaluations > 0 && s.evaluations >= run.max_evaluations) {
+        run.budget_spent = true;
         run.opt->force_stop();
     }
     return f;
@@ -157,6 +162,7 @@ NloptSummary run_nlopt(const NloptSettings& settings, std::vector<double> x0, co
     run.progress = &progress;
     run.opt = &opt;
     run.summary = &s;
+    run.max_evaluations = settings.max_evaluations;
     opt.set_min_objective(objective, &run);
     nlopt::srand(static_cast<unsigned long>(settings.seed));  // randomized algorithms: one seed, one result
 
@@ -177,6 +183,7 @@ NloptSummary run_nlopt(const NloptSettings& settings, std::vector<double> x0, co
     } catch (const std::runtime_error&) {
         result = nlopt::FAILURE;
     }
+    if (run.budget_spent && !run.stopped && result == nlopt::FORCED_STOP) result = nlopt::MAXEVAL_REACHED;
     s.termination_type = run.stopped ? TerminationType::stopped : termination_type(result);
     s.termination = run.stopped ? "stopped" : termination_text(result);
     if (s.evaluations > 0 && s.history.back().iteration != run.last.iteration) s.history.push_back(run.last);

@@ -3,6 +3,8 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "tvid/experiment/parameter_reader.hpp"
+#include "tvid/io/json_file.hpp"
 #include "tvid/util/input_error.hpp"
 
 namespace tvid {
@@ -15,20 +17,18 @@ std::vector<double> initial_parameters(const Experiment& experiment) {
 
 std::vector<double> read_parameter_file(const std::filesystem::path& file, const Experiment& experiment) {
     const std::string name = file.string();
-    std::ifstream in(file);
-    if (!in) throw InputError(name, 0, "", "cannot open parameter file");
-    nlohmann::json j;
-    try {
-        j = nlohmann::json::parse(in);
-    } catch (const nlohmann::json::parse_error& e) {
-        throw InputError(name, 0, "", std::string("not valid JSON: ") + e.what());
-    }
+    const nlohmann::json j = read_json_file(file, "parameter file");
     std::vector<double> p = initial_parameters(experiment);
     auto set = [&](const std::string& key, const nlohmann::json& value) {
         const int i = experiment.network.parameter_index(key);
         if (i < 0) throw InputError(name, 0, key, "is not a parameter of the model");
         if (!value.is_number()) throw InputError(name, 0, key, "expected a number");
-        p[static_cast<std::size_t>(i)] = value.get<double>();
+        const double v = value.get<double>();
+        const auto index = static_cast<std::size_t>(i);
+        if (const std::string problem = parameter_value_problem(experiment.network, experiment.parameters[index], index, v);
+            !problem.empty())
+            throw InputError(name, 0, key, problem);
+        p[index] = v;
     };
     if (j.is_object() && j.contains("parameters") && j["parameters"].is_array()) {
         for (const auto& entry : j["parameters"]) {

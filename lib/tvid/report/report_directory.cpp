@@ -7,7 +7,7 @@
 
 namespace tvid {
 
-void prepare_report_directory(const std::filesystem::path& dir, bool force) {
+OutputDirectoryLock prepare_report_directory(const std::filesystem::path& dir, bool force) {
     namespace fs = std::filesystem;
     std::error_code ec;
     if (fs::exists(dir, ec) && !fs::is_directory(dir, ec))
@@ -17,7 +17,7 @@ void prepare_report_directory(const std::filesystem::path& dir, bool force) {
             throw InputError(dir.string(), 0, "",
                              std::string("already holds a fit report (") + name +
                                  "): use --force to replace it, or -o for another directory");
-    prepare_output_directory(dir, "report directory");
+    return prepare_output_directory(dir, "report directory");
 }
 
 }  // namespace tvid

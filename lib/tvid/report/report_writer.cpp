@@ -7,9 +7,9 @@
 #include "tvid/analysis/fit_metrics.hpp"
 #include "tvid/analysis/identifiability.hpp"
 #include "tvid/io/atomic_file.hpp"
-#include "tvid/io/sha256.hpp"
 #include "tvid/report/optimizer_report.hpp"
 #include "tvid/report/report_values.hpp"
+#include "tvid/io/json_text.hpp"
 
 namespace tvid {
 
@@ -39,14 +39,6 @@ int free_position(const IdentificationProblem& problem, std::size_t i) {
     for (std::size_t j = 0; j < f.size(); ++j)
         if (f[j] == i) return static_cast<int>(j);
     return -1;
-}
-
-std::string file_digest(const std::filesystem::path& p) {
-    try {
-        return sha256_of_file(p);
-    } catch (const std::exception&) {
-        return "";
-    }
 }
 
 }  // namespace
@@ -156,9 +148,9 @@ json fit_summary_json(const IdentificationProblem& problem, const FitResult& fit
            {"status", fit.success ? "ok" : "failed"},
            {"interrupted", fit.interrupted},
            {"config", ex.file.string()},
-           {"config_sha256", file_digest(ex.file)},
+           {"config_sha256", ex.config_sha256},
            {"data", ex.data_file.string()},
-           {"data_sha256", file_digest(ex.data_file)},
+           {"data_sha256", ex.data.content_sha256()},
            {"model", ex.network.preset},
            {"cost", {{"kind", ex.estimation_settings.cost == CostKind::l1 ? "l1" : "l2"},
                      {"value", json_number(fit.evaluation.cost)}}},
@@ -206,7 +198,7 @@ void write_fit_report(const std::filesystem::path& dir, const IdentificationProb
     std::filesystem::remove(dir / "summary.json", ec);
     if (ec) throw std::runtime_error("cannot replace " + (dir / "summary.json").string() + ": " + ec.message());
 
-    write_file_atomically(dir / "params.json", parameters_json(problem, fit).dump(2) + "\n");
+    write_file_atomically(dir / "params.json", json_text(parameters_json(problem, fit)) + "\n");
 
     std::ostringstream csv;
     csv << "name,value,init,min,max,fixed,std_error,ci95_low,ci95_high\n";
@@ -236,7 +228,7 @@ void write_fit_report(const std::filesystem::path& dir, const IdentificationProb
     else std::filesystem::remove(dir / "starts.csv", ec);  // a replaced multistart report's, no longer true
 
     // summary.json last: its presence marks a complete report.
-    write_file_atomically(dir / "summary.json", fit_summary_json(problem, fit, context).dump(2) + "\n");
+    write_file_atomically(dir / "summary.json", json_text(fit_summary_json(problem, fit, context)) + "\n");
 }
 
 }  // namespace tvid

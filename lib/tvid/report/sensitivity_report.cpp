@@ -10,6 +10,7 @@
 
 #include "tvid/io/atomic_file.hpp"
 #include "tvid/report/report_values.hpp"
+#include "tvid/io/json_text.hpp"
 
 namespace tvid {
 
@@ -187,7 +188,7 @@ void write_sensitivity_report(const std::filesystem::path& dir, const Sensitivit
     if (ec) throw std::runtime_error("cannot replace " + (dir / "sensitivity.json").string() + ": " + ec.message());
     write_file_atomically(dir / "sensitivity.csv", sensitivity_csv(study));
     write_file_atomically(dir / "ranking.csv", ranking_csv(rankings));
-    write_file_atomically(dir / "sensitivity.json", sensitivity_json(study, rankings, run).dump(2) + "\n");
+    write_file_atomically(dir / "sensitivity.json", json_text(sensitivity_json(study, rankings, run)) + "\n");
 }
 
 }  // namespace tvid

@@ -9,6 +9,7 @@ const char* to_string(SimulationStatus s) {
         case SimulationStatus::diverged: return "diverged";
         case SimulationStatus::step_budget_exceeded: return "step budget exceeded";
         case SimulationStatus::stopped_by_observer: return "stopped";
+        case SimulationStatus::stopped_by_request: return "stopped by a stop request";
     }
     return "unknown";
 }

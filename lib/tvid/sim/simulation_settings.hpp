@@ -16,4 +16,10 @@ struct SimulationSettings {
     std::size_t max_steps = 10'000'000;  ///< step budget per simulation (dopri5, rosenbrock4)
 };
 
+/// The most fixed (rk4) steps one simulation of a whole recording may take: more would
+/// run for many minutes per simulation, and the step counts would no longer be exact.
+/// The experiment loader refuses a `simulation.step` (or a time column) that asks for
+/// more; march_fixed_steps stops with step_budget_exceeded rather than step past it.
+inline constexpr double kMaxFixedStepsPerSimulation = 1e9;
+
 }  // namespace tvid

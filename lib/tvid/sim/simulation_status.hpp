@@ -3,7 +3,14 @@
 
 namespace tvid {
 
-enum class SimulationStatus { ok, not_finite, diverged, step_budget_exceeded, stopped_by_observer };
+enum class SimulationStatus {
+    ok,
+    not_finite,
+    diverged,
+    step_budget_exceeded,
+    stopped_by_observer,
+    stopped_by_request,  ///< a stop request (Ctrl-C, SIGTERM) during an optimizer's run
+};
 
 const char* to_string(SimulationStatus s);
 

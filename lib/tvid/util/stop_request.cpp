@@ -1,6 +1,7 @@
 #include "tvid/util/stop_request.hpp"
 
 #include <signal.h>
+#include <chrono>
 #include <unistd.h>
 
 namespace tvid {
@@ -18,6 +19,37 @@ extern "C" void on_stop_signal(int) {
 }  // namespace
 
 std::atomic<bool>& stop_request() { return g_stop; }
+
+namespace {
+std::atomic<int> g_interruptible{0};
+std::atomic<long long> g_grace_end_ns{0};  // steady-clock time a grace period ends; 0: none
+
+long long now_ns() {
+    return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch())
+        .count();
+}
+}  // namespace
+
+SimulationGracePeriod::SimulationGracePeriod(double seconds) {
+    g_grace_end_ns.store(now_ns() + static_cast<long long>(seconds * 1e9), std::memory_order_relaxed);
+}
+
+SimulationGracePeriod::~SimulationGracePeriod() { g_grace_end_ns.store(0, std::memory_order_relaxed); }
+
+InterruptibleSimulations::InterruptibleSimulations(bool interruptible) : interruptible_(interruptible) {
+    if (interruptible_) g_interruptible.fetch_add(1, std::memory_order_relaxed);
+}
+
+InterruptibleSimulations::~InterruptibleSimulations() {
+    if (interruptible_) g_interruptible.fetch_sub(1, std::memory_order_relaxed);
+}
+
+bool simulation_stop_requested() {
+    if (!g_stop.load(std::memory_order_relaxed)) return false;
+    if (g_interruptible.load(std::memory_order_relaxed) > 0) return true;
+    const long long grace_end = g_grace_end_ns.load(std::memory_order_relaxed);
+    return grace_end != 0 && now_ns() > grace_end;
+}
 
 void install_stop_signal_handlers() {
     struct sigaction action {};

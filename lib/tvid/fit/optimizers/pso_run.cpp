@@ -37,6 +37,9 @@ nlohmann::json swarm_details(const Experiment&, const FitResult& fit) { return o
 
 int swarm_iterations(const EstimationSettings& settings) { return settings.pso.iterations; }
 
+// The swarm runs its iterations to the end: its size says more than its termination.
+std::string swarm_headline(const FitResult& fit) { return "pso, " + std::to_string(fit.pso.particles) + " particles"; }
+
 }  // namespace
 
 OptimizerEntry pso_optimizer() {
@@ -44,7 +47,8 @@ OptimizerEntry pso_optimizer() {
                           .run = run_swarm,
                           .details = swarm_details,
                           .planned_iterations = swarm_iterations,
-                          .planned_is_cap = false};
+                          .planned_is_cap = false,
+                          .headline = swarm_headline};
 }
 
 }  // namespace tvid

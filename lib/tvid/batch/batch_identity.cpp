@@ -1,0 +1,85 @@
+#include "tvid/batch/batch_identity.hpp"
+
+
+#include <nlohmann/json.hpp>
+
+#include "tvid/io/atomic_file.hpp"
+#include "tvid/io/json_file.hpp"
+#include "tvid/io/json_text.hpp"
+#include "tvid/io/sha256.hpp"
+#include "tvid/util/input_error.hpp"
+
+namespace tvid {
+
+namespace {
+
+nlohmann::json identity_json(const BatchIdentity& id) {
+    return {{"tvid_batch", 1},
+            {"experiment", id.experiment},
+            {"experiment_sha256", id.experiment_sha256},
+            {"overrides", id.overrides},
+            {"seed", id.seed},
+            {"recordings", id.recordings}};
+}
+
+// What differs between the directory's batch and this one, in the user's words.
+std::string first_difference(const BatchIdentity& was, const BatchIdentity& now) {
+    if (was.experiment_sha256 != now.experiment_sha256)
+        return was.experiment == now.experiment ? "the experiment file changed since the batch began"
+                                                : "it ran another experiment file (" + was.experiment + ")";
+    if (was.overrides != now.overrides) {
+        std::string list;
+        for (const std::string& o : was.overrides) list += (list.empty() ? "" : " ") + std::string("--set ") + o;
+        return "it ran with other --set overrides (" + (list.empty() ? std::string("none") : list) + ")";
+    }
+    if (was.seed != now.seed)
+        return "it ran with " + (was.seed.empty() ? std::string("the experiment's seed") : "--seed " + was.seed);
+    return "it ran over other recordings (--data, --data-list)";
+}
+
+}  // namespace
+
+BatchIdentity batch_identity(const BatchSettings& settings, const std::vector<std::filesystem::path>& recordings) {
+    BatchIdentity id;
+    id.experiment = settings.experiment.string();
+    id.experiment_sha256 = sha256_of_file(settings.experiment);
+    for (const Override& o : settings.overrides) id.overrides.push_back(o.key + "=" + o.value);
+    id.seed = settings.seed ? std::to_string(*settings.seed) : std::string();
+    for (const std::filesystem::path& r : recordings) id.recordings.push_back(r.string());
+    return id;
+}
+
+std::filesystem::path batch_identity_file(const std::filesystem::path& dir) { return dir / ".tvid-batch.json"; }
+
+void write_batch_identity(const std::filesystem::path& dir, const BatchIdentity& identity) {
+    write_file_atomically(batch_identity_file(dir), json_text(identity_json(identity)) + "\n");
+}
+
+void require_same_batch(const std::filesystem::path& dir, const BatchIdentity& identity) {
+    const std::filesystem::path file = batch_identity_file(dir);
+    const std::string where = (dir / "batch.csv").string();
+    const std::string remedy = ": use another -o, or --force to start over";
+    std::error_code ec;
+    if (!std::filesystem::exists(file, ec))
+        throw InputError(where, 0, "", "has no record of the batch that wrote it (" + file.filename().string() + ")" + remedy);
+    BatchIdentity was;
+    const nlohmann::json j = read_json_file(file, "batch record");
+    try {
+        was.experiment = j.at("experiment").get<std::string>();
+        was.experiment_sha256 = j.at("experiment_sha256").get<std::string>();
+        was.overrides = j.at("overrides").get<std::vector<std::string>>();
+        was.seed = j.at("seed").get<std::string>();
+        was.recordings = j.at("recordings").get<std::vector<std::string>>();
+    } catch (const nlohmann::json::exception&) {
+        throw InputError(file.string(), 0, "", "is not a batch record tvid wrote" + remedy);
+    }
+    // A name with an invalid UTF-8 byte is stored with U+FFFD: compare as stored.
+    const nlohmann::json now_stored = nlohmann::json::parse(json_text(identity_json(identity)));
+    BatchIdentity now = identity;
+    now.experiment = now_stored.at("experiment").get<std::string>();
+    now.overrides = now_stored.at("overrides").get<std::vector<std::string>>();
+    now.recordings = now_stored.at("recordings").get<std::vector<std::string>>();
+    if (!(was == now)) throw InputError(where, 0, "", "is another batch's: " + first_difference(was, now) + remedy);
+}
+
+}  // namespace tvid

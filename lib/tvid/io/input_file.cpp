@@ -1,0 +1,96 @@
+#include "tvid/io/input_file.hpp"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+
+#include "tvid/util/input_error.hpp"
+
+namespace tvid {
+
+namespace {
+
+// What a file that is not a regular file is, for the message.
+std::string kind_of(mode_t mode) {
+    if (S_ISDIR(mode)) return "a directory";
+    if (S_ISFIFO(mode)) return "a named pipe (FIFO)";
+    if (S_ISCHR(mode) || S_ISBLK(mode)) return "a device";
+    if (S_ISSOCK(mode)) return "a socket";
+    return "not a regular file";
+}
+
+// Closes the descriptor however the read ends.
+struct Descriptor {
+    int fd;
+    ~Descriptor() {
+        if (fd >= 0) ::close(fd);
+    }
+};
+
+}  // namespace
+
+std::string not_a_file_reason(const std::filesystem::path& file) {
+    struct stat st {};
+    if (::stat(file.c_str(), &st) != 0) {
+        if (errno == ELOOP) return "is a symbolic link loop";
+        if (errno == ENOENT || errno == ENOTDIR) return "does not exist";
+        return std::string("cannot be read: ") + std::strerror(errno);
+    }
+    return S_ISREG(st.st_mode) ? std::string() : "is " + kind_of(st.st_mode);
+}
+
+std::string byte_size_text(double bytes) {
+    const char* units[] = {"bytes", "kB", "MB", "GB", "TB"};
+    int u = 0;
+    while (bytes >= 1000.0 && u < 4) bytes /= 1000.0, ++u;
+    char buf[32];
+    std::snprintf(buf, sizeof buf, u == 0 ? "%.0f %s" : "%.3g %s", bytes, units[u]);
+    return buf;
+}
+
+std::string read_input_file(const std::filesystem::path& file, const std::string& what, std::size_t max_bytes) {
+    const std::string name = file.string();
+    // O_NONBLOCK: opening a FIFO must not wait for a writer (it is refused below).
+    const Descriptor d{::open(file.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK | O_NOCTTY)};
+    if (d.fd < 0) {
+        const int err = errno;
+        if (err == ENOENT || err == ENOTDIR) throw InputError(name, 0, "", "no such " + what);
+        if (err == ELOOP) throw InputError(name, 0, "", "the " + what + " is a symbolic link loop");
+        throw InputError(name, 0, "", "cannot open the " + what + ": " + std::strerror(err));
+    }
+    struct stat st {};
+    if (::fstat(d.fd, &st) != 0)
+        throw InputError(name, 0, "", "cannot open the " + what + ": " + std::strerror(errno));
+    if (!S_ISREG(st.st_mode)) throw InputError(name, 0, "", "the " + what + " is " + kind_of(st.st_mode) + ", not a file");
+    const auto too_large = [&](double bytes) {
+        return InputError(name, 0, "", "the " + what + " is " + byte_size_text(bytes) + ", more than the " +
+                                           byte_size_text(static_cast<double>(max_bytes)) + " tvid reads");
+    };
+    if (static_cast<std::uintmax_t>(st.st_size) > max_bytes) throw too_large(static_cast<double>(st.st_size));
+    std::string data;
+    data.resize(static_cast<std::size_t>(st.st_size) + 1);  // one more: a file that grew is seen
+    std::size_t got = 0;
+    for (;;) {
+        if (got == data.size()) {
+            if (data.size() > max_bytes) throw too_large(static_cast<double>(data.size()));
+            data.resize(std::min(max_bytes + 1, 2 * data.size() + 4096));
+        }
+        const ssize_t n = ::read(d.fd, data.data() + got, data.size() - got);
+        if (n < 0) {
+            if (errno == EINTR) continue;
+            throw InputError(name, 0, "", "cannot read the " + what + ": " + std::strerror(errno));
+        }
+        if (n == 0) break;
+        got += static_cast<std::size_t>(n);
+    }
+    if (got > max_bytes) throw too_large(static_cast<double>(got));
+    data.resize(got);
+    return data;
+}
+
+}  // namespace tvid
