@@ -280,7 +280,7 @@ TEST_CASE("the report records the data and experiment as they were read at the s
     args[1] = config.string();
     args.insert(args.end(), {"--set", "data.file=" + data.string()});
     TvidProcess fit(args);
-    std::this_thread::sleep_for(std::chrono::seconds(2));
+    std::this_thread::sleep_for(std::chrono::duration<double>(2 * kTimeScale));
     REQUIRE_FALSE(fit.wait(0));
     fs::remove(data);
     std::ofstream(config, std::ios::app) << "# changed during the fit\n";
@@ -299,7 +299,7 @@ TEST_CASE("a stop request reaches into a slow simulation", "[e2e][hostile][inter
     std::vector<std::string> args = quick_fit(out);
     args.insert(args.end(), {"--set", "simulation.step=1e-8"});
     TvidProcess fit(args);
-    std::this_thread::sleep_for(std::chrono::seconds(2));
+    std::this_thread::sleep_for(std::chrono::duration<double>(2 * kTimeScale));
     REQUIRE_FALSE(fit.wait(0));
     const auto sent = std::chrono::steady_clock::now();
     fit.send(SIGTERM);
@@ -317,7 +317,7 @@ TEST_CASE("a stop request reaches into a slow simulation", "[e2e][hostile][inter
     batch.erase(std::find(batch.begin(), batch.end(), "--quiet"));
     batch.insert(batch.end(), {"--set", "simulation.step=1e-8"});
     TvidProcess b(batch);
-    std::this_thread::sleep_for(std::chrono::seconds(2));
+    std::this_thread::sleep_for(std::chrono::duration<double>(2 * kTimeScale));
     REQUIRE_FALSE(b.wait(0));
     b.send(SIGTERM);
     REQUIRE(b.wait(120));

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <fstream>
 #include <sstream>
+#include <string_view>
 
 #include "tvid/experiment/channel_reader.hpp"
 #include "tvid/experiment/experiment.hpp"
@@ -44,6 +45,34 @@ std::vector<double> cumulative_crank_angle(const CsvTable& data, const std::stri
     return a;
 }
 
+// The line of a document marker ('---' or '...' at the start of a line) that follows the
+// first document's content, or 0. yaml-cpp's Load reads the first document and ignores the
+// rest; its LoadAll can spin without end on malformed input (found by fuzzing), so the
+// markers are looked for in the text.
+int second_document_line(const std::string& text) {
+    bool content_seen = false, ended = false;  // ended: a '...' closed the first document
+    int line = 1;
+    for (std::size_t start = 0; start < text.size(); ++line) {
+        const std::size_t end = std::min(text.find('\n', start), text.size());
+        const std::string_view l(text.data() + start, end - start);
+        const auto is_marker = [&](std::string_view m) {
+            return l.substr(0, 3) == m && (l.size() == 3 || l[3] == ' ' || l[3] == '\t' || l[3] == '\r');
+        };
+        const std::size_t first = l.find_first_not_of(" \t\r");
+        const bool content = first != std::string_view::npos && l[first] != '#';
+        if (is_marker("---")) {
+            if (content_seen) return line;
+        } else if (is_marker("...")) {
+            ended = content_seen;
+        } else if (content) {
+            if (ended) return line;
+            content_seen = true;
+        }
+        start = end + 1;
+    }
+    return 0;
+}
+
 // The experiment file's YAML; `sha256` receives the digest of the bytes parsed.
 YAML::Node parse_file(const std::filesystem::path& file, std::string& sha256) {
     const std::string name = file.string();
@@ -60,13 +89,11 @@ YAML::Node parse_file(const std::filesystem::path& file, std::string& sha256) {
             throw InputError(name, static_cast<int>(line), "", "not a text file (binary data)");
         }
     }
+    if (const int line = second_document_line(content); line > 0)
+        throw InputError(name, line, "", "a second YAML document (after '---'): an experiment file holds one");
     YAML::Node root;
     try {
-        std::vector<YAML::Node> documents = YAML::LoadAll(content);
-        if (documents.size() > 1)
-            throw InputError(name, documents[1].Mark().is_null() ? 0 : documents[1].Mark().line + 1, "",
-                             "a second YAML document (after '---'): an experiment file holds one");
-        if (!documents.empty()) root = documents.front();
+        root = YAML::Load(content);
     } catch (const YAML::Exception& e) {
         throw InputError(name, e.mark.is_null() ? 0 : e.mark.line + 1, "", "YAML syntax error: " + e.msg);
     }
