@@ -202,7 +202,7 @@ std::unique_ptr<PreparedBatch> prepare_batch(const BatchCommand& cmd, const Batc
                          "a batch is already here: use --resume to continue it or --force to start over");
     OutputDirectoryLock lock = prepare_output_directory(dir, "batch directory");
     // --resume continues only the batch that began here (same experiment, --set, --seed, recordings).
-    const BatchIdentity identity = batch_identity(settings, request.recordings);
+    const BatchIdentity identity = batch_identity(settings, request.recordings, ex.config_sha256);
     if (cmd.resume && std::filesystem::exists(table)) require_same_batch(dir, identity);
     std::map<std::size_t, BatchRow> rows = cmd.resume ? resumed_rows(table, columns, jobs, cmd.common.quiet)
                                                       : std::map<std::size_t, BatchRow>{};

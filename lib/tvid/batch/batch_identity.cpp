@@ -6,7 +6,6 @@
 #include "tvid/io/atomic_file.hpp"
 #include "tvid/io/json_file.hpp"
 #include "tvid/io/json_text.hpp"
-#include "tvid/io/sha256.hpp"
 #include "tvid/util/input_error.hpp"
 
 namespace tvid {
@@ -39,10 +38,11 @@ std::string first_difference(const BatchIdentity& was, const BatchIdentity& now)
 
 }  // namespace
 
-BatchIdentity batch_identity(const BatchSettings& settings, const std::vector<std::filesystem::path>& recordings) {
+BatchIdentity batch_identity(const BatchSettings& settings, const std::vector<std::filesystem::path>& recordings,
+                             const std::string& experiment_sha256) {
     BatchIdentity id;
     id.experiment = settings.experiment.string();
-    id.experiment_sha256 = sha256_of_file(settings.experiment);
+    id.experiment_sha256 = experiment_sha256;
     for (const Override& o : settings.overrides) id.overrides.push_back(o.key + "=" + o.value);
     id.seed = settings.seed ? std::to_string(*settings.seed) : std::string();
     for (const std::filesystem::path& r : recordings) id.recordings.push_back(r.string());

@@ -23,8 +23,10 @@ struct BatchIdentity {
     bool operator==(const BatchIdentity&) const = default;
 };
 
-/// The identity of the batch `settings` runs over `recordings`; reads the experiment file.
-BatchIdentity batch_identity(const BatchSettings& settings, const std::vector<std::filesystem::path>& recordings);
+/// The identity of the batch `settings` runs over `recordings`; `experiment_sha256` is the
+/// digest of the experiment file as the loader read it (Experiment::config_sha256).
+BatchIdentity batch_identity(const BatchSettings& settings, const std::vector<std::filesystem::path>& recordings,
+                             const std::string& experiment_sha256);
 
 /// The identity file's path in a batch directory.
 std::filesystem::path batch_identity_file(const std::filesystem::path& dir);
