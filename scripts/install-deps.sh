@@ -14,6 +14,7 @@ packages=(
   libssl-dev             # OpenSSL: SHA-256 of config and data in the report
   python3                # data generation and test helpers (standard library only)
   python3-matplotlib     # scripts/plot_report.py: figures of a report directory
+  python3-numpy          # scripts/fir_reference.py: the black-box reference of a measured bench
   clang libclang-rt-14-dev libomp-dev  # the asan preset and the libFuzzer targets (scripts/fuzz.sh)
   libopenmpi-dev openmpi-bin           # Open MPI: the mpi preset (tvid fit / batch under mpirun)
 )

@@ -5,6 +5,7 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <map>
+#include <numbers>
 #include <set>
 #include <string>
 #include <vector>
@@ -24,7 +25,7 @@ double typical_value(const std::string& field) {
         {"k", 120.0},     {"c", 0.5},          {"k_minus", 200.0},     {"k_plus", 300.0}, {"c_minus", 1.5},
         {"c_plus", 2.5},  {"mu", 0.01},        {"sigma", 10.0},       {"ratio", 2.5},    {"offset", 0.3},
         {"scale", 1.7},   {"bore", 0.08},      {"crank_radius", 0.04}, {"rod_length", 0.13},
-        {"mass", 0.4},    {"p_atm", 1.0e5}};
+        {"mass", 0.4},    {"p_atm", 1.0e5},    {"amplitude", 4.0},     {"phase", 0.7}};
     return values.at(field);
 }
 
@@ -57,6 +58,7 @@ struct AllKindsNetwork {
         cylinder.node = 2;
         cylinder.phase = 1.0;
         spec.cylinders.push_back(cylinder);
+        spec.order_torques.push_back(OrderTorqueSpec{"ripple", 1, 2.0, {}, {}});
 
         for_each_element_kind([&](auto kind) {
             using Kind = decltype(kind);
@@ -111,7 +113,8 @@ TEST_CASE("every element kind has one row of the table", "[model][elements]") {
         names.insert(Row::name);
     });
     CHECK(position == kElementKindCount);
-    CHECK(names == std::set<std::string>{"spring_damper", "clearance", "friction", "gear_mesh", "torque", "cylinder"});
+    CHECK(names == std::set<std::string>{"spring_damper", "clearance", "friction", "gear_mesh", "torque", "cylinder",
+                                         "order_torque"});
     // The test network below has elements of every kind.
     const AllKindsNetwork net;
     for (std::size_t count : element_counts(net.spec)) CHECK(count >= 1);
@@ -124,7 +127,8 @@ TEST_CASE("each kind's field walk visits each field once, in step over a spec an
         {"friction", {"c"}},
         {"gear_mesh", {"ratio", "k", "c", "k_minus", "k_plus", "c_minus", "c_plus", "mu", "sigma"}},
         {"torque", {"offset", "scale"}},
-        {"cylinder", {"bore", "crank_radius", "rod_length", "mass", "p_atm"}}};
+        {"cylinder", {"bore", "crank_radius", "rod_length", "mass", "p_atm"}},
+        {"order_torque", {"amplitude", "phase"}}};
     for_each_element_kind([&](auto kind) {
         using Kind = decltype(kind);
         typename Kind::Spec spec{};
@@ -216,5 +220,38 @@ TEST_CASE("the torque formulas give the same bits for double, Dual and every lan
             INFO("lane " << l << ", output " << net.spec.outputs[k].name);
             CHECK(packed.output_after_derivative(k, xp.data())[l] == model.output_after_derivative(k, kState.data()));
         }
+    }
+}
+
+TEST_CASE("an order torque is A cos(k theta + phi) on its node and repeats every 1/k revolution", "[model][elements]") {
+    // One node of J = 2 on a spring to ground (k = 10), an order-2 torque of A = 3, φ = 0.5.
+    NetworkSpec spec;
+    spec.preset = "custom";
+    spec.parameter_names = {"A", "phi"};
+    spec.input_names = {"u"};
+    spec.nodes.push_back(NodeSpec{"shaft", Field::value(2.0), false});
+    spec.spring_dampers.push_back(SpringDamperSpec{"mount", 0, kGround, Field::value(10.0), Field::value(0.0)});
+    spec.order_torques.push_back(OrderTorqueSpec{"ripple", 0, 2.0, Field::param(0), Field::param(1)});
+    OutputSpec ripple;
+    ripple.name = "ripple";
+    ripple.kind = OutputKind::torque;
+    REQUIRE(spec.find_element("ripple", ripple.element));
+    spec.outputs.push_back(ripple);
+
+    NetworkModel<Dual> model(spec);
+    const Dual p[2] = {Dual::variable(3.0, 0, 2), Dual::variable(0.5, 1, 2)};
+    model.set_parameters(p);
+    const double u[1] = {0.0};
+    for (const double theta : {0.4, 0.4 + std::numbers::pi}) {  // half a revolution later: one period of order 2
+        const Dual x[2] = {Dual(theta), Dual(1.5)};
+        Dual f[2];
+        model.derivative(x, u, f);
+        const double torque = 3.0 * std::cos(2 * 0.4 + 0.5);
+        CHECK(f[0].value() == Approx(1.5));
+        CHECK(f[1].value() == Approx((torque - 10.0 * theta) / 2.0));
+        CHECK(model.output(0, x, u).value() == Approx(torque));
+        // d/dA = cos(kθ + φ), d/dφ = −A sin(kθ + φ).
+        CHECK(model.output(0, x, u).derivative(0) == Approx(std::cos(2 * 0.4 + 0.5)));
+        CHECK(model.output(0, x, u).derivative(1) == Approx(-3.0 * std::sin(2 * 0.4 + 0.5)));
     }
 }

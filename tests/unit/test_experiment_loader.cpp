@@ -13,6 +13,7 @@
 
 #include "support/test_files.hpp"
 #include "tvid/experiment/experiment.hpp"
+#include "tvid/model/network_model.hpp"
 #include "tvid/util/input_error.hpp"
 
 using namespace tvid::test;
@@ -974,7 +975,70 @@ TEST_CASE("a gear mesh with explicit flank fields, and an element named by defau
     CHECK(ex.network.outputs[2].element.index == 0);
 }
 
+TEST_CASE("a gear mesh's torque output reads the input shaft, or the output shaft with side: output",
+          "[experiment][network]") {
+    Scratch s;
+    std::vector<std::string> lines =
+        with(kCustom, 13, "    - { type: gear_mesh, name: stage, between: [motor, load], ratio: 3, k: 100, c: 0 }");
+    lines = with(lines, 19, "  T_shaft: { column: T, torque: stage, side: output, offset: d_T }");
+    lines = with(lines, 26, "  # no smoothing: the mesh has no backlash");
+    lines = inserted(lines, 19, "  T_in: { column: w, torque: stage, side: input }");
+    const Experiment ex = s.load(lines);
+    const int out = ex.network.output_index("T_shaft"), in = ex.network.output_index("T_in");
+    REQUIRE(out >= 0);
+    REQUIRE(in >= 0);
+    CHECK(ex.network.outputs[static_cast<std::size_t>(out)].side == tvid::TorqueSide::output);
+    CHECK(ex.network.outputs[static_cast<std::size_t>(in)].side == tvid::TorqueSide::input);
+
+    // Twist θm − 3·θl = 0.3 − 3·0.05 = 0.15 rad: mesh torque 100 · 0.15 = 15 N m on the
+    // motor's shaft, 3 · 15 = 45 N m on the load's.
+    tvid::NetworkModel<double> model(ex.network);
+    std::vector<double> p(ex.network.parameter_names.size(), 1.0);
+    p.at(static_cast<std::size_t>(ex.network.parameter_index("d_T"))) = 0.0;
+    model.set_parameters(p.data());
+    const double x[4] = {0.3, 0.05, 0.0, 0.0};
+    const double u[1] = {0.0};
+    CHECK(model.output(static_cast<std::size_t>(in), x, u) == Approx(15.0));
+    CHECK(model.output(static_cast<std::size_t>(out), x, u) == Approx(45.0));
+}
+
+TEST_CASE("an order torque is read with its order, amplitude and phase", "[experiment][network]") {
+    Scratch s;
+    const Experiment ex = s.load(inserted(
+        kCustom, 14, "    - { type: order_torque, name: ripple, node: load, order: 0.5, amplitude: 2, phase: 0.3 }"));
+    REQUIRE(ex.network.order_torques.size() == 1);
+    const tvid::OrderTorqueSpec& e = ex.network.order_torques[0];
+    CHECK(e.name == "ripple");
+    CHECK(e.node == 1);
+    CHECK(e.order == 0.5);
+    CHECK(e.amplitude.constant == 2);
+    CHECK(e.phase.constant == 0.3);
+    tvid::ElementRef ref{};
+    CHECK(ex.network.find_element("ripple", ref));
+    CHECK(ref.kind == tvid::ElementKind::order_torque);
+}
+
 TEST_CASE("custom network errors name the line and the key", "[experiment][network]") {
+    SECTION("an order that is not positive") {
+        expect_error(inserted(kCustom, 14, "    - { type: order_torque, node: load, order: 0, amplitude: 2 }"), 15,
+                     "model.elements[6].order", "positive");
+    }
+    SECTION("an order torque without its amplitude") {
+        expect_error(inserted(kCustom, 14, "    - { type: order_torque, node: load, order: 1 }"), 15,
+                     "model.elements[6].amplitude", "missing");
+    }
+    SECTION("side: on an element with one torque") {
+        expect_error(with(kCustom, 19, "  T_shaft: { column: T, torque: shaft, side: output }"), 19,
+                     "outputs.T_shaft.side", "same torque on both sides");
+    }
+    SECTION("side: on a speed output") {
+        expect_error(with(kCustom, 17, "  w_load:  { column: w, speed: load, side: output }"), 17,
+                     "outputs.w_load.side", "applies to a torque output");
+    }
+    SECTION("side: neither input nor output") {
+        expect_error(with(kCustom, 19, "  T_shaft: { column: T, torque: stage, side: both }"), 19,
+                     "outputs.T_shaft.side", "input");
+    }
     SECTION("unknown node in between") {
         expect_error(with(kCustom, 10, "    - { type: spring_damper, name: shaft, between: [motor, lod], k: k_s }"), 10,
                      "model.elements[1].between", "no node named 'lod'");

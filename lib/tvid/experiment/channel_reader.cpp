@@ -88,12 +88,19 @@ OutputSpec read_custom_output(const YamlMap& section, const std::string& name, c
         o.kind = OutputKind::torque;
         const std::string element = m.text("torque");
         if (!net.find_element(element, o.element)) m.fail("torque", "no element named '" + element + "'");
+        if (m.has("side")) {
+            o.side = m.choice("side", {"input", "output"}) == "output" ? TorqueSide::output : TorqueSide::input;
+            if (!element_has_output_side(o.element.kind))
+                m.fail("side", std::string("a ") + element_kind_name(o.element.kind) +
+                                   " carries the same torque on both sides; side: applies to a gear_mesh");
+        }
     } else {
         const std::string key = m.has("speed") ? "speed" : "angle";
         o.kind = key == "speed" ? OutputKind::speed : OutputKind::angle;
         const std::string node = m.text(key);
         o.node = net.node_index(node);
         if (o.node < 0) m.fail(key, "no node named '" + node + "'");
+        if (m.has("side")) m.fail("side", "side: applies to a torque output (torque: ELEMENT)");
     }
     if (m.has("offset")) o.offset = read_field(src, m.get("offset"), m.key_path("offset"), net.parameter_names);
     return o;
@@ -179,7 +186,7 @@ OutputBindings read_outputs(const YamlMap& outputs, NetworkSpec& network, const 
         if (custom) {
             if (network.output_index(name) >= 0) outputs.fail(name, "output defined twice");
             network.outputs.push_back(read_custom_output(outputs, name, network));
-            out.channels.push_back(read_binding(outputs, name, data, {"speed", "angle", "torque", "offset"}));
+            out.channels.push_back(read_binding(outputs, name, data, {"speed", "angle", "torque", "side", "offset"}));
         } else {
             out.channels.push_back(read_binding(outputs, name, data, {}));
         }

@@ -164,7 +164,8 @@ private:
         for (std::size_t i = 0; i < list.size(); ++i) {
             const YamlMap m(src_, list[i], path + "[" + std::to_string(i) + "]");
             const std::string type =
-                m.choice("type", {"spring_damper", "clearance", "friction", "gear_mesh", "torque", "cylinder"});
+                m.choice("type", {"spring_damper", "clearance", "friction", "gear_mesh", "torque", "cylinder",
+                                  "order_torque"});
             const std::string name = m.has("name") ? m.text("name") : type + std::to_string(i + 1);
             if (!names.insert(name).second) m.fail("name", "an element named '" + name + "' already exists");
             if (type == "spring_damper") {
@@ -236,6 +237,19 @@ private:
                     !(e.rod_length.constant > e.crank_radius.constant))
                     m.fail("rod_length", "the connecting rod must be longer than the crank radius");
                 net_.cylinders.push_back(e);
+            } else if (type == "order_torque") {
+                m.allow_only({"type", "name", "node", "order", "amplitude", "phase"});
+                if (!m.has("node")) m.fail_missing("node");
+                OrderTorqueSpec e;
+                e.name = name;
+                e.node = node(m, "node", m.get("node"), false);
+                e.order = m.number("order");
+                if (!(e.order > 0) || e.order > 1000)
+                    m.fail("order", "an order is a positive number of cycles per revolution of the node (at most 1000)");
+                e.amplitude = field(m, "amplitude");
+                e.phase = field_or(m, "phase", Field::value(0.0));
+                check_signs<elements::OrderTorque>(m, e);
+                net_.order_torques.push_back(e);
             } else {  // torque
                 m.allow_only({"type", "name", "node", "input", "offset", "scale"});
                 if (!m.has("node")) m.fail_missing("node");

@@ -157,9 +157,24 @@ private:
         switch (o.kind) {
             case OutputKind::speed: y = omega[o.node]; break;
             case OutputKind::angle: y = theta[o.node]; break;
-            case OutputKind::torque: y = torque_of(o.element, theta, omega); break;
+            case OutputKind::torque:
+                y = torque_of(o.element, theta, omega);
+                if (o.side == TorqueSide::output) y = output_side_torque(o.element, y);
+                break;
         }
         return y + output_offsets_[k];
+    }
+
+    // Element ref's torque t as its output side carries it (elements/gear_mesh.hpp).
+    T output_side_torque(const ElementRef& ref, const T& t) const {
+        T y = t;
+        for_each_element_kind([&](auto kind) {
+            using Kind = decltype(kind);
+            if constexpr (requires { Kind::output_side_torque(elements_of<Kind>()[0], t); })
+                if (ref.kind == ElementRow<Kind>::kind)
+                    y = Kind::output_side_torque(elements_of<Kind>()[static_cast<std::size_t>(ref.index)], t);
+        });
+        return y;
     }
 
     // The torque element `ref` transmitted in the last derivative() call.

@@ -58,4 +58,14 @@ const char* element_kind_name(ElementKind kind) {
     return name;
 }
 
+bool element_has_output_side(ElementKind kind) {
+    bool has = false;
+    for_each_element_kind([&](auto k) {
+        using K = decltype(k);
+        if (ElementRow<K>::kind == kind)
+            has = requires(const typename K::template Bound<double>& e, const double& t) { K::output_side_torque(e, t); };
+    });
+    return has;
+}
+
 }  // namespace tvid

@@ -46,6 +46,10 @@ struct ElementRef {
 
 enum class OutputKind { speed, angle, torque };
 
+/// Which shaft a torque output reads for an element whose two sides carry different
+/// torques (a gear mesh: T on its input shaft a, n·T on its output shaft b).
+enum class TorqueSide { input, output };
+
 /// A model output compared with a measured channel: y = quantity + offset
 /// (`offset` is the measurement's amplitude shift, e.g. Δds of Yoshida & Takamatsu eq. 15c).
 struct OutputSpec {
@@ -54,6 +58,7 @@ struct OutputSpec {
     int node = 0;              ///< for speed and angle
     ElementRef element{ElementKind::spring_damper, 0};  ///< for torque
     Field offset = Field::value(0.0);
+    TorqueSide side = TorqueSide::input;  ///< for torque: output only where element_has_output_side
 };
 
 struct NetworkSpec {
@@ -62,7 +67,8 @@ struct NetworkSpec {
     std::vector<std::string> input_names;     ///< model inputs by time, TorqueSpec::input indexes these
     std::vector<std::string> angle_input_names; ///< model inputs by crank angle, CylinderSpec::pressure indexes these
     std::vector<NodeSpec> nodes;
-    // One list per element kind: spring_dampers, clearances, frictions, gear_meshes, torques, cylinders.
+    // One list per element kind: spring_dampers, clearances, frictions, gear_meshes, torques, cylinders,
+    // order_torques.
 #define TVID_ELEMENT_LIST(kind, Type, list) std::vector<elements::Type::Spec> list;
     TVID_ELEMENT_KINDS(TVID_ELEMENT_LIST)
 #undef TVID_ELEMENT_LIST
@@ -125,5 +131,9 @@ std::array<std::size_t, kElementKindCount> element_counts(const NetworkSpec& n);
 
 /// The experiment file's name of an element kind ("spring_damper", …).
 const char* element_kind_name(ElementKind kind);
+
+/// Whether elements of this kind carry a different torque on their output side
+/// (their type defines output_side_torque: a gear mesh).
+bool element_has_output_side(ElementKind kind);
 
 }  // namespace tvid

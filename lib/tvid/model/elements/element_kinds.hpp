@@ -15,6 +15,7 @@
 #include "tvid/model/elements/cylinder.hpp"
 #include "tvid/model/elements/friction.hpp"
 #include "tvid/model/elements/gear_mesh.hpp"
+#include "tvid/model/elements/order_torque.hpp"
 #include "tvid/model/elements/spring_damper.hpp"
 #include "tvid/model/elements/torque.hpp"
 
@@ -25,4 +26,5 @@
     X(friction, Friction, frictions)               \
     X(gear_mesh, GearMesh, gear_meshes)            \
     X(torque, Torque, torques)                     \
-    X(cylinder, Cylinder, cylinders)
+    X(cylinder, Cylinder, cylinders)               \
+    X(order_torque, OrderTorque, order_torques)

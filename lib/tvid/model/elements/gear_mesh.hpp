@@ -65,6 +65,13 @@ struct GearMesh {
         node_torque[e.a] -= t;            // mesh torque T on a
         node_torque[e.b] += e.ratio * t;  // and n·T on b
     }
+
+    /// The torque on the output shaft b of mesh torque t: n·T (a transducer on the
+    /// output shaft reads this).
+    template <class T>
+    [[gnu::always_inline]] static T output_side_torque(const Bound<T>& e, const T& t) {
+        return e.ratio * t;
+    }
 };
 
 }  // namespace elements
