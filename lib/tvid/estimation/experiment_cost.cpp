@@ -13,8 +13,7 @@ double sign(double e) { return e > 0 ? 1.0 : (e < 0 ? -1.0 : 0.0); }
 }  // namespace
 
 ExperimentCost::ExperimentCost(const IdentificationProblem& problem, int threads)
-    : problem_(&problem),
-      least_squares_(problem, threads, problem.definition().jacobian),
+    : least_squares_(problem, threads, problem.definition().jacobian),
       cost_(problem.definition().cost),
       outputs_(problem.definition().measured.size()) {
     for (const Window& w : problem.definition().estimation) window_samples_.push_back(scored_sample_count(w));

@@ -32,7 +32,6 @@ public:
     double cost_of_residuals(const double* r) const;
 
 private:
-    const IdentificationProblem* problem_;
     ExperimentLeastSquares least_squares_;
     CostKind cost_;
     std::size_t outputs_;
