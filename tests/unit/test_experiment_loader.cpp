@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "support/test_files.hpp"
+#include "tvid/estimation/problem_definition.hpp"
 #include "tvid/experiment/experiment.hpp"
 #include "tvid/model/network_model.hpp"
 #include "tvid/util/input_error.hpp"
@@ -1000,6 +1001,51 @@ TEST_CASE("a gear mesh's torque output reads the input shaft, or the output shaf
     const double u[1] = {0.0};
     CHECK(model.output(static_cast<std::size_t>(in), x, u) == Approx(15.0));
     CHECK(model.output(static_cast<std::size_t>(out), x, u) == Approx(45.0));
+}
+
+TEST_CASE("a channel's delay shifts it onto the model's time, interpolated, held at the ends", "[experiment][channels]") {
+    Scratch s;
+    // u = 500 t (the ramp of the recording, 1 ms samples) read 2.5 ms late: 2.5 samples;
+    // T = 1 + 1000 t read 2 ms early.
+    std::vector<std::string> lines = with(kCustom, 15, "inputs: { T_in: { column: u, delay: 0.0025 } }");
+    lines = with(lines, 19, "  T_shaft: { column: T, torque: shaft, offset: d_T, delay: -0.002 }");
+    const Experiment ex = s.load(lines);
+    CHECK(ex.inputs[0].delay == 0.0025);
+    CHECK(ex.outputs[2].delay == -0.002);
+    const tvid::ProblemDefinition d = tvid::problem_definition(ex);
+    const std::vector<double>& t = ex.data.column("t");
+    std::vector<double> u(1);
+    for (std::size_t i = 0; i < t.size(); ++i) {
+        std::size_t hint = 0;
+        d.inputs.at(t[i], hint, u.data());
+        INFO("sample " << i);
+        CHECK(u[0] == Approx(std::min(0.5 * static_cast<double>(i) + 1.25, 50.0)).margin(1e-9));  // held at the end
+        CHECK(d.measured[2][i] == Approx(std::max(1.0 + static_cast<double>(i) - 2.0, 1.0)).margin(1e-9));
+    }
+}
+
+TEST_CASE("a delay of whole samples shifts a sine exactly; one past the recording is refused", "[experiment][channels]") {
+    Scratch s;
+    std::ostringstream csv;
+    csv << "t,u,w,a,T\n";
+    const auto sine = [](int i) { return std::sin(2 * std::numbers::pi * 7.0 * i / 1000.0); };
+    for (int i = 0; i <= 400; ++i) csv << i << "e-3," << sine(i) << ",0,0," << sine(i) << '\n';
+    s.dir.write("sine.csv", csv.str());
+    std::vector<std::string> lines = with(kCustom, 3, "data: { file: sine.csv, time: t }");
+    lines = with(lines, 15, "inputs: { T_in: { column: u, delay: 0.005 } }");
+    const Experiment ex = s.load(lines);
+    const tvid::ProblemDefinition d = tvid::problem_definition(ex);
+    const std::vector<double>& recorded = ex.data.column("u");
+    std::vector<double> u(1);
+    for (std::size_t i = 0; i + 5 <= 400; ++i) {
+        std::size_t hint = 0;
+        d.inputs.at(ex.data.column("t")[i], hint, u.data());
+        INFO("sample " << i);
+        CHECK(u[0] == Approx(recorded[i + 5]).margin(1e-12));  // five samples on
+        CHECK(recorded[i + 5] == Approx(sine(static_cast<int>(i) + 5)).margin(1e-5));  // the sine, as written
+    }
+    expect_error(with(kCustom, 15, "inputs: { T_in: { column: u, delay: 0.2 } }"), 15, "inputs.T_in.delay",
+                 "past the recording");
 }
 
 TEST_CASE("an order torque is read with its order, amplitude and phase", "[experiment][network]") {

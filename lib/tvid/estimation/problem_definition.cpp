@@ -11,6 +11,28 @@ std::vector<double> scaled(const std::vector<double>& v, double scale) {
         for (double& x : out) x *= scale;
     return out;
 }
+
+// A channel recorded `delay` seconds late, on the model's time: sample i takes the value
+// at time[i] + delay, interpolated linearly between samples and held at the recording's
+// ends (a channel logged by another device, with its own latency).
+std::vector<double> undelayed(const std::vector<double>& v, const std::vector<double>& time, double delay) {
+    if (delay == 0.0) return v;
+    std::vector<double> out(v.size());
+    std::size_t j = 0;  // time[j] <= t < time[j + 1] (time is strictly increasing)
+    for (std::size_t i = 0; i < v.size(); ++i) {
+        const double t = time[i] + delay;
+        if (t <= time.front()) { out[i] = v.front(); continue; }
+        if (t >= time.back()) { out[i] = v.back(); continue; }
+        while (time[j + 1] <= t) ++j;  // t grows with i: j only moves on
+        const double a = (t - time[j]) / (time[j + 1] - time[j]);
+        out[i] = v[j] + a * (v[j + 1] - v[j]);
+    }
+    return out;
+}
+
+std::vector<double> channel_values(const CsvTable& data, const std::vector<double>& time, const ChannelBinding& b) {
+    return undelayed(scaled(data.column(b.column), b.scale), time, b.delay);
+}
 }  // namespace
 
 ProblemDefinition problem_definition(const Experiment& experiment) {
@@ -18,11 +40,12 @@ ProblemDefinition problem_definition(const Experiment& experiment) {
     d.network = experiment.network;
     const CsvTable& data = experiment.data;
     std::vector<std::vector<double>> input_values, angle_values;
+    const std::vector<double>& time = data.column(experiment.time_column);
     for (const ChannelBinding& in : experiment.inputs)
-        (in.by_angle ? angle_values : input_values).push_back(scaled(data.column(in.column), in.scale));
-    d.inputs = InputChannels(data.column(experiment.time_column), std::move(input_values));
+        (in.by_angle ? angle_values : input_values).push_back(channel_values(data, time, in));
+    d.inputs = InputChannels(time, std::move(input_values));
     if (!angle_values.empty()) d.angle_inputs = CrankAngleChannels(experiment.crank_angle, std::move(angle_values));
-    for (const ChannelBinding& out : experiment.outputs) d.measured.push_back(scaled(data.column(out.column), out.scale));
+    for (const ChannelBinding& out : experiment.outputs) d.measured.push_back(channel_values(data, time, out));
     d.output_indices = experiment.output_indices;
     d.parameters = experiment.parameters;
     d.estimation = experiment.estimation;

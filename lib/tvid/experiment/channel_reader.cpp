@@ -35,7 +35,7 @@ std::string unit_list() {
 // A column name, or { column: NAME, unit: U | scale: S, ... }. `extra` are further keys
 // the mapping may hold (read by the caller).
 ChannelBinding read_binding(const YamlMap& section, const std::string& name, const CsvTable& data,
-                            std::initializer_list<std::string_view> extra) {
+                            double recording_seconds, std::initializer_list<std::string_view> extra) {
     const YamlSource& src = section.source();
     const YAML::Node value = section.get(name);
     ChannelBinding b;
@@ -44,7 +44,7 @@ ChannelBinding read_binding(const YamlMap& section, const std::string& name, con
     std::string column_path = section.key_path(name);
     if (value.IsMap()) {
         const YamlMap m(src, value, column_path);
-        std::vector<std::string> allowed{"column", "unit", "scale"};
+        std::vector<std::string> allowed{"column", "unit", "scale", "delay"};
         for (std::string_view e : extra) allowed.emplace_back(e);
         m.allow_only(allowed);
         if (!m.has("column")) m.fail_missing("column", "(the CSV column)");
@@ -59,6 +59,12 @@ ChannelBinding read_binding(const YamlMap& section, const std::string& name, con
         if (m.has("scale")) {
             b.scale = m.number("scale");
             if (b.scale == 0.0) m.fail("scale", "a scale of 0 removes the channel");
+        }
+        if (m.has("delay")) {
+            b.delay = m.number("delay");
+            if (!(std::abs(b.delay) < recording_seconds))
+                m.fail("delay", "a delay of " + number_text(b.delay) + " s shifts the channel past the recording (" +
+                                    number_text(recording_seconds) + " s long)");
         }
     } else if (!value.IsScalar()) {
         src.fail(value, column_path, "expected a CSV column name or { column: NAME, unit: U }");
@@ -147,7 +153,8 @@ double unit_to_si(const std::string& unit) {
     return 0.0;
 }
 
-std::vector<ChannelBinding> read_inputs(const YamlMap& inputs, const NetworkSpec& network, const CsvTable& data) {
+std::vector<ChannelBinding> read_inputs(const YamlMap& inputs, const NetworkSpec& network, const CsvTable& data,
+                                        double recording_seconds) {
     std::vector<std::string> names = network.input_names;
     names.insert(names.end(), network.angle_input_names.begin(), network.angle_input_names.end());
     inputs.allow_only(names);
@@ -155,7 +162,7 @@ std::vector<ChannelBinding> read_inputs(const YamlMap& inputs, const NetworkSpec
     for (std::size_t i = 0; i < names.size(); ++i) {
         const std::string& name = names[i];
         if (!inputs.has(name)) inputs.fail_missing(name, "(the CSV column of model input " + name + ")");
-        out.push_back(read_binding(inputs, name, data, {}));
+        out.push_back(read_binding(inputs, name, data, recording_seconds, {}));
         out.back().by_angle = i >= network.input_names.size();
     }
     return out;
@@ -174,7 +181,8 @@ static void check_output_magnitude(const ChannelBinding& b, const CsvTable& data
                                  "column and its unit");
 }
 
-OutputBindings read_outputs(const YamlMap& outputs, NetworkSpec& network, const CsvTable& data) {
+OutputBindings read_outputs(const YamlMap& outputs, NetworkSpec& network, const CsvTable& data,
+                            double recording_seconds) {
     const bool custom = network.preset == "custom";
     OutputBindings out;
     if (!custom) {
@@ -186,9 +194,10 @@ OutputBindings read_outputs(const YamlMap& outputs, NetworkSpec& network, const 
         if (custom) {
             if (network.output_index(name) >= 0) outputs.fail(name, "output defined twice");
             network.outputs.push_back(read_custom_output(outputs, name, network));
-            out.channels.push_back(read_binding(outputs, name, data, {"speed", "angle", "torque", "side", "offset"}));
+            out.channels.push_back(
+                read_binding(outputs, name, data, recording_seconds, {"speed", "angle", "torque", "side", "offset"}));
         } else {
-            out.channels.push_back(read_binding(outputs, name, data, {}));
+            out.channels.push_back(read_binding(outputs, name, data, recording_seconds, {}));
         }
         out.indices.push_back(network.output_index(name));
         check_output_magnitude(out.channels.back(), data);

@@ -12,7 +12,8 @@
 namespace tvid {
 
 /// One binding per network input, in network order; every input must be bound.
-std::vector<ChannelBinding> read_inputs(const YamlMap& inputs, const NetworkSpec& network, const CsvTable& data);
+std::vector<ChannelBinding> read_inputs(const YamlMap& inputs, const NetworkSpec& network, const CsvTable& data,
+                                        double recording_seconds);
 
 struct OutputBindings {
     std::vector<ChannelBinding> channels;
@@ -22,7 +23,8 @@ struct OutputBindings {
 /// For a preset the keys are the preset's outputs; for a custom network each entry
 /// defines an output (`speed: NODE`, `angle: NODE` or `torque: ELEMENT`, optional
 /// `offset`) and is appended to `network.outputs`.
-OutputBindings read_outputs(const YamlMap& outputs, NetworkSpec& network, const CsvTable& data);
+OutputBindings read_outputs(const YamlMap& outputs, NetworkSpec& network, const CsvTable& data,
+                            double recording_seconds);
 
 /// Refuses a cylinder pressure channel (an input read by crank angle) whose values, in Pa
 /// after the unit conversion, cannot be an absolute cylinder pressure: negative, a peak

@@ -44,6 +44,7 @@ struct ChannelBinding {
     std::string model_name;  ///< e.g. "Ttm"
     std::string column;      ///< CSV column
     double scale = 1.0;      ///< unit conversion applied when reading (e.g. bar -> Pa)
+    double delay = 0.0;      ///< [s] how late the channel was recorded: at model time t it reads t + delay
     bool by_angle = false;   ///< a crank-angle channel (cylinder pressure), read against data.angle
     SourceLocation where;
 };

@@ -250,7 +250,9 @@ Experiment load_experiment(const std::filesystem::path& file, const std::vector<
     // The model, its channels and parameters.
     const YamlMap parameters = top.map("parameters");
     ex.network = read_model(top.map("model"), parameters.keys(), ex.model_constants);
-    ex.inputs = read_inputs(top.map("inputs"), ex.network, ex.data);
+    const std::vector<double>& time = ex.data.column(ex.time_column);
+    const double recording_seconds = time.back() - time.front();
+    ex.inputs = read_inputs(top.map("inputs"), ex.network, ex.data, recording_seconds);
     if (data.has("angle_node")) {
         if (ex.angle_column.empty()) data.fail("angle_node", "names the node of the crank-angle channel: give data.angle too");
         const std::string node = data.text("angle_node");
@@ -262,7 +264,7 @@ Experiment load_experiment(const std::filesystem::path& file, const std::vector<
     if (!ex.network.angle_input_names.empty() && ex.angle_column.empty())
         data.fail_missing("angle", "(the model reads cylinder pressures by crank angle: name the crank-angle column)");
     check_cylinder_pressures(top.map("inputs"), ex.inputs, ex.data);
-    OutputBindings outputs = read_outputs(top.map("outputs"), ex.network, ex.data);
+    OutputBindings outputs = read_outputs(top.map("outputs"), ex.network, ex.data, recording_seconds);
     ex.outputs = std::move(outputs.channels);
     ex.output_indices = std::move(outputs.indices);
     if (top.has("estimation")) ex.estimation_settings = read_estimation(top.map("estimation"));
