@@ -227,9 +227,42 @@ TEST_CASE("an lm fit whose start cannot be simulated exits 1 with a report that 
                        (tmp.path() / "r").string() + " says so\n");
     const json s = read_json(tmp.path() / "r" / "summary.json");
     CHECK(s["status"] == "failed");
-    CHECK(s["optimizer"]["termination"] == "start failed");
+    // The solver says why its start failed.
+    CHECK(s["optimizer"]["termination"] ==
+          "start failed: estimation window time 1.5 to 3: simulation step budget exceeded");
     CHECK(s["optimizer"]["failed_evaluations"] == 1);
     CHECK(s["optimizer"]["initial_cost"].is_null());
+}
+
+TEST_CASE("a start whose simulation diverges names the node, the time and what to try", "[e2e][fit]") {
+    // A hub of 1e-6 kg m² on a 1e6 N m/rad mount: 1e6 rad/s, far beyond RK4 at 1 ms.
+    TempDir tmp;
+    const auto experiment = tmp.write("stiff.yaml", "tvid: 1\n"
+        "name: stiff\n"
+        "data: { file: " + (source_dir() / "data/cvt/tipin_a.csv").string() + ", time: t }\n"
+        "model:\n"
+        "  nodes: [ { name: motor, J: 0.05 }, { name: hub, J: J_h } ]\n"
+        "  elements:\n"
+        "    - { type: torque, name: drive, node: motor, input: T_in }\n"
+        "    - { type: spring_damper, name: shaft, between: [motor, hub], k: 500, c: 1 }\n"
+        "    - { type: spring_damper, name: mount, between: [hub], k: k_m }\n"
+        "inputs: { T_in: Ttm }\n"
+        "outputs: { T_shaft: { column: Tds, torque: shaft } }\n"
+        "parameters:\n"
+        "  J_h: { init: 1.0e-6, min: 1.0e-7, max: 1 }\n"
+        "  k_m: { init: 1.0e6, min: 1, max: 1.0e7 }\n"
+        "windows: { estimation: [ { time: [1.5, 3.0] } ] }\n"
+        "initial_state: rest\n"
+        "estimation: { cost: l2, optimizer: lm }\n");
+    const RunResult r = run_tvid({"fit", experiment.string(), "-o", (tmp.path() / "r").string(), "--quiet"});
+    CHECK(r.exit_code == 1);
+    const json s = read_json(tmp.path() / "r" / "summary.json");
+    const std::string why = s["optimizer"]["termination"];
+    INFO(why);
+    CHECK(why.rfind("start failed: estimation window time 1.5 to 3: simulation diverged: node hub's speed reached ", 0) == 0);
+    CHECK(why.find("after t = 1.501 s (by t = 1.502 s)") != std::string::npos);  // the first step's interval
+    CHECK(why.find("smaller simulation.step, or method: rosenbrock4") != std::string::npos);
+    CHECK(r.err.find("node hub's speed") != std::string::npos);  // the terminal says it too
 }
 
 TEST_CASE("tvid models lists the preset with its parameters, inputs and outputs", "[e2e][models]") {

@@ -122,3 +122,36 @@ TEST_CASE("multistart: per-start iteration cap, stop, and bad settings", "[multi
                         [](const StartResult& r) { return r.termination == "not run"; }) >= 4);
     CHECK_THROWS_AS(run_multistart(starts(0), LmSettings{}, kBox, 1, sinusoid_factory()), std::invalid_argument);
 }
+
+namespace {
+// The sinusoid, whose model cannot be evaluated at frequencies above 4 (as a simulation
+// that diverges for a stiff candidate), and says so.
+struct SinusoidFailingAbove4 : SinusoidFit {
+    bool residuals(const double* x, double* r) override { return x[1] <= 4.0 && SinusoidFit::residuals(x, r); }
+    bool jacobian(const double* x, double* r, Eigen::MatrixXd& J) override {
+        return x[1] <= 4.0 && SinusoidFit::jacobian(x, r, J);
+    }
+    std::string failure(const double* x) override { return x[1] > 4.0 ? "frequency above 4" : ""; }
+};
+}  // namespace
+
+TEST_CASE("multistart says how many starts failed and why the first of them did", "[multistart]") {
+    const LeastSquaresFactory factory = [](int) { return std::make_unique<SinusoidFailingAbove4>(); };
+    const MultistartSummary s = run_multistart(starts(20), LmSettings{}, kBox, 2, factory);
+    int failed = 0, first = 0;
+    for (const StartResult& r : s.starts)
+        if (r.initial[1] > 4.0) {
+            ++failed;
+            if (first == 0) first = r.start;
+            CHECK(r.termination == "start failed: frequency above 4");  // each start's own LM says why
+        }
+    REQUIRE(failed > 0);
+    REQUIRE(failed < 20);
+    CHECK(s.termination.find("(" + std::to_string(failed) + " of 20 starts failed; start " + std::to_string(first) +
+                             ": start failed: frequency above 4)") != std::string::npos);
+
+    // Every start failing: the summary still says why.
+    const SearchBox high{{0.0, 4.5}, {10.0, 10.0}, {0.5, 4.5}, {3.0, 5.0}};
+    const MultistartSummary all = run_multistart(starts(4), LmSettings{}, high, 1, factory);
+    CHECK(all.termination == "every start failed (4 of 4 starts failed; start 1: start failed: frequency above 4)");
+}

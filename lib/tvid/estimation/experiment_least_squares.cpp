@@ -95,6 +95,10 @@ bool ExperimentLeastSquares::residuals(const double* x, double* r) {
     return true;
 }
 
+std::string ExperimentLeastSquares::failure(const double* x) {
+    return problem_->failure(x, *workspaces_[0]);
+}
+
 void ExperimentLeastSquares::residuals_side_by_side(std::size_t count, const double* const* x, double* const* r,
                                                     char* ok, char* stopped) {
     if (count > evaluated_.size()) throw std::logic_error("ExperimentLeastSquares: more points side by side than threads");

@@ -30,6 +30,7 @@ public:
     bool residuals(const double* x, double* r) override;
     bool jacobian(const double* x, double* r, Eigen::MatrixXd& J) override;
     bool stopped() const override { return stopped_; }
+    std::string failure(const double* x) override;
     /// As many as there are threads, one per thread, each with its own workspace.
     int concurrent_residuals() const override { return threads_; }
     void residuals_side_by_side(std::size_t count, const double* const* x, double* const* r, char* ok,

@@ -4,6 +4,7 @@
 #include <limits>
 
 #include "tvid/estimation/window_score.hpp"
+#include "tvid/util/text.hpp"
 
 namespace tvid {
 
@@ -76,14 +77,59 @@ SimulationStatus IdentificationProblem::simulate_window(const Window& w, Problem
         inputs().at(inputs().time()[w.first], hint, ws.buffers.u.data());
         if (!on_scored(w.first, ws.x, ws.buffers.u)) return SimulationStatus::stopped_by_observer;
     }
+    std::size_t reached = from;  // the last sample the simulation reached sane
     const auto scored = [&](std::size_t i, const std::vector<double>& x, const std::vector<double>& u) {
+        reached = i;
         if (ws.stop_requested()) return false;
         return i < w.first ? true : on_scored(i, x, u);  // warm-up: simulated, not scored
     };
     const SimulationStatus status =
         simulate_samples(ws.model, inputs(), from, w.last, ws.x, definition_.simulation, ws.buffers, scored);
-    if (status != SimulationStatus::ok && problem) *problem = std::string("simulation ") + to_string(status);
+    if (status != SimulationStatus::ok && problem) *problem = failure_account(status, reached, ws.x);
     return status;
+}
+
+std::string IdentificationProblem::failure_account(SimulationStatus status, std::size_t reached,
+                                                   const std::vector<double>& x) const {
+    std::string text = std::string("simulation ") + to_string(status);
+    if (status != SimulationStatus::not_finite && status != SimulationStatus::diverged) return text;
+    // The state the march stopped at (left in x): the first value that is not finite or
+    // beyond the divergence limit names the node, between the last sane sample and the next.
+    const std::vector<double>& time = inputs().time();
+    const std::size_t n = definition_.network.nodes.size();
+    for (std::size_t i = 0; i < x.size() && i < 2 * n; ++i) {
+        if (std::isfinite(x[i]) && std::abs(x[i]) <= kDivergenceLimit) continue;
+        const NodeSpec& node = definition_.network.nodes[i % n];
+        text += ": node " + node.name + "'s " + (i < n ? "angle" : "speed") + " reached " + number_text(x[i]) +
+                (i < n ? " rad" : " rad/s");
+        break;
+    }
+    text += " after t = " + number_text(time[reached]) + " s";
+    if (reached + 1 < time.size()) text += " (by t = " + number_text(time[reached + 1]) + " s)";
+    switch (definition_.simulation.method) {
+        case IntegrationMethod::rk4:
+            text += "; a stiff candidate (a large stiffness or damping on a small inertia) needs a smaller "
+                    "simulation.step, or method: rosenbrock4";
+            break;
+        case IntegrationMethod::dopri5: text += "; for a stiff candidate try method: rosenbrock4"; break;
+        case IntegrationMethod::rosenbrock4: break;
+    }
+    return text;
+}
+
+std::string IdentificationProblem::failure(const double* free, ProblemWorkspace& ws) const {
+    for (std::size_t j = 0; j < free_.size(); ++j)
+        if (!std::isfinite(free[j])) return "parameter " + free_names_[j] + " is " + number_text(free[j]);
+    set_free_parameters(free, ws);
+    for (const Window& w : definition_.estimation) {
+        std::string problem;
+        const auto ignore = [](std::size_t, const std::vector<double>&, const std::vector<double>&) { return true; };
+        const SimulationStatus status = simulate_window(w, ws, &problem, ignore);
+        if (status == SimulationStatus::stopped_by_request) return {};
+        if (status != SimulationStatus::ok)
+            return "estimation window " + w.label + ": " + (problem.empty() ? to_string(status) : problem);
+    }
+    return {};
 }
 
 double IdentificationProblem::cost(const double* free, ProblemWorkspace& ws) const {

@@ -80,6 +80,11 @@ public:
     bool residuals(const double* free, ProblemWorkspace& ws, std::vector<double>& out,
                    std::vector<SolvedStart>* starts = nullptr) const;
 
+    /// Why the estimation windows cannot be simulated at free parameter values `free`:
+    /// the first failing window and its simulation's account (failure_account); empty
+    /// when every window simulates.
+    std::string failure(const double* free, ProblemWorkspace& ws) const;
+
     /// Simulates one window with the full parameter vector `params` and records every
     /// scored sample.
     WindowTrace trace(const std::vector<double>& params, const Window& window, ProblemWorkspace& ws) const;
@@ -105,6 +110,10 @@ private:
     template <class Observer>
     SimulationStatus simulate_window(const Window& w, ProblemWorkspace& ws, std::string* problem,
                                      Observer&& on_scored, SolvedStart* solved = nullptr) const;
+    // "simulation STATUS", and for a state that left the finite or sane range the node,
+    // the value, the sample interval and what to try; x the state the march stopped at,
+    // `reached` the last sample it passed.
+    std::string failure_account(SimulationStatus status, std::size_t reached, const std::vector<double>& x) const;
     // Sets the free parameters in ws's model; false if one is not finite.
     bool set_free_parameters(const double* free, ProblemWorkspace& ws) const;
 

@@ -143,7 +143,7 @@ private:
     enum class Acceptance { accepted, failed, stopped };
 
     // The end of the run at the current point.
-    void finish(TerminationType type, const char* reason) {
+    void finish(TerminationType type, const std::string& reason) {
         for (Index j = 0; j < m_; ++j) s_.best[static_cast<std::size_t>(j)] = x_[j];
         s_.termination_type = type;
         s_.termination = reason;
@@ -172,7 +172,8 @@ private:
             }
             ++s_.failed_evaluations;
             s_.history.push_back(HistoryRow{0, s_.jacobian_evaluations, inf});
-            finish(TerminationType::start_failed, "start failed");
+            const std::string why = problem_.failure(x_.data());
+            finish(TerminationType::start_failed, why.empty() ? std::string("start failed") : "start failed: " + why);
             return false;
         }
         f_ = 0.5 * r_.squaredNorm();  // the solver's cost ½‖r‖²; reported as Σr² = 2f

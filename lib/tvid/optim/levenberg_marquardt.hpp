@@ -51,6 +51,10 @@ public:
     /// (Ctrl-C) cut it short, not because the model failed: the solver stops at its
     /// current point instead of counting a failed step.
     virtual bool stopped() const { return false; }
+    /// Why the model cannot be evaluated at x, as one line for the report (e.g. which
+    /// simulation failed, where and when, and what to try); empty when the problem cannot
+    /// say. Asked once, when the start itself fails.
+    virtual std::string failure(const double* /*x*/) { return {}; }
     /// How many residual evaluations residuals_side_by_side() runs at once (1: one after
     /// the other). The solver then evaluates, next to each trial step, the steps that the
     /// next rejections would take, so a rejection costs no wall time.

@@ -122,16 +122,29 @@ MultistartSummary run_multistart(const MultistartSettings& settings, const LmSet
             s.best = r.best;
         }
     }
+    // Why starts failed: how many, and the first one's own reason (its LM's account).
+    int failed = 0;
+    const StartResult* first_failed = nullptr;
+    for (const StartResult& r : s.starts)
+        if (r.termination_type == TerminationType::start_failed) {
+            ++failed;
+            if (!first_failed) first_failed = &r;
+        }
+    const std::string failures =
+        failed == 0 ? "" : std::to_string(failed) + " of " + std::to_string(n) + " starts failed; start " +
+                               std::to_string(first_failed->start) + ": " + first_failed->termination;
     if (s.best_start == 0) {
         s.best_cost = std::numeric_limits<double>::infinity();
         s.best = s.starts.front().initial;
         s.termination_type = stop ? TerminationType::stopped : TerminationType::all_failed;
-        s.termination = stop ? "stopped" : "every start failed";
+        s.termination = stop ? "stopped" : "every start failed" + (failures.empty() ? "" : " (" + failures + ")");
         return s;
     }
     const StartResult& winner = s.starts[static_cast<std::size_t>(s.best_start - 1)];
     s.termination_type = stop ? TerminationType::stopped : winner.termination_type;
-    s.termination = stop ? "stopped" : "best of " + std::to_string(n) + " starts: " + winner.termination;
+    s.termination = stop ? "stopped"
+                         : "best of " + std::to_string(n) + " starts: " + winner.termination +
+                               (failures.empty() ? "" : " (" + failures + ")");
     s.success = !stop && winner.success;
     return s;
 }
