@@ -14,6 +14,7 @@
 #include "support/test_files.hpp"
 #include "tvid/estimation/problem_definition.hpp"
 #include "tvid/experiment/experiment.hpp"
+#include "tvid/model/dual.hpp"
 #include "tvid/model/network_model.hpp"
 #include "tvid/util/input_error.hpp"
 
@@ -1046,6 +1047,33 @@ TEST_CASE("a delay of whole samples shifts a sine exactly; one past the recordin
     }
     expect_error(with(kCustom, 15, "inputs: { T_in: { column: u, delay: 0.2 } }"), 15, "inputs.T_in.delay",
                  "past the recording");
+}
+
+TEST_CASE("an output's gain scales the quantity before its offset, and can be a parameter", "[experiment][channels]") {
+    Scratch s;
+    std::vector<std::string> lines = with(kCustom, 17, "  w_load:  { column: w, speed: load, gain: g_w, offset: 0.25 }");
+    lines = inserted(lines, 27, "  g_w:  { init: 1.5, min: 0.5, max: 2 }");
+    const Experiment ex = s.load(lines);
+    const tvid::OutputSpec& o = ex.network.outputs.at(0);
+    REQUIRE(o.gain.is_parameter());
+    CHECK(ex.network.parameter_names.at(static_cast<std::size_t>(o.gain.parameter)) == "g_w");
+
+    // Speed 2 rad/s at the load: y = 1.5 · 2 + 0.25 = 3.25, dy/dg = 2.
+    tvid::NetworkModel<tvid::Dual> model(ex.network);
+    const std::size_t m = ex.network.parameter_names.size();
+    std::vector<tvid::Dual> p;
+    for (std::size_t j = 0; j < m; ++j)
+        p.push_back(tvid::Dual::variable(j == static_cast<std::size_t>(o.gain.parameter) ? 1.5 : 1.0,
+                                         static_cast<int>(j), static_cast<int>(m)));
+    model.set_parameters(p.data());
+    const tvid::Dual x[4] = {0.0, 0.0, 0.0, 2.0};
+    const double u[1] = {0.0};
+    const tvid::Dual y = model.output(0, x, u);
+    CHECK(y.value() == Approx(3.25));
+    CHECK(y.derivative(o.gain.parameter) == Approx(2.0));
+
+    expect_error(with(kCustom, 17, "  w_load:  { column: w, speed: load, gain: 0 }"), 17, "outputs.w_load.gain",
+                 "removes the output");
 }
 
 TEST_CASE("an order torque is read with its order, amplitude and phase", "[experiment][network]") {

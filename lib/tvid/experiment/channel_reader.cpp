@@ -109,6 +109,10 @@ OutputSpec read_custom_output(const YamlMap& section, const std::string& name, c
         if (m.has("side")) m.fail("side", "side: applies to a torque output (torque: ELEMENT)");
     }
     if (m.has("offset")) o.offset = read_field(src, m.get("offset"), m.key_path("offset"), net.parameter_names);
+    if (m.has("gain")) {
+        o.gain = read_field(src, m.get("gain"), m.key_path("gain"), net.parameter_names);
+        if (!o.gain.is_parameter() && o.gain.constant == 0.0) m.fail("gain", "a gain of 0 removes the output");
+    }
     return o;
 }
 
@@ -195,7 +199,7 @@ OutputBindings read_outputs(const YamlMap& outputs, NetworkSpec& network, const 
             if (network.output_index(name) >= 0) outputs.fail(name, "output defined twice");
             network.outputs.push_back(read_custom_output(outputs, name, network));
             out.channels.push_back(
-                read_binding(outputs, name, data, recording_seconds, {"speed", "angle", "torque", "side", "offset"}));
+                read_binding(outputs, name, data, recording_seconds, {"speed", "angle", "torque", "side", "offset", "gain"}));
         } else {
             out.channels.push_back(read_binding(outputs, name, data, recording_seconds, {}));
         }

@@ -41,6 +41,7 @@ public:
           node_torque_(spec.nodes.size()),
           inertia_(spec.nodes.size()),
           output_offsets_(spec.outputs.size()),
+          output_gains_(spec.outputs.size()),
           parameters_(spec.parameter_names.size()) {
         for_each_element_kind([&](auto kind) {
             using Kind = decltype(kind);
@@ -84,8 +85,10 @@ public:
                 Kind::bind(specs[i], bound[i]);
             }
         });
-        for (std::size_t i = 0; i < output_offsets_.size(); ++i)
+        for (std::size_t i = 0; i < output_offsets_.size(); ++i) {
             output_offsets_[i] = v(s.outputs[i].offset);
+            output_gains_[i] = v(s.outputs[i].gain);
+        }
     }
 
     /// The parameter vector last given to set_parameters (zeros before the first call).
@@ -118,7 +121,7 @@ public:
     /// The offset (amplitude shift) of output k.
     const T& output_offset(std::size_t k) const { return output_offsets_[k]; }
 
-    /// Model output k (NetworkSpec::outputs order) including its offset.
+    /// Model output k (NetworkSpec::outputs order) including its gain and offset.
     T output(std::size_t k, const T* x, const double* u) const {
         return output_from(k, x, [&](const ElementRef& ref, const T* theta, const T* omega) {
             return element_torque(ref, theta, omega, u);
@@ -162,7 +165,7 @@ private:
                 if (o.side == TorqueSide::output) y = output_side_torque(o.element, y);
                 break;
         }
-        return y + output_offsets_[k];
+        return output_gains_[k] * y + output_offsets_[k];  // a gain of 1 gives y + offset to the bit
     }
 
     // Element ref's torque t as its output side carries it (elements/gear_mesh.hpp).
@@ -217,6 +220,7 @@ private:
     std::vector<T> inertia_;
     const CrankAngleChannels* angle_inputs_ = nullptr;
     std::vector<T> output_offsets_;
+    std::vector<T> output_gains_;
     std::vector<T> parameters_;  ///< copy of the last set_parameters argument
     /// Where each element kind starts in last_torques_ (the table's order, as accumulate_torques keeps them).
     std::array<std::size_t, kElementKindCount> first_of_kind_{};

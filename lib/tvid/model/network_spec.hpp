@@ -50,8 +50,9 @@ enum class OutputKind { speed, angle, torque };
 /// torques (a gear mesh: T on its input shaft a, n·T on its output shaft b).
 enum class TorqueSide { input, output };
 
-/// A model output compared with a measured channel: y = quantity + offset
-/// (`offset` is the measurement's amplitude shift, e.g. Δds of Yoshida & Takamatsu eq. 15c).
+/// A model output compared with a measured channel: y = gain · quantity + offset
+/// (`offset` is the measurement's amplitude shift, e.g. Δds of Yoshida & Takamatsu eq. 15c;
+/// `gain` the sensor's calibration factor).
 struct OutputSpec {
     std::string name;
     OutputKind kind = OutputKind::speed;
@@ -59,6 +60,7 @@ struct OutputSpec {
     ElementRef element{ElementKind::spring_damper, 0};  ///< for torque
     Field offset = Field::value(0.0);
     TorqueSide side = TorqueSide::input;  ///< for torque: output only where element_has_output_side
+    Field gain = Field::value(1.0);
 };
 
 struct NetworkSpec {
