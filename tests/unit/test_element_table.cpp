@@ -25,11 +25,13 @@ double typical_value(const std::string& field) {
         {"k", 120.0},     {"c", 0.5},          {"k_minus", 200.0},     {"k_plus", 300.0}, {"c_minus", 1.5},
         {"c_plus", 2.5},  {"mu", 0.01},        {"sigma", 10.0},       {"ratio", 2.5},    {"offset", 0.3},
         {"scale", 1.7},   {"bore", 0.08},      {"crank_radius", 0.04}, {"rod_length", 0.13},
-        {"mass", 0.4},    {"p_atm", 1.0e5},    {"amplitude", 4.0},     {"phase", 0.7}};
+        {"mass", 0.4},    {"p_atm", 1.0e5},    {"amplitude", 4.0},     {"phase", 0.7},
+        {"speed", 12.0}};
     return values.at(field);
 }
 
-// Three nodes and at least one element of every kind; every numeric field an element
+// Four nodes and at least one element of every kind (the fourth turns at a prescribed
+// speed, from input 0 whose slope is input 1, and drives n0 through a spring); every numeric field an element
 // uses is a parameter of its own (named ELEMENT.FIELD), and every element's torque is an
 // output.
 struct AllKindsNetwork {
@@ -41,7 +43,7 @@ struct AllKindsNetwork {
         spec.preset = "custom";
         spec.input_names = {"u"};
         spec.angle_input_names = {"p_cyl"};
-        for (const char* name : {"n0", "n1", "n2"}) {
+        for (const char* name : {"n0", "n1", "n2", "n3"}) {
             spec.parameter_names.push_back(std::string("J_") + name);
             p.push_back(0.05);
             spec.nodes.push_back(NodeSpec{name, Field::param(static_cast<int>(p.size() - 1)), false});
@@ -59,6 +61,9 @@ struct AllKindsNetwork {
         cylinder.phase = 1.0;
         spec.cylinders.push_back(cylinder);
         spec.order_torques.push_back(OrderTorqueSpec{"ripple", 1, 2.0, {}, {}});
+        spec.spring_dampers.push_back(SpringDamperSpec{"coupling", 3, 0, {}, {}});
+        spec.input_rates = {0};
+        spec.speed_sources.push_back(SpeedSourceSpec{"prescribed", 3, 0, 1, {}, {}});
 
         for_each_element_kind([&](auto kind) {
             using Kind = decltype(kind);
@@ -89,8 +94,8 @@ struct AllKindsNetwork {
 };
 
 // A state with every element loaded: both clearances in contact, all speeds nonzero.
-const std::vector<double> kState = {0.3, 0.05, -0.02, 10.0, -3.0, 7.0};
-const double kInput[] = {5.0};
+const std::vector<double> kState = {0.3, 0.05, -0.02, 0.1, 10.0, -3.0, 7.0, 4.0};
+const double kInput[] = {5.0, 2.0};  // u and the slope of u
 
 std::vector<double> derivative(const AllKindsNetwork& net, const std::vector<double>& p) {
     NetworkModel<double> model(net.spec);
@@ -114,7 +119,7 @@ TEST_CASE("every element kind has one row of the table", "[model][elements]") {
     });
     CHECK(position == kElementKindCount);
     CHECK(names == std::set<std::string>{"spring_damper", "clearance", "friction", "gear_mesh", "torque", "cylinder",
-                                         "order_torque"});
+                                         "order_torque", "speed_source"});
     // The test network below has elements of every kind.
     const AllKindsNetwork net;
     for (std::size_t count : element_counts(net.spec)) CHECK(count >= 1);
@@ -128,7 +133,8 @@ TEST_CASE("each kind's field walk visits each field once, in step over a spec an
         {"gear_mesh", {"ratio", "k", "c", "k_minus", "k_plus", "c_minus", "c_plus", "mu", "sigma"}},
         {"torque", {"offset", "scale"}},
         {"cylinder", {"bore", "crank_radius", "rod_length", "mass", "p_atm"}},
-        {"order_torque", {"amplitude", "phase"}}};
+        {"order_torque", {"amplitude", "phase"}},
+        {"speed_source", {"speed", "scale"}}};
     for_each_element_kind([&](auto kind) {
         using Kind = decltype(kind);
         typename Kind::Spec spec{};
@@ -161,7 +167,8 @@ TEST_CASE("every field in use, bound to a parameter, moves the right-hand side",
         const bool moved = derivative(net, p) != f0;
         // A gear mesh with backlash transmits the clearance law's torque: its k and c
         // only stand in for k_minus/k_plus and c_minus/c_plus in the experiment file.
-        if (name == "loose_gear.k" || name == "loose_gear.c")
+        // The inertia of a node whose speed is prescribed acts only in the source's torque.
+        if (name == "loose_gear.k" || name == "loose_gear.c" || name == "J_n3")
             CHECK_FALSE(moved);
         else
             CHECK(moved);

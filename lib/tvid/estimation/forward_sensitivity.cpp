@@ -5,6 +5,7 @@
 #include <cmath>
 #include <type_traits>
 
+#include "tvid/model/steady_motion.hpp"
 #include "tvid/sim/fixed_state_rk4.hpp"
 #include "tvid/sim/sensitivity_system.hpp"
 #include "tvid/sim/state_size_dispatch.hpp"
@@ -74,6 +75,65 @@ bool ForwardSensitivity::equilibrium_sensitivity(std::size_t j0, std::size_t j1,
     return dtheta.allFinite();
 }
 
+bool ForwardSensitivity::steady_sensitivity(std::size_t j0, std::size_t j1, SensitivityWorkspace& ws,
+                                            Eigen::MatrixXd& dtheta) const {
+    // g(z, p) = θ'' − r·α = 0 at the solved start (steady_motion.hpp), z the twists of every
+    // node but the reference and α in the reference's slot ⇒ ∂g/∂z · dz/dp = −∂g/∂p.
+    const ProblemDefinition& def = problem_->definition();
+    const std::size_t n = ws.model.node_count(), cols = j1 - j0;
+    const auto ref = static_cast<std::size_t>(def.steady.node);
+    const RigidMotion rigid = rigid_motion(def.network, ws.plain->params, def.steady.node);
+    const double* u = ws.plain->u0.data();  // the mean inputs the start balanced
+    std::vector<Dual> x(2 * n), dxdt(2 * n);
+    Eigen::MatrixXd dgdp(n, cols), dgdz(n, n);
+    const auto at = [](std::size_t i) { return static_cast<Eigen::Index>(i); };
+    // ∂g/∂p: the state constant, the block's parameters seeded (as set).
+    for (std::size_t i = 0; i < 2 * n; ++i) x[i] = Dual(ws.plain->x_start[i]);
+    ws.model.derivative(x.data(), u, dxdt.data());
+    for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t j = 0; j < cols; ++j) dgdp(at(i), at(j)) = dxdt[n + i].derivative(static_cast<int>(j));
+    // ∂g/∂z: the parameters constant, the angles seeded in blocks of the dual capacity.
+    std::vector<Dual> constant(ws.params.size());
+    for (std::size_t i = 0; i < constant.size(); ++i) constant[i] = Dual(ws.plain->params[i]);
+    ws.model.set_parameters(constant.data());
+    const auto capacity = static_cast<std::size_t>(kDualCapacity);
+    for (std::size_t c0 = 0; c0 < n; c0 += capacity) {
+        const std::size_t c1 = std::min(n, c0 + capacity);
+        for (std::size_t i = 0; i < n; ++i)
+            x[i] = i >= c0 && i < c1 ? Dual::variable(ws.plain->x_start[i], static_cast<int>(i - c0),
+                                                      static_cast<int>(c1 - c0))
+                                     : Dual(ws.plain->x_start[i]);
+        ws.model.derivative(x.data(), u, dxdt.data());
+        for (std::size_t i = 0; i < n; ++i)
+            for (std::size_t k = c0; k < c1; ++k) dgdz(at(i), at(k)) = dxdt[n + i].derivative(static_cast<int>(k - c0));
+    }
+    ws.model.set_parameters(ws.params.data());
+    for (std::size_t i = 0; i < n; ++i) dgdz(at(i), at(ref)) = -rigid.ratio[i];  // ∂g_i/∂α
+    const Eigen::FullPivLU<Eigen::MatrixXd> lu(dgdz);
+    if (!lu.isInvertible()) return false;
+    dtheta = -lu.solve(dgdp);
+    dtheta.row(at(ref)).setZero();  // the reference's angle is given
+    return dtheta.allFinite();
+}
+
+bool ForwardSensitivity::start_sensitivity(std::size_t j0, std::size_t j1, SensitivityWorkspace& ws,
+                                           Eigen::MatrixXd& dtheta, std::string* problem) const {
+    dtheta.resize(0, 0);
+    switch (problem_->definition().initial_state) {
+        case InitialStateKind::equilibrium:
+            if (equilibrium_sensitivity(j0, j1, ws, dtheta)) return true;
+            if (problem) *problem = "the equilibrium start has no sensitivity (singular static stiffness)";
+            return false;
+        case InitialStateKind::steady:
+            if (steady_sensitivity(j0, j1, ws, dtheta)) return true;
+            if (problem) *problem = "the steady start has no sensitivity (singular stiffness in steady motion)";
+            return false;
+        case InitialStateKind::rest:
+        case InitialStateKind::measured: return true;
+    }
+    return true;
+}
+
 WindowStart ForwardSensitivity::window_start(const Window& w, SensitivityWorkspace& ws, std::string* problem,
                                              const SolvedStart* solved) const {
     return solved ? IdentificationProblem::restore_start(*solved, *ws.plain) : problem_->start_window(w, *ws.plain, problem);
@@ -94,12 +154,9 @@ SimulationStatus ForwardSensitivity::simulate_augmented(const double* free, cons
     if (d != cols) set_parameters(free, j0, j1, static_cast<int>(d), ws);
     ws.z.assign(state * (1 + d), 0.0);
     std::copy(ws.plain->x_start.begin(), ws.plain->x_start.end(), ws.z.begin());
-    if (def.initial_state == InitialStateKind::equilibrium) {
-        Eigen::MatrixXd dtheta;
-        if (!equilibrium_sensitivity(j0, j1, ws, dtheta)) {
-            if (problem) *problem = "the equilibrium start has no sensitivity (singular static stiffness)";
-            return SimulationStatus::not_finite;
-        }
+    Eigen::MatrixXd dtheta;
+    if (!start_sensitivity(j0, j1, ws, dtheta, problem)) return SimulationStatus::not_finite;
+    if (dtheta.size() > 0) {
         for (std::size_t i = 0; i < n; ++i)
             for (std::size_t j = 0; j < cols; ++j)
                 ws.z[state + i * d + j] = dtheta(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j));

@@ -131,6 +131,13 @@ private:
     // The equilibrium start's sensitivity dθ̄/dp for columns [j0, j1) (nodes × columns),
     // with ws.model's parameters set for those columns.
     bool equilibrium_sensitivity(std::size_t j0, std::size_t j1, SensitivityWorkspace& ws, Eigen::MatrixXd& dtheta) const;
+    // The same for the steady-motion start: the twists' sensitivity (the speeds are the
+    // given ones; a gear ratio as a parameter moves them, which is left out).
+    bool steady_sensitivity(std::size_t j0, std::size_t j1, SensitivityWorkspace& ws, Eigen::MatrixXd& dtheta) const;
+    // dθ/dp of the start when it depends on the parameters (equilibrium, steady); true with
+    // dtheta empty when it does not; false with `problem` set when it has none.
+    bool start_sensitivity(std::size_t j0, std::size_t j1, SensitivityWorkspace& ws, Eigen::MatrixXd& dtheta,
+                           std::string* problem) const;
 
     const IdentificationProblem* problem_;
     bool packed_ = true;

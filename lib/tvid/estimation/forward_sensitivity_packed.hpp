@@ -36,12 +36,9 @@ SimulationStatus ForwardSensitivity::simulate_packed(const double* free, const W
     dual.model.set_parameters(dual.params.data());
     std::array<T, N> x;
     for (std::size_t i = 0; i < N; ++i) x[i] = T(ws.plain->x_start[i]);
-    if (def.initial_state == InitialStateKind::equilibrium) {
-        Eigen::MatrixXd dtheta;
-        if (!equilibrium_sensitivity(j0, j1, ws, dtheta)) {
-            if (problem) *problem = "the equilibrium start has no sensitivity (singular static stiffness)";
-            return SimulationStatus::not_finite;
-        }
+    Eigen::MatrixXd dtheta;
+    if (!start_sensitivity(j0, j1, ws, dtheta, problem)) return SimulationStatus::not_finite;
+    if (dtheta.size() > 0) {
         for (std::size_t i = 0; i < n; ++i)
             for (std::size_t j = 0; j < cols; ++j)
                 x[i].set_derivative(static_cast<int>(j), dtheta(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)));

@@ -30,6 +30,21 @@ std::vector<double> undelayed(const std::vector<double>& v, const std::vector<do
     return out;
 }
 
+// The time derivative of a channel at its samples: central differences inside (second
+// order on a non-uniform grid), one-sided at the ends.
+std::vector<double> slope(const std::vector<double>& v, const std::vector<double>& time) {
+    const std::size_t n = v.size();
+    std::vector<double> out(n, 0.0);
+    if (n < 2) return out;
+    out.front() = (v[1] - v[0]) / (time[1] - time[0]);
+    out.back() = (v[n - 1] - v[n - 2]) / (time[n - 1] - time[n - 2]);
+    for (std::size_t i = 1; i + 1 < n; ++i) {
+        const double h0 = time[i] - time[i - 1], h1 = time[i + 1] - time[i];
+        out[i] = (h0 * h0 * (v[i + 1] - v[i]) + h1 * h1 * (v[i] - v[i - 1])) / (h0 * h1 * (h0 + h1));
+    }
+    return out;
+}
+
 std::vector<double> channel_values(const CsvTable& data, const std::vector<double>& time, const ChannelBinding& b) {
     return undelayed(scaled(data.column(b.column), b.scale), time, b.delay);
 }
@@ -43,6 +58,8 @@ ProblemDefinition problem_definition(const Experiment& experiment) {
     const std::vector<double>& time = data.column(experiment.time_column);
     for (const ChannelBinding& in : experiment.inputs)
         (in.by_angle ? angle_values : input_values).push_back(channel_values(data, time, in));
+    for (int k : experiment.network.input_rates)  // after the inputs, as NetworkSpec::input_rates places them
+        input_values.push_back(slope(input_values[static_cast<std::size_t>(k)], time));
     d.inputs = InputChannels(time, std::move(input_values));
     if (!angle_values.empty()) d.angle_inputs = CrankAngleChannels(experiment.crank_angle, std::move(angle_values));
     for (const ChannelBinding& out : experiment.outputs) d.measured.push_back(channel_values(data, time, out));
@@ -51,6 +68,8 @@ ProblemDefinition problem_definition(const Experiment& experiment) {
     d.estimation = experiment.estimation;
     d.initial_state = experiment.initial_state;
     d.initial_speed_output = experiment.initial_speed_output;
+    d.steady = experiment.steady;
+    if (!d.steady.speed_column.empty()) d.steady_speed = data.column(d.steady.speed_column);
     d.crank_angle = experiment.crank_angle;
     d.angle_node = experiment.angle_node;
     d.simulation = experiment.simulation;

@@ -25,6 +25,8 @@ struct ProblemDefinition {
     std::vector<Window> estimation;              ///< the windows scored
     InitialStateKind initial_state = InitialStateKind::equilibrium;
     int initial_speed_output = -1;               ///< measured start: the measured output of the speed
+    SteadyStartSpec steady;                      ///< steady start: its node, speed and averaging
+    std::vector<double> steady_speed;            ///< and its speed column per sample, when it reads one
     std::vector<double> crank_angle;             ///< measured crank angle per sample [rad], or empty
     int angle_node = -1;                         ///< the node whose angle crank_angle measures
     SimulationSettings simulation;

@@ -7,25 +7,66 @@
 #include <type_traits>
 
 #include "tvid/model/equilibrium.hpp"
+#include "tvid/model/steady_motion.hpp"
 #include "tvid/sim/fixed_state_rk4.hpp"
 #include "tvid/sim/state_size_dispatch.hpp"
 
 namespace tvid {
 
-bool WindowStarts::initial_state(std::size_t start, ProblemWorkspace& ws, std::string* problem) const {
+bool WindowStarts::initial_state(const Window& w, ProblemWorkspace& ws, std::string* problem) const {
     const std::size_t n = ws.model.node_count();
+    const std::size_t start = w.start;
     std::size_t hint = start;
     d_->inputs.at(d_->inputs.time()[start], hint, ws.u0.data());
     std::fill(ws.x.begin(), ws.x.end(), 0.0);
     switch (d_->initial_state) {
         case InitialStateKind::rest: return true;
         case InitialStateKind::measured: {
-            // Every node at the measured crank angle (no twist), turning at the measured speed.
-            const double speed = d_->measured[static_cast<std::size_t>(d_->initial_speed_output)][start];
-            for (std::size_t i = 0; i < n; ++i) {
-                ws.x[i] = d_->crank_angle[start];
-                ws.x[n + i] = speed;
+            // Every node untwisted at the measured crank angle, turning at the measured
+            // speed, both through the gear ratios (nodes no element joins keep them as they are).
+            const auto out = static_cast<std::size_t>(d_->initial_speed_output);
+            const double speed = d_->measured[out][start];
+            const int speed_node = d_->network.outputs[static_cast<std::size_t>(d_->output_indices[out])].node;
+            const RigidMotion rigid = rigid_motion(d_->network, ws.model.parameters(), speed_node);
+            if (!rigid.problem.empty()) {
+                if (problem) *problem = rigid.problem;
+                return false;
             }
+            const auto ratio = [&](std::size_t i) { return rigid.tied[i] ? rigid.ratio[i] : 1.0; };
+            const double angle = d_->crank_angle.empty() ? 0.0 : d_->crank_angle[start];
+            const double angle_ratio = d_->angle_node >= 0 ? ratio(static_cast<std::size_t>(d_->angle_node)) : 1.0;
+            for (std::size_t i = 0; i < n; ++i) {
+                ws.x[i] = ratio(i) == angle_ratio ? angle : ratio(i) / angle_ratio * angle;
+                ws.x[n + i] = ratio(i) * speed;
+            }
+            return true;
+        }
+        case InitialStateKind::steady: {
+            // The line in steady rotation at the node's (mean) speed under the mean inputs
+            // of the averaged samples, which ws.u0 keeps (the start's sensitivity reads them).
+            const SteadyStartSpec& s = d_->steady;
+            const std::size_t count = d_->inputs.samples();
+            std::size_t end = s.samples > 0 ? start + s.samples : w.first > start ? w.first : start + 50;
+            end = std::min(std::max(end, start + 1), count);
+            const double m = static_cast<double>(end - start);
+            for (std::size_t k = 0; k < d_->inputs.count(); ++k) {
+                double sum = 0.0;
+                for (std::size_t i = start; i < end; ++i) sum += d_->inputs.value(k, i);
+                ws.u0[k] = sum / m;
+            }
+            double speed = s.speed;
+            if (!d_->steady_speed.empty()) {
+                double sum = 0.0;
+                for (std::size_t i = start; i < end; ++i) sum += d_->steady_speed[i];
+                speed = sum / m;
+            }
+            const double angle = !d_->crank_angle.empty() && d_->angle_node == s.node ? d_->crank_angle[start] : 0.0;
+            const SteadyMotion steady = solve_steady_motion(ws.model, ws.u0.data(), s.node, speed, angle);
+            if (!steady.found) {
+                if (problem) *problem = "no steady motion: " + steady.problem;
+                return false;
+            }
+            std::copy(steady.x.begin(), steady.x.end(), ws.x.begin());
             return true;
         }
         case InitialStateKind::equilibrium: {
@@ -275,7 +316,7 @@ SimulationStatus WindowStarts::shoot_warmup_by_differences(const Window& w, Prob
 
 WindowStart WindowStarts::start(const Window& w, ProblemWorkspace& ws, std::string* problem) const {
     WindowStart start;
-    if (!initial_state(w.start, ws, problem)) {
+    if (!initial_state(w, ws, problem)) {
         start.status = SimulationStatus::not_finite;
         return start;
     }

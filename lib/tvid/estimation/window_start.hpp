@@ -43,7 +43,9 @@ public:
 
     /// Whether window w is simulated from a measured start through a warm-up (then its
     /// march begins at w.first, whose sample is scored too).
-    bool warms_up(const Window& w) const { return d_->initial_state == InitialStateKind::measured && w.start < w.first; }
+    bool warms_up(const Window& w) const {
+        return d_->initial_state == InitialStateKind::measured && !d_->crank_angle.empty() && w.start < w.first;
+    }
 
     /// Prepares window w with the parameters already set in ws.model: ws.x_start gets the
     /// state at w.start and, after a warm-up, ws.x the state at w.first.
@@ -53,8 +55,8 @@ public:
     static WindowStart restore(const SolvedStart& solved, ProblemWorkspace& ws);
 
 private:
-    // Sets ws.x to the initial state at sample `start`; false (with a reason) if impossible.
-    bool initial_state(std::size_t start, ProblemWorkspace& ws, std::string* problem) const;
+    // Sets ws.x to the initial state at window w's start; false (with a reason) if impossible.
+    bool initial_state(const Window& w, ProblemWorkspace& ws, std::string* problem) const;
     // Measured initial state with a warm-up: leaves ws.x at the window's first sample.
     SimulationStatus shoot_warmup(const Window& w, ProblemWorkspace& ws, WindowStart& start) const;
     // The same by Newton's method with the Jacobian from the warm-up simulated with the

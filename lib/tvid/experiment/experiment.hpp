@@ -61,7 +61,16 @@ struct Window {
     SourceLocation where;
 };
 
-enum class InitialStateKind { equilibrium, rest, measured };
+enum class InitialStateKind { equilibrium, rest, measured, steady };
+
+/// `initial_state: { kind: steady, … }`: the line in steady rotation (steady_motion.hpp)
+/// at one node's speed, twisted to carry the mean inputs.
+struct SteadyStartSpec {
+    int node = -1;               ///< the node whose speed is given
+    double speed = 0.0;          ///< [rad/s], when speed_column is empty
+    std::string speed_column;    ///< or the mean of this column of the recording [rad/s]
+    std::size_t samples = 0;     ///< samples averaged from the window's start (0: its warm-up, or 50)
+};
 enum class CostKind { l1, l2 };
 /// pso: particle swarm (Yoshida & Takamatsu); lm: Levenberg–Marquardt (the methodology paper); nlopt: any NLopt
 /// algorithm; pso_lm: the swarm, then LM from its best particle; multistart: LM from
@@ -119,6 +128,7 @@ struct Experiment {
     double warmup = 0.0;                  ///< seconds simulated before each window, not scored (or:)
     int warmup_cycles = 0;                ///< engine cycles simulated before each window, not scored
     InitialStateKind initial_state = InitialStateKind::equilibrium;
+    SteadyStartSpec steady;               ///< initial_state steady
     int initial_speed_output = -1;        ///< measured: index into `outputs` of the speed that starts every node
     SimulationSettings simulation;
     EstimationSettings estimation_settings;

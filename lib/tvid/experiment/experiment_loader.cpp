@@ -2,7 +2,9 @@
 // overrides, validates every key and resolves paths, columns and windows.
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <optional>
 #include <fstream>
 #include <sstream>
 #include <string_view>
@@ -166,6 +168,35 @@ void check_fixed_step_count(const YamlMap& simulation, const CsvTable& data, con
                                 number_text(steps.longest) + "); use a larger step or check the time column");
 }
 
+// initial_state: { kind: steady, node: NAME, speed: RAD_PER_S or COLUMN, samples: N }.
+SteadyStartSpec read_steady_start(const YamlMap& m, const NetworkSpec& network, const CsvTable& data) {
+    m.allow_only({"kind", "node", "speed", "samples"});
+    SteadyStartSpec s;
+    const std::string node = m.text("node");
+    s.node = network.node_index(node);
+    if (s.node < 0) m.fail("node", "no node named '" + node + "' in the model");
+    if (!m.has("speed")) m.fail_missing("speed", "(the node's speed in rad/s, or a column whose mean gives it)");
+    const YAML::Node speed = m.get("speed");
+    const std::string text = speed.IsScalar() ? speed.Scalar() : std::string();
+    if (!text.empty() && data.has_column(text)) {
+        s.speed_column = text;
+    } else {
+        const char c = text.empty() ? ' ' : text.front();
+        if (!text.empty() && !(std::isdigit(static_cast<unsigned char>(c)) || c == '-' || c == '+' || c == '.'))
+            m.fail("speed", "no column named '" + text + "' in " + data.file().string());
+        const std::optional<double> v = m.optional_number("speed");
+        if (!v || !std::isfinite(*v))
+            m.fail("speed", "expected a speed in rad/s or a column of " + data.file().string());
+        s.speed = *v;
+    }
+    if (m.has("samples")) {
+        const long long k = m.integer("samples");
+        if (k < 1 || k > 100'000'000) m.fail("samples", "expected a number of samples to average, at least 1");
+        s.samples = static_cast<std::size_t>(k);
+    }
+    return s;
+}
+
 EstimationSettings read_estimation(const YamlMap& m) {
     m.allow_only({"cost", "optimizer", "pso", "lm", "nlopt", "multistart"});
     EstimationSettings s;
@@ -302,23 +333,41 @@ Experiment load_experiment(const std::filesystem::path& file, const std::vector<
     const bool engine = !ex.network.cylinders.empty();
     if (engine) ex.initial_state = InitialStateKind::measured;
     if (top.has("initial_state")) {
-        const std::string kind = top.choice("initial_state", {"equilibrium", "rest", "measured"});
+        const bool detailed = top.get("initial_state").IsMap();
+        const YamlMap start = detailed ? top.map("initial_state") : top;
+        const std::string key = detailed ? "kind" : "initial_state";
+        const std::string kind = start.choice(key, {"equilibrium", "rest", "measured", "steady"});
         ex.initial_state = kind == "rest"       ? InitialStateKind::rest
                            : kind == "measured" ? InitialStateKind::measured
+                           : kind == "steady"   ? InitialStateKind::steady
                                                 : InitialStateKind::equilibrium;
-        if (engine && ex.initial_state != InitialStateKind::measured)
+        if (detailed && ex.initial_state != InitialStateKind::steady) start.allow_only({"kind"});
+        if (ex.initial_state == InitialStateKind::steady) {
+            if (!detailed)
+                top.fail("initial_state", "steady needs its node and speed: initial_state: { kind: steady, node: "
+                                          "NAME, speed: RAD_PER_S or COLUMN }");
+            ex.steady = read_steady_start(start, ex.network, ex.data);
+        }
+        if (engine && ex.initial_state != InitialStateKind::measured && ex.initial_state != InitialStateKind::steady)
             top.fail("initial_state", "a model with cylinders turns: it starts from the measured crank angle and "
                                       "speed (initial_state: measured)");
     }
+    if (ex.initial_state == InitialStateKind::equilibrium && !ex.network.speed_sources.empty()) {
+        const std::string why = "a speed source turns its node: start from initial_state: { kind: steady, node: NAME, "
+                                "speed: COLUMN } or measured";
+        if (top.has("initial_state")) top.fail("initial_state", why);
+        top.fail_missing("initial_state", "(" + why + ")");
+    }
     if (ex.initial_state == InitialStateKind::measured) {
-        // Every node starts at the measured crank angle, turning at the first measured speed.
-        if (ex.angle_column.empty())
+        // Every node starts turning at the first measured speed, through the gear ratios,
+        // at the measured crank angle when there is one.
+        if (ex.angle_column.empty() && !ex.network.cylinders.empty())
             top.fail("initial_state", "measured needs the crank-angle channel: give data.angle");
         for (std::size_t k = 0; k < ex.outputs.size() && ex.initial_speed_output < 0; ++k)
             if (ex.network.outputs[static_cast<std::size_t>(ex.output_indices[k])].kind == OutputKind::speed)
                 ex.initial_speed_output = static_cast<int>(k);
         if (ex.initial_speed_output < 0) top.fail("initial_state", "measured needs a measured speed among the outputs");
-        if (ex.angle_node < 0 && (ex.warmup > 0 || ex.warmup_cycles > 0))
+        if (ex.angle_node < 0 && !ex.angle_column.empty() && (ex.warmup > 0 || ex.warmup_cycles > 0))
             data.fail_missing("angle_node", "(the node whose angle the crank-angle channel measures: the warm-up is "
                                             "shot to meet it)");
     }

@@ -3,6 +3,7 @@
 #include "tvid/util/text.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <set>
 
 #include "tvid/model/presets.hpp"
@@ -165,7 +166,7 @@ private:
             const YamlMap m(src_, list[i], path + "[" + std::to_string(i) + "]");
             const std::string type =
                 m.choice("type", {"spring_damper", "clearance", "friction", "gear_mesh", "torque", "cylinder",
-                                  "order_torque"});
+                                  "order_torque", "speed_source", "speed_controller"});
             const std::string name = m.has("name") ? m.text("name") : type + std::to_string(i + 1);
             if (!names.insert(name).second) m.fail("name", "an element named '" + name + "' already exists");
             if (type == "spring_damper") {
@@ -250,22 +251,19 @@ private:
                 e.phase = field_or(m, "phase", Field::value(0.0));
                 check_signs<elements::OrderTorque>(m, e);
                 net_.order_torques.push_back(e);
+            } else if (type == "speed_source") {
+                m.allow_only({"type", "name", "node", "input", "speed", "scale"});
+                read_speed_source(m, name);
+            } else if (type == "speed_controller") {
+                m.allow_only({"type", "name", "node", "setpoint", "kp", "ki"});
+                read_speed_controller(m, name, names);
             } else {  // torque
                 m.allow_only({"type", "name", "node", "input", "offset", "scale"});
                 if (!m.has("node")) m.fail_missing("node");
                 TorqueSpec e;
                 e.name = name;
                 e.node = node(m, "node", m.get("node"), false);
-                const std::string input = m.text("input");
-                if (std::find(net_.angle_input_names.begin(), net_.angle_input_names.end(), input) !=
-                    net_.angle_input_names.end())
-                    m.fail("input", "'" + input + "' is a cylinder pressure read by crank angle, not a torque by time");
-                int k = net_.input_index(input);
-                if (k < 0) {
-                    net_.input_names.push_back(input);
-                    k = static_cast<int>(net_.input_names.size() - 1);
-                }
-                e.input = k;
+                e.input = time_input(m, "input", "a torque");
                 e.offset = field_or(m, "offset", Field::value(0.0));
                 e.scale = field_or(m, "scale", Field::value(1.0));
                 check_signs<elements::Torque>(m, e);
@@ -273,7 +271,92 @@ private:
             }
         }
         if (net_.input_names.empty() && net_.angle_input_names.empty())
-            src_.fail(list, path, "no element of type torque or cylinder: no measured input drives the network");
+            src_.fail(list, path,
+                      "no element of type torque, cylinder or speed_source reads a channel: no measurement drives "
+                      "the network");
+        // A speed channel's slope follows the inputs (speed sources read it as their acceleration).
+        for (SpeedSourceSpec& e : net_.speed_sources) {
+            if (e.input < 0) continue;
+            auto it = std::find(net_.input_rates.begin(), net_.input_rates.end(), e.input);
+            if (it == net_.input_rates.end()) it = net_.input_rates.insert(it, e.input);
+            e.rate = static_cast<int>(net_.input_names.size()) + static_cast<int>(it - net_.input_rates.begin());
+        }
+    }
+
+    // The index of the input by time named at `key` (added to the model's inputs when new).
+    int time_input(const YamlMap& m, const std::string& key, const char* what) {
+        const std::string input = m.text(key);
+        if (std::find(net_.angle_input_names.begin(), net_.angle_input_names.end(), input) !=
+            net_.angle_input_names.end())
+            m.fail(key, "'" + input + "' is a cylinder pressure read by crank angle, not " + what + " by time");
+        int k = net_.input_index(input);
+        if (k < 0) {
+            net_.input_names.push_back(input);
+            k = static_cast<int>(net_.input_names.size() - 1);
+        }
+        return k;
+    }
+
+    // A node turning at a measured speed (`input`, times `scale`) or a constant `speed`.
+    void read_speed_source(const YamlMap& m, const std::string& name) {
+        if (!m.has("node")) m.fail_missing("node");
+        SpeedSourceSpec e;
+        e.name = name;
+        e.node = node(m, "node", m.get("node"), false);
+        if (m.has("input") == m.has("speed"))
+            m.fail(m.has("input") ? "speed" : "input",
+                   "give either input (a measured speed channel) or speed (a constant, rad/s), not both");
+        if (m.has("input")) {
+            e.input = time_input(m, "input", "a speed");
+            e.scale = field_or(m, "scale", Field::value(1.0));
+        } else {
+            if (m.has("scale")) m.fail("scale", "scale applies to a speed channel (input), not a constant speed");
+            e.speed = field(m, "speed");
+        }
+        add_speed_source(m, e);
+    }
+
+    void add_speed_source(const YamlMap& m, const SpeedSourceSpec& e) {
+        for (const SpeedSourceSpec& other : net_.speed_sources)
+            if (other.node == e.node)
+                m.fail("node", "node '" + net_.nodes[static_cast<std::size_t>(e.node)].name + "' already has its speed "
+                               "prescribed by '" + other.name + "'");
+        net_.speed_sources.push_back(e);
+    }
+
+    // A PI speed controller: T = kp·(ω_set − ω) + ki·∫(ω_set − ω) dt on `node`. Its
+    // integral is the twist of a spring (k = ki, c = kp) from a reference node that turns
+    // at the setpoint: the node NAME.reference, driven by the speed source NAME.setpoint,
+    // joined to `node` by the spring-damper NAME, whose torque is the controller's.
+    void read_speed_controller(const YamlMap& m, const std::string& name, std::set<std::string>& names) {
+        if (!m.has("node")) m.fail_missing("node");
+        const int drive = node(m, "node", m.get("node"), false);
+        NodeSpec reference;
+        reference.name = name + ".reference";
+        reference.inertia = Field::value(1.0);  // prescribed motion: its inertia only scales its reaction
+        if (net_.node_index(reference.name) >= 0) m.fail("name", "a node named '" + reference.name + "' already exists");
+        for (const char* key : {"kp", "ki"}) {
+            const Field f = field(m, key);
+            if (!f.is_parameter() && !(f.constant >= 0))
+                m.fail(key, "cannot be negative: a controller gain (got " + number_text(f.constant) + ")");
+        }
+        SpeedSourceSpec setpoint;
+        setpoint.name = name + ".setpoint";
+        if (!names.insert(setpoint.name).second) m.fail("name", "an element named '" + setpoint.name + "' already exists");
+        setpoint.node = static_cast<int>(net_.nodes.size());
+        if (!m.has("setpoint")) m.fail_missing("setpoint", "(a speed channel, a constant speed in rad/s or a parameter)");
+        const YAML::Node given = m.get("setpoint");
+        const std::string text = given.IsScalar() ? given.Scalar() : std::string();
+        const bool constant = !text.empty() && (std::isdigit(static_cast<unsigned char>(text.front())) ||
+                                                text.front() == '-' || text.front() == '+' || text.front() == '.' ||
+                                                net_.parameter_index(text) >= 0);
+        net_.nodes.push_back(reference);
+        if (constant)
+            setpoint.speed = field(m, "setpoint");
+        else
+            setpoint.input = time_input(m, "setpoint", "a speed");
+        add_speed_source(m, setpoint);
+        net_.spring_dampers.push_back(SpringDamperSpec{name, setpoint.node, drive, field(m, "ki"), field(m, "kp")});
     }
 
     const YamlMap& model_;

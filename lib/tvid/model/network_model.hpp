@@ -40,6 +40,8 @@ public:
           inverse_inertia_(spec.nodes.size()),
           node_torque_(spec.nodes.size()),
           inertia_(spec.nodes.size()),
+          seen_speeds_(spec.nodes.size()),
+          other_torques_(spec.nodes.size()),
           output_offsets_(spec.outputs.size()),
           output_gains_(spec.outputs.size()),
           parameters_(spec.parameter_names.size()) {
@@ -54,6 +56,7 @@ public:
             at += counts[kind];
         }
         last_torques_.assign(at, T(0));
+        prescribes_motion_ = !spec.speed_sources.empty();
     }
 
     /// The crank-angle channels (cylinder pressures) the cylinders read; must outlive the model.
@@ -96,8 +99,8 @@ public:
 
     /// dx/dt = f(x, u) with u the input values at the current time.
     void derivative(const T* x, const double* u, T* dxdt) {
-        const T* omega = x + node_count_;
-        accumulate_torques(NodeMotion<T>{x, omega, u, angle_inputs_, true}, node_torque_.data());
+        const T* omega = speeds_seen(x, u);
+        accumulate_torques(NodeMotion<T>{x, omega, u, angle_inputs_, true}, node_torque_.data(), last_torques_.data());
         for (std::size_t i = 0; i < node_count_; ++i) {
             dxdt[i] = omega[i];
             dxdt[node_count_ + i] = node_torque_[i] * inverse_inertia_[i];  // θ'' = T / J
@@ -111,11 +114,12 @@ public:
                 Kind::correct_accelerations(elements_of<Kind>(), inertia_.data(), node_torque_.data(),
                                             dxdt + node_count_);
         });
+        if (prescribes_motion_) impose_prescribed_motion(u, node_torque_.data(), dxdt + node_count_, last_torques_.data());
     }
 
     /// Net torque on each node with all speeds zero (for the static equilibrium).
     void static_torques(const T* theta, const double* u, T* torque) {
-        accumulate_torques(NodeMotion<T>{theta, nullptr, u, angle_inputs_, false}, torque);
+        accumulate_torques(NodeMotion<T>{theta, nullptr, u, angle_inputs_, false}, torque, nullptr);
     }
 
     /// The offset (amplitude shift) of output k.
@@ -123,7 +127,7 @@ public:
 
     /// Model output k (NetworkSpec::outputs order) including its gain and offset.
     T output(std::size_t k, const T* x, const double* u) const {
-        return output_from(k, x, [&](const ElementRef& ref, const T* theta, const T* omega) {
+        return output_from(k, x, speeds_seen(x, u), [&](const ElementRef& ref, const T* theta, const T* omega) {
             return element_torque(ref, theta, omega, u);
         });
     }
@@ -133,29 +137,71 @@ public:
     /// evaluating the element again (a simulation that scores every sample needs the
     /// derivative there anyway, as the first stage of its next step).
     T output_after_derivative(std::size_t k, const T* x) const {
-        return output_from(k, x, [&](const ElementRef& ref, const T*, const T*) { return last_torque(ref); });
+        const T* omega = prescribes_motion_ ? seen_speeds_.data() : x + node_count_;  // as that call saw them
+        return output_from(k, x, omega, [&](const ElementRef& ref, const T*, const T*) { return last_torque(ref); });
     }
 
     /// The torque an element transmits (spring_damper, clearance, gear_mesh: the torque
     /// from a to b; friction: the friction torque c·ω; torque: the applied torque;
-    /// cylinder: the gas torque).
+    /// cylinder: the gas torque; speed_source: the torque it applies to its node), with
+    /// omega the speeds the elements see (speeds_seen).
     T element_torque(const ElementRef& ref, const T* theta, const T* omega, const double* u) const {
         const NodeMotion<T> motion{theta, omega, u, angle_inputs_, true};
         const auto i = static_cast<std::size_t>(ref.index);
         T t(0);
         for_each_element_kind([&](auto kind) {
             using Kind = decltype(kind);
-            if (ref.kind == ElementRow<Kind>::kind) t = Kind::torque(elements_of<Kind>()[i], motion);
+            if (ref.kind != ElementRow<Kind>::kind) return;
+            if constexpr (requires { Kind::prescribed_acceleration(elements_of<Kind>()[i], u); }) {
+                // A reaction: the sum of every other torque on its node is needed.
+                accumulate_torques(motion, other_torques_.data(), nullptr);
+                const auto& e = elements_of<Kind>()[i];
+                const auto node = static_cast<std::size_t>(e.node);
+                t = inertia_[node] * Kind::prescribed_acceleration(e, u) - other_torques_[node];
+            } else {
+                t = Kind::torque(elements_of<Kind>()[i], motion);
+            }
         });
         return t;
     }
 
+    /// The node speeds the elements see at state x and inputs u: the state's, with the
+    /// prescribed speeds of speed-source nodes.
+    const T* speeds_seen(const T* x, const double* u) const {
+        const T* omega = x + node_count_;
+        if (!prescribes_motion_) return omega;
+        std::copy_n(omega, node_count_, seen_speeds_.begin());
+        for_each_element_kind([&](auto kind) {
+            using Kind = decltype(kind);
+            if constexpr (requires { Kind::prescribed_speed(elements_of<Kind>()[0], u); })
+                for (const auto& e : elements_of<Kind>())
+                    seen_speeds_[static_cast<std::size_t>(e.node)] = Kind::prescribed_speed(e, u);
+        });
+        return seen_speeds_.data();
+    }
+
 private:
+    // A speed source's node turns at its prescribed speed (dθ/dt, set with the other
+    // speeds) and its state speed follows the prescribed slope; the source's torque is
+    // J·ω̇ minus the sum of the node's other torques, kept as that element's torque.
+    void impose_prescribed_motion(const double* u, const T* node_torque, T* acceleration, T* kept) const {
+        for_each_element_kind([&](auto kind) {
+            using Kind = decltype(kind);
+            if constexpr (requires { Kind::prescribed_acceleration(elements_of<Kind>()[0], u); }) {
+                T* slot = kept + first_of_kind_[static_cast<std::size_t>(ElementRow<Kind>::kind)];
+                for (const auto& e : elements_of<Kind>()) {
+                    const auto node = static_cast<std::size_t>(e.node);
+                    acceleration[node] = Kind::prescribed_acceleration(e, u);
+                    *slot++ = inertia_[node] * acceleration[node] - node_torque[node];
+                }
+            }
+        });
+    }
+
     template <class ElementTorque>
-    T output_from(std::size_t k, const T* x, ElementTorque&& torque_of) const {
+    T output_from(std::size_t k, const T* x, const T* omega, ElementTorque&& torque_of) const {
         const OutputSpec& o = spec_->outputs[k];
         const T* theta = x;
-        const T* omega = x + node_count_;
         T y{};
         switch (o.kind) {
             case OutputKind::speed: y = omega[o.node]; break;
@@ -196,11 +242,11 @@ private:
 
     // Sums every element's torque on every node, kind by kind in the table's order. At
     // rest (no speeds) the kinds that act only in motion (friction) are left out.
-    [[gnu::always_inline]] void accumulate_torques(const NodeMotion<T>& motion, T* torque) const {
+    // Each element's transmitted torque is kept in `kept` (when not null, in motion; as
+    // element_torque() computes it) for output_after_derivative().
+    [[gnu::always_inline]] void accumulate_torques(const NodeMotion<T>& motion, T* torque, T* kept) const {
         for (std::size_t i = 0; i < node_count_; ++i) torque[i] = T(0);
-        // Each element's transmitted torque is kept (as element_torque() computes it) for
-        // output_after_derivative().
-        T* kept = motion.moving() ? last_torques_.data() : nullptr;
+        if (!motion.moving()) kept = nullptr;
         for_each_element_kind([&](auto kind) __attribute__((always_inline)) {
             using Kind = decltype(kind);
             if (!Kind::acts_at_rest && !motion.moving()) return;
@@ -218,6 +264,9 @@ private:
     std::vector<T> node_torque_;
     typename StorageOf<ElementTypes>::type elements_;  ///< the bound elements, one list per kind
     std::vector<T> inertia_;
+    bool prescribes_motion_ = false;         ///< some node's speed is prescribed (a speed source)
+    mutable std::vector<T> seen_speeds_;     ///< speeds_seen's result when prescribes_motion_
+    mutable std::vector<T> other_torques_;   ///< element_torque's node sums for a reaction
     const CrankAngleChannels* angle_inputs_ = nullptr;
     std::vector<T> output_offsets_;
     std::vector<T> output_gains_;

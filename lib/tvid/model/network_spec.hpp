@@ -68,9 +68,12 @@ struct NetworkSpec {
     std::vector<std::string> parameter_names; ///< model parameters, Field::parameter indexes these
     std::vector<std::string> input_names;     ///< model inputs by time, TorqueSpec::input indexes these
     std::vector<std::string> angle_input_names; ///< model inputs by crank angle, CylinderSpec::pressure indexes these
+    /// Inputs whose time derivative the model reads (a speed source's acceleration): the
+    /// derivative of input_rates[j] follows the inputs, at input_names.size() + j.
+    std::vector<int> input_rates;
     std::vector<NodeSpec> nodes;
     // One list per element kind: spring_dampers, clearances, frictions, gear_meshes, torques, cylinders,
-    // order_torques.
+    // order_torques, speed_sources.
 #define TVID_ELEMENT_LIST(kind, Type, list) std::vector<elements::Type::Spec> list;
     TVID_ELEMENT_KINDS(TVID_ELEMENT_LIST)
 #undef TVID_ELEMENT_LIST

@@ -16,6 +16,7 @@
 #include "tvid/model/elements/friction.hpp"
 #include "tvid/model/elements/gear_mesh.hpp"
 #include "tvid/model/elements/order_torque.hpp"
+#include "tvid/model/elements/speed_source.hpp"
 #include "tvid/model/elements/spring_damper.hpp"
 #include "tvid/model/elements/torque.hpp"
 
@@ -27,4 +28,5 @@
     X(gear_mesh, GearMesh, gear_meshes)            \
     X(torque, Torque, torques)                     \
     X(cylinder, Cylinder, cylinders)               \
-    X(order_torque, OrderTorque, order_torques)
+    X(order_torque, OrderTorque, order_torques)    \
+    X(speed_source, SpeedSource, speed_sources)

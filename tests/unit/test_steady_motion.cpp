@@ -1,0 +1,107 @@
+// The steady motion of a line with gears and a free rigid-body rotation
+// (model/steady_motion.hpp), against a hand-derived geared line.
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <vector>
+
+#include "tvid/model/steady_motion.hpp"
+
+using namespace tvid;
+
+namespace {
+
+// a (J 1) =gear, ratio 3, k 1000= b (J 3) –spring 200– c (J 5); T_in on a, −T_L on c.
+NetworkSpec geared_line() {
+    NetworkSpec spec;
+    spec.preset = "custom";
+    spec.input_names = {"T_in", "T_L"};
+    spec.parameter_names = {"n"};
+    spec.nodes = {NodeSpec{"a", Field::value(1.0), false}, NodeSpec{"b", Field::value(3.0), false},
+                  NodeSpec{"c", Field::value(5.0), false}};
+    GearMeshSpec gear;
+    gear.name = "gear";
+    gear.a = 0;
+    gear.b = 1;
+    gear.ratio = Field::param(0);
+    gear.k = Field::value(1000.0);
+    gear.c = Field::value(4.0);
+    spec.gear_meshes.push_back(gear);
+    spec.spring_dampers.push_back(SpringDamperSpec{"shaft", 1, 2, Field::value(200.0), Field::value(2.0)});
+    spec.frictions.push_back(FrictionSpec{"bearing", 2, Field::value(0.05)});
+    spec.torques.push_back(TorqueSpec{"drive", 0, 0, Field::value(0.0), Field::value(1.0)});
+    spec.torques.push_back(TorqueSpec{"load", 2, 1, Field::value(0.0), Field::value(-1.0)});
+    return spec;
+}
+
+}  // namespace
+
+TEST_CASE("the steady motion of a geared line carries the torques that accelerate it as one body", "[model][steady]") {
+    const NetworkSpec spec = geared_line();
+    NetworkModel<double> model(spec);
+    const double n = 3.0;
+    model.set_parameters(&n);
+    const double u[2] = {6.0, 9.0}, speed = 10.0, angle = 2.0;  // c turns at 10 rad/s, at 2 rad
+    const SteadyMotion s = solve_steady_motion(model, u, 2, speed, angle);
+    REQUIRE(s.found);
+    // Speeds through the ratio: ω_a = n ω_b, ω_b = ω_c.
+    CHECK(s.ratio == std::vector<double>{3.0, 1.0, 1.0});
+    CHECK(s.x[3] == 30.0);
+    CHECK(s.x[4] == 10.0);
+    CHECK(s.x[5] == 10.0);
+    // By hand, with α the acceleration of c (a turns n α): the rigid body's inertia at c is
+    // J_c + J_b + n² J_a, its torque n T_in − T_L − c_f ω_c.
+    const double alpha = (n * 6.0 - 9.0 - 0.05 * speed) / (5.0 + 3.0 + n * n * 1.0);
+    CHECK(s.acceleration == Approx(alpha).epsilon(1e-9));
+    const double mesh = 6.0 - 1.0 * n * alpha;            // a: T_in − M = J_a n α
+    const double shaft = 9.0 + 0.05 * speed + 5.0 * alpha;  // c: S − T_L − c_f ω = J_c α
+    CHECK(n * mesh - shaft == Approx(3.0 * alpha).epsilon(1e-9));  // b: n M − S = J_b α
+    CHECK(s.x[2] == angle);
+    CHECK(s.x[1] - s.x[2] == Approx(shaft / 200.0).epsilon(1e-9));
+    CHECK(s.x[0] - n * s.x[1] == Approx(mesh / 1000.0).epsilon(1e-9));
+    // Every node's acceleration is its ratio of α: a steady motion, not a transient.
+    std::vector<double> f(6);
+    model.derivative(s.x.data(), u, f.data());
+    CHECK(f[3] == Approx(n * alpha).epsilon(1e-8));
+    CHECK(f[4] == Approx(alpha).epsilon(1e-8));
+    CHECK(f[5] == Approx(alpha).epsilon(1e-8));
+}
+
+TEST_CASE("a gear ratio that is a parameter sets the steady speeds", "[model][steady]") {
+    const NetworkSpec spec = geared_line();
+    NetworkModel<double> model(spec);
+    const double n = 4.5;
+    model.set_parameters(&n);
+    const double u[2] = {6.0, 9.0};
+    const SteadyMotion s = solve_steady_motion(model, u, 0, 45.0, 0.0);  // now from a
+    REQUIRE(s.found);
+    CHECK(s.x[3] == 45.0);
+    CHECK(s.x[4] == Approx(10.0).epsilon(1e-15));
+    CHECK(s.x[5] == Approx(10.0).epsilon(1e-15));
+}
+
+TEST_CASE("ratios that disagree around a loop, or a node joined to nothing, have no steady motion", "[model][steady]") {
+    SECTION("a shaft beside the gear") {
+        NetworkSpec spec = geared_line();
+        spec.spring_dampers.push_back(SpringDamperSpec{"bypass", 0, 1, Field::value(10.0), Field::value(0.0)});
+        const double n = 3.0;
+        const RigidMotion m = rigid_motion(spec, {n}, 0);
+        CHECK(m.problem.find("disagree") != std::string::npos);
+        NetworkModel<double> model(spec);
+        model.set_parameters(&n);
+        const double u[2] = {6.0, 9.0};
+        const SteadyMotion s = solve_steady_motion(model, u, 0, 30.0, 0.0);
+        CHECK_FALSE(s.found);
+        CHECK(s.problem.find("disagree") != std::string::npos);
+    }
+    SECTION("a node no element joins") {
+        NetworkSpec spec = geared_line();
+        spec.nodes.push_back(NodeSpec{"loose", Field::value(1.0), false});
+        const double n = 3.0;
+        NetworkModel<double> model(spec);
+        model.set_parameters(&n);
+        const double u[2] = {6.0, 9.0};
+        const SteadyMotion s = solve_steady_motion(model, u, 0, 30.0, 0.0);
+        CHECK_FALSE(s.found);
+        CHECK(s.problem.find("node loose is joined to a by no element") != std::string::npos);
+    }
+}
