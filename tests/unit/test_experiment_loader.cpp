@@ -1239,3 +1239,82 @@ TEST_CASE("custom network errors name the line and the key", "[experiment][netwo
         CHECK(contains(e->what(), "torque"));
     }
 }
+
+TEST_CASE("a speed source, a speed controller and a steady start are read with their keys", "[experiment][network]") {
+    Scratch s;
+    SECTION("a speed source on a channel reads the channel's slope too") {
+        const Experiment ex = s.load(with(inserted(kCustom, 14, "    - { type: speed_source, name: spin, node: motor, input: w_in, scale: 2 }"),
+                                          16, "inputs: { T_in: u, w_in: w }"));
+        REQUIRE(ex.network.speed_sources.size() == 1);
+        const tvid::SpeedSourceSpec& e = ex.network.speed_sources[0];
+        CHECK(e.node == 0);
+        CHECK(e.input == ex.network.input_index("w_in"));
+        CHECK(e.scale.constant == 2);
+        CHECK(ex.network.input_rates == std::vector<int>{e.input});
+        CHECK(e.rate == static_cast<int>(ex.network.input_names.size()));  // after every input
+        const tvid::ProblemDefinition d = tvid::problem_definition(ex);
+        CHECK(d.inputs.count() == ex.network.input_names.size() + 1);
+    }
+    SECTION("a PI controller is a reference node, its speed source and a spring-damper") {
+        const Experiment ex = s.load(with(
+            inserted(kCustom, 14, "    - { type: speed_controller, name: pi, node: load, setpoint: 40, kp: 0.2, ki: 3 }"), 31,
+            "initial_state: { kind: steady, node: motor, speed: w, samples: 5 }"));
+        REQUIRE(ex.network.nodes.size() == 3);
+        CHECK(ex.network.nodes[2].name == "pi.reference");
+        REQUIRE(ex.network.speed_sources.size() == 1);
+        CHECK(ex.network.speed_sources[0].name == "pi.setpoint");
+        CHECK(ex.network.speed_sources[0].node == 2);
+        CHECK(ex.network.speed_sources[0].input == -1);
+        CHECK(ex.network.speed_sources[0].speed.constant == 40);
+        const tvid::SpringDamperSpec& pi = ex.network.spring_dampers.back();
+        CHECK(pi.name == "pi");
+        CHECK(pi.a == 2);
+        CHECK(pi.b == 1);
+        CHECK(pi.k.constant == 3);    // ki: the integral's stiffness
+        CHECK(pi.c.constant == 0.2);  // kp
+        CHECK(ex.initial_state == tvid::InitialStateKind::steady);
+        CHECK(ex.steady.node == 0);
+        CHECK(ex.steady.speed_column == "w");
+        CHECK(ex.steady.samples == 5);
+    }
+    SECTION("a steady start at a constant speed") {
+        const Experiment ex = s.load(with(kCustom, 30, "initial_state: { kind: steady, node: load, speed: 12.5 }"));
+        CHECK(ex.steady.node == 1);
+        CHECK(ex.steady.speed == 12.5);
+        CHECK(ex.steady.speed_column.empty());
+        CHECK(ex.steady.samples == 0);
+    }
+}
+
+TEST_CASE("speed sources, controllers and steady starts refuse bad keys naming the line", "[experiment][network]") {
+    const std::string spin = "    - { type: speed_source, name: spin, node: motor, input: w_in }";
+    const auto with_spin = [&](const std::string& start) {
+        return with(with(inserted(kCustom, 14, spin), 16, "inputs: { T_in: u, w_in: w }"), 31, start);
+    };
+    SECTION("both a channel and a constant speed") {
+        expect_error(inserted(kCustom, 14, "    - { type: speed_source, node: motor, input: w_in, speed: 3 }"), 15,
+                     "model.elements[6].speed", "either input");
+    }
+    SECTION("two speed sources on one node") {
+        expect_error(inserted(with_spin("initial_state: rest"), 15,
+                              "    - { type: speed_source, name: spin2, node: motor, speed: 3 }"),
+                     16, "model.elements[7].node", "already has its speed prescribed by 'spin'");
+    }
+    SECTION("a negative controller gain") {
+        expect_error(inserted(kCustom, 14, "    - { type: speed_controller, node: load, setpoint: 40, kp: -1, ki: 3 }"),
+                     15, "model.elements[6].kp", "cannot be negative");
+    }
+    SECTION("a speed source cannot start from a static equilibrium") {
+        expect_error(with_spin("initial_state: equilibrium"), 31, "initial_state", "a speed source turns its node");
+    }
+    SECTION("a steady start without its node") {
+        expect_error(with(kCustom, 30, "initial_state: { kind: steady, speed: w }"), 30, "initial_state.node", "missing");
+    }
+    SECTION("a steady start on a column that is not there") {
+        expect_error(with(kCustom, 30, "initial_state: { kind: steady, node: motor, speed: wx }"), 30,
+                     "initial_state.speed", "no column named 'wx'");
+    }
+    SECTION("steady written as a word") {
+        expect_error(with(kCustom, 30, "initial_state: steady"), 30, "initial_state", "needs its node and speed");
+    }
+}

@@ -78,15 +78,40 @@ SimulationStatus IdentificationProblem::simulate_window(const Window& w, Problem
         if (!on_scored(w.first, ws.x, ws.buffers.u)) return SimulationStatus::stopped_by_observer;
     }
     std::size_t reached = from;  // the last sample the simulation reached sane
+    const std::size_t n = definition_.network.nodes.size();
+    const double limit = definition_.speed_limit;
+    int beyond = -1;  // a node whose speed left the physical range
     const auto scored = [&](std::size_t i, const std::vector<double>& x, const std::vector<double>& u) {
+        for (std::size_t j = 0; j < n; ++j)
+            if (std::abs(x[n + j]) > limit) {
+                beyond = static_cast<int>(j);
+                return false;
+            }
         reached = i;
         if (ws.stop_requested()) return false;
         return i < w.first ? true : on_scored(i, x, u);  // warm-up: simulated, not scored
     };
-    const SimulationStatus status =
+    SimulationStatus status =
         simulate_samples(ws.model, inputs(), from, w.last, ws.x, definition_.simulation, ws.buffers, scored);
+    if (beyond >= 0) {
+        status = SimulationStatus::diverged;
+        if (problem) *problem = speed_account(static_cast<std::size_t>(beyond), reached, ws.x);
+        return status;
+    }
     if (status != SimulationStatus::ok && problem) *problem = failure_account(status, reached, ws.x);
     return status;
+}
+
+std::string IdentificationProblem::speed_account(std::size_t node, std::size_t reached,
+                                                 const std::vector<double>& x) const {
+    const std::vector<double>& time = inputs().time();
+    const std::size_t n = definition_.network.nodes.size();
+    std::string text = "simulation diverged: node " + definition_.network.nodes[node].name + "'s speed reached " +
+                       number_text(x[n + node]) + " rad/s, beyond " + number_text(kSpeedLimitFactor) +
+                       " times the largest measured speed (" + number_text(definition_.speed_limit) +
+                       " rad/s allowed), after t = " + number_text(time[reached]) + " s";
+    if (reached + 1 < time.size()) text += " (by t = " + number_text(time[reached + 1]) + " s)";
+    return text + "; check the start (initial_state) and the gear ratios, or a stiff candidate's step";
 }
 
 std::string IdentificationProblem::failure_account(SimulationStatus status, std::size_t reached,

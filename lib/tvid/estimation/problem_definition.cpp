@@ -1,5 +1,7 @@
 #include "tvid/estimation/problem_definition.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <utility>
 
 namespace tvid {
@@ -50,6 +52,31 @@ std::vector<double> channel_values(const CsvTable& data, const std::vector<doubl
 }
 }  // namespace
 
+// kSpeedLimitFactor times the largest speed the recording measures, or infinity.
+double speed_limit(const ProblemDefinition& d, const Experiment& experiment) {
+    double largest = 0.0;
+    bool measured = false;
+    const auto take = [&](const std::vector<double>& v) {
+        for (double x : v) largest = std::max(largest, std::abs(x));
+        measured = true;
+    };
+    for (std::size_t k = 0; k < d.measured.size(); ++k)
+        if (d.network.outputs[static_cast<std::size_t>(d.output_indices[k])].kind == OutputKind::speed) take(d.measured[k]);
+    for (const SpeedSourceSpec& s : d.network.speed_sources) {
+        if (s.input < 0) continue;
+        const std::size_t k = static_cast<std::size_t>(s.input);
+        std::vector<double> v(d.inputs.samples());
+        for (std::size_t i = 0; i < v.size(); ++i) v[i] = d.inputs.value(k, i);
+        take(v);
+    }
+    if (experiment.initial_state == InitialStateKind::steady) {
+        if (!d.steady_speed.empty()) take(d.steady_speed);
+        else take({experiment.steady.speed});
+    }
+    if (!measured || !(largest > 0)) return std::numeric_limits<double>::infinity();
+    return kSpeedLimitFactor * largest;
+}
+
 ProblemDefinition problem_definition(const Experiment& experiment) {
     ProblemDefinition d;
     d.network = experiment.network;
@@ -73,6 +100,7 @@ ProblemDefinition problem_definition(const Experiment& experiment) {
     d.crank_angle = experiment.crank_angle;
     d.angle_node = experiment.angle_node;
     d.simulation = experiment.simulation;
+    d.speed_limit = speed_limit(d, experiment);
     d.cost = experiment.estimation_settings.cost;
     d.jacobian = experiment.estimation_settings.jacobian;
     return d;

@@ -1,4 +1,5 @@
 #pragma once
+#include <limits>
 // What an identification problem needs of an experiment, and nothing else: the network,
 // its measured channels (unit-scaled), the free parameters and their bounds, the
 // estimation windows, how windows start and are simulated, and how they are scored.
@@ -30,9 +31,16 @@ struct ProblemDefinition {
     std::vector<double> crank_angle;             ///< measured crank angle per sample [rad], or empty
     int angle_node = -1;                         ///< the node whose angle crank_angle measures
     SimulationSettings simulation;
+    /// A simulated speed beyond this is not physical (kSpeedLimitFactor times the largest
+    /// measured speed: speed outputs, speed-source channels, a steady start's speed);
+    /// infinite when nothing measures a speed.
+    double speed_limit = std::numeric_limits<double>::infinity();
     CostKind cost = CostKind::l1;
     JacobianKind jacobian = JacobianKind::sensitivity;
 };
+
+/// How far beyond the largest measured speed a simulated speed may go.
+inline constexpr double kSpeedLimitFactor = 100.0;
 
 /// The definition of `experiment`'s identification problem.
 ProblemDefinition problem_definition(const Experiment& experiment);
