@@ -46,8 +46,9 @@ SimulationStatus ForwardSensitivity::simulate_packed(const double* free, const W
     const auto a_dir = static_cast<int>(cols), s_dir = static_cast<int>(cols + 1);
     if (start.shot)
         for (std::size_t i = 0; i < n; ++i) {
-            x[i].set_derivative(a_dir, 1.0);      // ∂θ_i/∂a
-            x[n + i].set_derivative(s_dir, 1.0);  // ∂ω_i/∂s
+            const double r = speed_ratio(ws.plain->x_start, n, start.node, i);  // through the gear ratios
+            x[i].set_derivative(a_dir, r);      // ∂θ_i/∂a
+            x[n + i].set_derivative(s_dir, r);  // ∂ω_i/∂s
         }
 
     std::array<T, 8> y_store;  // the outputs at a sample (at most 8 outputs take this path)

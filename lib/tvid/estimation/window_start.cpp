@@ -13,6 +13,13 @@
 
 namespace tvid {
 
+double speed_ratio(const std::vector<double>& x, std::size_t n, std::size_t node, std::size_t i) {
+    const double reference = x[n + node];
+    if (!(reference != 0.0) || !std::isfinite(reference)) return 1.0;
+    const double r = x[n + i] / reference;
+    return std::isfinite(r) ? r : 1.0;
+}
+
 bool WindowStarts::initial_state(const Window& w, ProblemWorkspace& ws, std::string* problem) const {
     const std::size_t n = ws.model.node_count();
     const std::size_t start = w.start;
@@ -112,13 +119,15 @@ SimulationStatus WindowStarts::shoot_warmup_newton(const Window& w, ProblemWorks
     double e[2];
     MissJacobian jac{};
     double simulated_a = 0.0, simulated_s = 0.0;  // the start of the last simulation: where ws.x comes from
-    auto start_state = [&](double a, double s, std::size_t i) { return i < n ? ws.x0[i] + a : s; };
+    // The rigid motion through the gear ratios: node i turns r_i times the encoder's node.
+    const auto r = [&](std::size_t i) { return speed_ratio(ws.x0, n, node, i); };
+    auto start_state = [&](double a, double s, std::size_t i) { return i < n ? ws.x0[i] + a * r(i) : s * r(i - n); };
     auto tangent_miss = [&](double a, double s, double max_step) {
         simulated_a = a, simulated_s = s;
         std::array<T, N> x;
         for (std::size_t i = 0; i < N; ++i) {
             x[i] = T(start_state(a, s, i));
-            x[i].set_derivative(i < n ? 0 : 1, 1.0);  // ∂θ_i/∂a, ∂ω_i/∂s
+            x[i].set_derivative(i < n ? 0 : 1, r(i < n ? i : i - n));  // ∂θ_i/∂a, ∂ω_i/∂s
             ws.x_start[i] = x[i].value();
         }
         T at_mid;
@@ -166,7 +175,7 @@ SimulationStatus WindowStarts::shoot_warmup_newton(const Window& w, ProblemWorks
         start.offset = simulated_a;
         start.speed = simulated_s;
     };
-    double a = 0.0, s = ws.x0[n];
+    double a = 0.0, s = ws.x0[n + node];
     start.shot = false;
     ws.x_start = ws.x;
 
@@ -215,7 +224,7 @@ SimulationStatus WindowStarts::shoot_warmup_newton(const Window& w, ProblemWorks
             step[0] = a - a_before, step[1] = s - s_before;
         }
         if (ws.stop_requested()) return status;
-        a = 0.0, s = ws.x0[n];  // too far, or failed there: as without a guess
+        a = 0.0, s = ws.x0[n + node];  // too far, or failed there: as without a guess
         status = SimulationStatus::ok;
         break;
     }
@@ -268,8 +277,8 @@ SimulationStatus WindowStarts::shoot_warmup_by_differences(const Window& w, Prob
     auto miss = [&](double a, double s, double e[2]) {
         ws.x = ws.x0;
         for (std::size_t i = 0; i < n; ++i) {
-            ws.x[i] += a;
-            ws.x[n + i] = s;
+            ws.x[i] += a * speed_ratio(ws.x0, n, node, i);
+            ws.x[n + i] = s * speed_ratio(ws.x0, n, node, i);
         }
         ws.x_start = ws.x;
         double at_mid = 0.0;
@@ -282,7 +291,7 @@ SimulationStatus WindowStarts::shoot_warmup_by_differences(const Window& w, Prob
         e[1] = ws.x[node] - angle[w.first];
         return status == SimulationStatus::ok && std::isfinite(e[0]) && std::isfinite(e[1]);
     };
-    double a = 0.0, s = ws.x0[n], e[2], ea[2], es[2];
+    double a = 0.0, s = ws.x0[n + node], e[2], ea[2], es[2];
     start.shot = false;
     ws.x_start = ws.x;
     if (mid <= w.start) {  // too short to shoot: a plain warm-up from the measured state

@@ -36,6 +36,11 @@ struct SolvedStart {
     std::vector<double> x_start, x, u0;
 };
 
+/// How fast node i of the state x (n nodes) turns relative to node `node`: the gear
+/// ratios a measured start gave its speeds (1 where they cannot tell: a node at rest).
+/// A shot warm-up moves every node's angle and speed in these ratios.
+double speed_ratio(const std::vector<double>& x, std::size_t n, std::size_t node, std::size_t i);
+
 /// The starts of the windows of one problem definition.
 class WindowStarts {
 public:

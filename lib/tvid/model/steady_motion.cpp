@@ -102,6 +102,7 @@ SteadyMotion solve_steady_motion(NetworkModel<double>& model, const double* u, i
     Eigen::VectorXd z = Eigen::VectorXd::Zero(n), g(n), g_trial(n), trial(n);
     Eigen::MatrixXd jac(n, n);
     eval(z, g);
+    bool polished = false;
     for (int iter = 0; iter < 100; ++iter) {
         const double norm = g.norm();
         if (!std::isfinite(norm)) break;
@@ -137,7 +138,13 @@ SteadyMotion solve_steady_motion(NetworkModel<double>& model, const double* u, i
             twist_step = std::max(twist_step, std::abs(alpha * step[i]));
             twist_scale = std::max(twist_scale, std::abs(x[static_cast<std::size_t>(i)]));
         }
-        if (twist_step <= 1e-14 * twist_scale || g.norm() == 0.0) {
+        // Converged to the angles' precision (they may be thousands of radians on a
+        // recording's cumulative encoder angle): one more step, to rounding.
+        if (twist_step <= 1e-14 * twist_scale && !polished) {
+            polished = true;
+            continue;
+        }
+        if (polished || g.norm() == 0.0) {
             set_angles(z);
             r.found = true;
             r.acceleration = z[ref];
