@@ -213,6 +213,8 @@ TEST_CASE("a fit whose every candidate fails exits 1 with a report that says so"
     CHECK(s["status"] == "failed");
     CHECK(s["optimizer"]["termination"] == "all candidates failed");
     CHECK(s["optimizer"]["failed_evaluations"] == s["optimizer"]["evaluations"]);
+    // Why the swarm's candidates failed: the first one simulated again, alone.
+    CHECK(s["optimizer"]["first_failure"] == "estimation window time 1.5 to 3: simulation step budget exceeded");
 }
 
 TEST_CASE("an lm fit whose start cannot be simulated exits 1 with a report that says so", "[e2e][fit]") {

@@ -43,6 +43,9 @@ struct OptimizerRun {
     int iterations = 0;
     long long evaluations = 0;              ///< simulations run
     long long failed_evaluations = 0;       ///< candidates whose simulation failed
+    /// Why the swarm's first failed candidate failed (the first window its simulation could
+    /// not finish, and that simulation's account); empty when none failed.
+    std::string first_failure;
     std::vector<HistoryRow> history;        ///< iteration, simulations so far, best cost
     /// Why it stopped, as summary.json and the terminal say it (e.g. "cost change below
     /// ftol", "interrupted"), and as a type to decide on.

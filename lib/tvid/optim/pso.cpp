@@ -123,7 +123,8 @@ PsoSummary run_pso(const PsoSettings& options, const SearchBox& box, CandidateEv
         s.evaluations += static_cast<long long>(count);
         for (std::size_t c = 0; c < count; ++c) {
             const double e = std::isfinite(batch_cost[c]) ? batch_cost[c] : inf;
-            if (!std::isfinite(e)) ++s.failed_evaluations;
+            if (!std::isfinite(e) && s.failed_evaluations++ == 0)
+                s.first_failed.assign(&batch[c * m], &batch[c * m] + m);
             cost[batch_index[c]] = e;
         }
         // Personal and global bests, in particle order (ties keep the earlier one).

@@ -40,6 +40,9 @@ struct PsoSummary {
     /// candidates whose simulation failed (cost +inf); a candidate whose partial cost had
     /// already reached its personal best was stopped there (evaluate_bounded) and is not counted
     long long failed_evaluations = 0;
+    /// The first candidate whose simulation failed (empty when none did), for the report
+    /// to say why (IdentificationProblem::failure).
+    std::vector<double> first_failed;
     std::vector<HistoryRow> history; ///< one row per iteration, k = 0 … iterations
     /// "iteration limit", "stopped" (the progress callback returned false, or the evaluator
     /// was stopped mid-batch: that iteration is dropped), "all candidates failed"

@@ -35,6 +35,7 @@ OptimizerRun run_hybrid_fit(const IdentificationProblem& problem, const FitOptio
                         .iterations = h.iterations,
                         .evaluations = h.evaluations,
                         .failed_evaluations = h.failed_evaluations,
+                        .first_failure = optimizer_report::first_failure(problem, r.pso),
                         .history = h.history,
                         .termination = h.termination,
                         .termination_type = h.termination_type,

@@ -25,6 +25,7 @@ OptimizerRun run_swarm(const IdentificationProblem& problem, const FitOptions& o
                         .iterations = r.pso.iterations,
                         .evaluations = r.pso.evaluations,
                         .failed_evaluations = r.pso.failed_evaluations,
+                        .first_failure = optimizer_report::first_failure(problem, r.pso),
                         .history = r.pso.history,
                         .termination = r.pso.termination,
                         .termination_type = r.pso.termination_type,

@@ -16,6 +16,12 @@ std::string csv_cell(double v) {
     return buf;
 }
 
+std::string first_failure(const IdentificationProblem& problem, const PsoSummary& swarm) {
+    if (swarm.first_failed.size() != problem.dimension()) return {};
+    auto ws = problem.make_workspace();
+    return problem.failure(swarm.first_failed.data(), *ws);
+}
+
 json swarm_settings(const FitResult& fit) {
     const PsoSettings& ps = fit.pso_settings;
     return json{{"particles", fit.pso.particles}, {"seed", ps.seed}, {"w", ps.w}, {"c1", ps.c1}, {"c2", ps.c2}};

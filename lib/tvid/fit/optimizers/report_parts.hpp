@@ -6,6 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "tvid/estimation/identification_problem.hpp"
 #include "tvid/fit/fit_run.hpp"
 
 namespace tvid::optimizer_report {
@@ -15,6 +16,10 @@ nlohmann::json number(double v);
 
 /// v with 17 significant digits; "inf", "-inf", or empty for NaN.
 std::string csv_cell(double v);
+
+/// Why the swarm's first failed candidate failed: its simulation run again, alone, to the
+/// window and account it failed with; empty when no candidate failed (or a stop cut it).
+std::string first_failure(const IdentificationProblem& problem, const PsoSummary& swarm);
 
 /// The swarm's settings as run: particles, seed, w, c1, c2.
 nlohmann::json swarm_settings(const FitResult& fit);
