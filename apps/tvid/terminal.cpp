@@ -88,6 +88,9 @@ std::string fit_summary_text(const IdentificationProblem& problem, const FitResu
                   fit.wall_seconds, fit.threads, fit.threads == 1 ? "" : "s",
                   fit.processes > 1 ? (" × " + std::to_string(fit.processes) + " processes").c_str() : "");
     out << line;
+    if (!fit.run.first_failure.empty())
+        out << "  " << fit.run.failed_evaluations << " simulation" << (fit.run.failed_evaluations == 1 ? "" : "s")
+            << " failed; the first: " << fit.run.first_failure << "\n";
     if (fit.interrupted && fit.success)
         out << "  interrupted: the report holds the best parameters after iteration " << fit.run.iterations
             << " (no uncertainty estimate)\n";
@@ -98,7 +101,8 @@ std::string fit_summary_text(const IdentificationProblem& problem, const FitResu
                     ? "  the simulation at the start failed: no parameters were identified\n"
                                      : "  every candidate failed to simulate: no parameters were identified\n");
     } else {
-        std::snprintf(line, sizeof line, "  cost (%s) %.6g\n", ex.estimation_settings.cost == CostKind::l1 ? "l1" : "l2",
+        std::snprintf(line, sizeof line, "  cost (%s%s) %.6g\n", ex.estimation_settings.cost == CostKind::l1 ? "l1" : "l2",
+                      fit.evaluation.normalized ? ", each output's residual over its measured spread" : "",
                       fit.evaluation.cost);
         out << line;
     }

@@ -1318,3 +1318,31 @@ TEST_CASE("speed sources, controllers and steady starts refuse bad keys naming t
         expect_error(with(kCustom, 30, "initial_state: steady"), 30, "initial_state", "needs its node and speed");
     }
 }
+
+TEST_CASE("an output's weight, detrend and high-pass are read, and bad ones refused naming the key", "[experiment][network]") {
+    Scratch s;
+    SECTION("read") {
+        const Experiment ex = s.load(with(kCustom, 17, "  w_load:  { column: w, speed: load, weight: 2.5, detrend: linear, highpass: 3 }"));
+        CHECK(ex.outputs[0].weight == 2.5);
+        CHECK(ex.outputs[0].scoring.detrend == tvid::Detrend::linear);
+        CHECK(ex.outputs[0].scoring.highpass == 3.0);
+        CHECK(ex.outputs[1].weight == 1.0);
+        CHECK_FALSE(ex.outputs[1].scoring.active());
+    }
+    SECTION("a weight that is not positive") {
+        expect_error(with(kCustom, 17, "  w_load:  { column: w, speed: load, weight: 0 }"), 17, "outputs.w_load.weight",
+                     "positive");
+    }
+    SECTION("an unknown detrend") {
+        expect_error(with(kCustom, 17, "  w_load:  { column: w, speed: load, detrend: quadratic }"), 17,
+                     "outputs.w_load.detrend", "not one of");
+    }
+    SECTION("a cut-off past the Nyquist frequency") {
+        expect_error(with(kCustom, 17, "  w_load:  { column: w, speed: load, highpass: 600 }"), 17,
+                     "outputs.w_load.highpass", "Nyquist frequency, 500 Hz");
+    }
+    SECTION("a weight on an input") {
+        expect_error(with(kCustom, 15, "inputs: { T_in: { column: u, weight: 2 } }"), 15, "inputs.T_in.weight",
+                     "unknown key");
+    }
+}

@@ -52,6 +52,9 @@ Evaluation evaluate_parameters(const IdentificationProblem& problem, const std::
     for (std::size_t k = 0; k < ex.outputs.size(); ++k)
         ev.output_offsets.push_back(
             workspaces[0]->model.output_offset(static_cast<std::size_t>(ex.output_indices[k])));
+    ev.output_scale = problem.definition().output_scale;
+    ev.output_spread = problem.definition().output_spread;
+    ev.normalized = problem.definition().normalized;
     std::vector<double> free;
     for (std::size_t j : problem.free_indices()) free.push_back(params[j]);
 

@@ -28,6 +28,9 @@ struct Evaluation {
     SplitEvaluation estimation;
     SplitEvaluation validation;
     std::vector<double> output_offsets;   ///< per compared output
+    /// How the cost weighs each output (ProblemDefinition::output_scale, output_spread, normalized).
+    std::vector<double> output_scale, output_spread;
+    bool normalized = false;
 };
 
 /// Simulates every window on up to `threads` threads (one window per thread at a time);

@@ -276,7 +276,7 @@ private:
                 const auto output = static_cast<std::size_t>(d_.output_indices[k]);
                 const P y = after_derivative ? ws.model.output_after_derivative(output, xs.data())
                                              : ws.model.output(output, xs.data(), u);
-                window.add(y - P(problem_.measured(k)[i]));
+                window.add(P(d_.output_scale[k]) * (y - P(problem_.measured(k)[i])));
             }
             const Lanes watched = bounded & live;
             if (!watched.any()) return;
@@ -329,7 +329,9 @@ BatchWorkspace::BatchWorkspace(const IdentificationProblem& problem)
 
 bool batch_supported(const IdentificationProblem& problem) {
     const ProblemDefinition& d = problem.definition();
-    return d.simulation.method == IntegrationMethod::rk4 && has_fixed_state_size(d.network.state_size());
+    // A filtered output is scored once its window is complete: the scalar cost does that.
+    return d.simulation.method == IntegrationMethod::rk4 && has_fixed_state_size(d.network.state_size()) &&
+           !d.filtered;
 }
 
 bool batch_costs(const IdentificationProblem& problem, const double* candidates, std::size_t count,

@@ -163,8 +163,9 @@ SimulationStatus ForwardSensitivity::simulate_augmented(const double* free, cons
     }
     if (start.shot)
         for (std::size_t i = 0; i < n; ++i) {
-            ws.z[state + i * d + cols] = 1.0;             // ∂θ_i/∂a
-            ws.z[state + (n + i) * d + cols + 1] = 1.0;  // ∂ω_i/∂s
+            const double r = speed_ratio(ws.plain->x_start, n, start.node, i);  // through the gear ratios
+            ws.z[state + i * d + cols] = r;             // ∂θ_i/∂a
+            ws.z[state + (n + i) * d + cols + 1] = r;  // ∂ω_i/∂s
         }
 
     const auto outputs = [&](std::size_t i, const std::vector<double>& z, const std::vector<double>& u) {
@@ -266,14 +267,19 @@ bool ForwardSensitivity::jacobian_columns(const double* free, std::size_t j0, st
                 const auto& y = outputs[k];
                 if (row >= J.rows()) return false;
                 for (std::size_t j = j0; j < j1; ++j)
-                    J(row, static_cast<Eigen::Index>(j)) = y.derivative(static_cast<int>(j - j0));
+                    J(row, static_cast<Eigen::Index>(j)) = def.output_scale[k] * y.derivative(static_cast<int>(j - j0));
                 ++row;
             }
             return true;
         };
         ws.start_slopes.clear();
+        const Eigen::Index window_row = row;
         if (simulate(free, w, j0, j1, ws, nullptr, record, starts ? &(*starts)[wi] : nullptr) != SimulationStatus::ok)
             return false;
+        // The outputs' detrend and high-pass, as the residuals get them (a column of J is
+        // contiguous: one column's block).
+        for (std::size_t j = j0; j < j1; ++j)
+            problem_->filter_window_residuals(w, &J(window_row, static_cast<Eigen::Index>(j)), 1, 0);
         if (start_slopes) {
             const bool known = ws.start_slopes.size() == 2 * (j1 - j0);
             for (std::size_t j = j0; j < j1; ++j)

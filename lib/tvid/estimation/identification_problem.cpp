@@ -1,5 +1,7 @@
 #include "tvid/estimation/identification_problem.hpp"
 
+#include "tvid/estimation/residual_filter.hpp"
+
 #include <cmath>
 #include <limits>
 
@@ -170,10 +172,17 @@ double IdentificationProblem::cost(const double* free, ProblemWorkspace& ws, dou
         WindowScore<double> score(definition_.cost, scored_sample_count(w));
         double cut_at = 0.0;
         bool cut = false;
+        ws.window_residuals.clear();
         auto add_sample = [&](std::size_t i, const std::vector<double>& x, const std::vector<double>& u) {
-            for (std::size_t k = 0; k < n_out; ++k)
-                score.add(ws.model.output(definition_.output_indices[k], x.data(), u.data()) - definition_.measured[k][i]);
-            if (!bounded) return true;
+            for (std::size_t k = 0; k < n_out; ++k) {
+                const double e = definition_.output_scale[k] * (ws.model.output(definition_.output_indices[k], x.data(),
+                                                                                u.data()) - definition_.measured[k][i]);
+                if (definition_.filtered)
+                    ws.window_residuals.push_back(e);  // scored once the window is complete
+                else
+                    score.add(e);
+            }
+            if (!bounded || definition_.filtered) return true;
             cut_at = score.partial_cost(total);
             cut = WindowScore<double>::reached(cut_at, bound);
             return !cut;
@@ -181,6 +190,10 @@ double IdentificationProblem::cost(const double* free, ProblemWorkspace& ws, dou
         const SimulationStatus status = simulate_window(w, ws, nullptr, add_sample);
         if (cut) return cut_at;
         if (status != SimulationStatus::ok) return std::numeric_limits<double>::infinity();
+        if (definition_.filtered) {
+            filter_window_residuals(w, ws.window_residuals.data(), 1, 0);
+            for (double e : ws.window_residuals) score.add(e);
+        }
         total = score.partial_cost(total);
     }
     return finished_cost(total);
@@ -195,15 +208,28 @@ bool IdentificationProblem::residuals(const double* free, ProblemWorkspace& ws, 
     for (std::size_t wi = 0; wi < definition_.estimation.size(); ++wi) {
         auto record = [&](std::size_t i, const std::vector<double>& x, const std::vector<double>& u) {
             for (std::size_t k = 0; k < n_out; ++k)
-                out.push_back(ws.model.output(definition_.output_indices[k], x.data(), u.data()) -
-                              definition_.measured[k][i]);
+                out.push_back(definition_.output_scale[k] *
+                              (ws.model.output(definition_.output_indices[k], x.data(), u.data()) -
+                               definition_.measured[k][i]));
             return true;
         };
+        const std::size_t at = out.size();
         if (simulate_window(definition_.estimation[wi], ws, nullptr, record, starts ? &(*starts)[wi] : nullptr) !=
             SimulationStatus::ok)
             return false;
+        filter_window_residuals(definition_.estimation[wi], out.data() + at, 1, 0);
     }
     return true;
+}
+
+void IdentificationProblem::filter_window_residuals(const Window& w, double* r, std::size_t columns,
+                                                    std::size_t column) const {
+    if (!definition_.filtered) return;
+    // Window w's block: scored sample s, output k at row s·n_out + k (times `columns`, plus `column`).
+    const std::size_t n_out = definition_.measured.size(), n = scored_sample_count(w);
+    const double* t = inputs().time().data() + std::max(w.start + 1, w.first);
+    for (std::size_t k = 0; k < n_out; ++k)
+        filter_residuals(definition_.output_filter[k], t, r + k * columns + column, n, n_out * columns);
 }
 
 WindowTrace IdentificationProblem::trace(const std::vector<double>& params, const Window& window,

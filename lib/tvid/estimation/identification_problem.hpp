@@ -104,6 +104,11 @@ public:
     /// march begins at w.first, whose sample is scored too).
     bool warms_up(const Window& w) const { return starts_.warms_up(w); }
 
+    /// Applies each output's detrend and high-pass (ProblemDefinition::output_filter) to
+    /// window w's block of residuals, or of one Jacobian column: in a row-major block of
+    /// `columns` columns, column `column`. Nothing when no output is filtered.
+    void filter_window_residuals(const Window& w, double* r, std::size_t columns, std::size_t column) const;
+
 private:
     // Simulates window w from its initial state (through its warm-up) and calls
     // on_scored(i, x, u) at every scored sample.

@@ -77,6 +77,36 @@ double speed_limit(const ProblemDefinition& d, const Experiment& experiment) {
     return kSpeedLimitFactor * largest;
 }
 
+// The spread (standard deviation about the mean) of v over the scored samples of `windows`.
+double spread(const std::vector<double>& v, const std::vector<Window>& windows) {
+    double sum = 0.0, sum2 = 0.0, count = 0.0;
+    for (const Window& w : windows)
+        for (std::size_t i = std::max(w.first, w.start + 1); i <= w.last; ++i) {
+            sum += v[i];
+            count += 1.0;
+        }
+    if (count == 0.0) return 0.0;
+    const double mean = sum / count;
+    for (const Window& w : windows)
+        for (std::size_t i = std::max(w.first, w.start + 1); i <= w.last; ++i) sum2 += (v[i] - mean) * (v[i] - mean);
+    return std::sqrt(sum2 / count);
+}
+
+// Each output's factor in the cost: its weight, over its measured spread when normalized
+// (an output that does not vary in the estimation windows keeps its weight alone).
+void set_output_scales(ProblemDefinition& d, const Experiment& experiment) {
+    const OutputNormalization n = experiment.estimation_settings.normalize;
+    d.normalized = n == OutputNormalization::spread || (n == OutputNormalization::automatic && d.measured.size() > 1);
+    for (std::size_t k = 0; k < d.measured.size(); ++k) {
+        const double s = spread(d.measured[k], d.estimation);
+        d.output_spread.push_back(s);
+        const double w = experiment.outputs[k].weight;
+        d.output_scale.push_back(d.normalized && s > 0 && std::isfinite(s) ? w / s : w);
+        d.output_filter.push_back(experiment.outputs[k].scoring);
+        d.filtered = d.filtered || experiment.outputs[k].scoring.active();
+    }
+}
+
 ProblemDefinition problem_definition(const Experiment& experiment) {
     ProblemDefinition d;
     d.network = experiment.network;
@@ -102,6 +132,7 @@ ProblemDefinition problem_definition(const Experiment& experiment) {
     d.simulation = experiment.simulation;
     d.speed_limit = speed_limit(d, experiment);
     d.cost = experiment.estimation_settings.cost;
+    set_output_scales(d, experiment);
     d.jacobian = experiment.estimation_settings.jacobian;
     return d;
 }

@@ -36,6 +36,15 @@ struct ProblemDefinition {
     /// infinite when nothing measures a speed.
     double speed_limit = std::numeric_limits<double>::infinity();
     CostKind cost = CostKind::l1;
+    /// Each measured output's residual is multiplied by output_scale[k] in the cost: its
+    /// weight, divided by its spread when `normalized`.
+    std::vector<double> output_scale;
+    std::vector<double> output_spread;           ///< the measured spread in the estimation windows
+    bool normalized = false;
+    /// Each measured output's detrend and high-pass within a window (residual_filter.hpp);
+    /// `filtered` when any output has one.
+    std::vector<ScoringFilter> output_filter;
+    bool filtered = false;
     JacobianKind jacobian = JacobianKind::sensitivity;
 };
 

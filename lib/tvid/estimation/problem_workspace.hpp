@@ -37,6 +37,7 @@ struct ProblemWorkspace {
     std::vector<double> u0;      ///< inputs at the window start
     std::vector<double> x0;      ///< initial state of a warm-up being shot
     std::vector<double> x_start; ///< the state at the window start a simulation set out from
+    std::vector<double> window_residuals;  ///< a window's residuals, filtered before they are scored
     /// Set by an optimizer that can be interrupted: once the flag is up, a simulation on this
     /// workspace (warm-up shooting included) ends at its next sample as stopped_by_observer.
     const std::atomic<bool>* stop = nullptr;

@@ -199,9 +199,28 @@ OutputBindings read_outputs(const YamlMap& outputs, NetworkSpec& network, const 
             if (network.output_index(name) >= 0) outputs.fail(name, "output defined twice");
             network.outputs.push_back(read_custom_output(outputs, name, network));
             out.channels.push_back(
-                read_binding(outputs, name, data, recording_seconds, {"speed", "angle", "torque", "side", "offset", "gain"}));
+                read_binding(outputs, name, data, recording_seconds,
+                             {"speed", "angle", "torque", "side", "offset", "gain", "weight", "detrend", "highpass"}));
         } else {
-            out.channels.push_back(read_binding(outputs, name, data, recording_seconds, {}));
+            out.channels.push_back(read_binding(outputs, name, data, recording_seconds, {"weight", "detrend", "highpass"}));
+        }
+        if (const YAML::Node v = outputs.get(name); v.IsMap()) {
+            const YamlMap m(outputs.source(), v, outputs.key_path(name));
+            if (m.has("weight")) {
+                const double w = m.number("weight");
+                if (!(w > 0) || !std::isfinite(w)) m.fail("weight", "an output's weight must be a positive number");
+                out.channels.back().weight = w;
+            }
+            ScoringFilter& f = out.channels.back().scoring;
+            if (m.has("detrend"))
+                f.detrend = m.choice("detrend", {"mean", "linear"}) == "mean" ? Detrend::mean : Detrend::linear;
+            if (m.has("highpass")) {
+                f.highpass = m.number("highpass");
+                const double nyquist = 0.5 * static_cast<double>(data.rows() - 1) / recording_seconds;
+                if (!(f.highpass > 0) || !(f.highpass < nyquist))
+                    m.fail("highpass", "a high-pass cut-off is a frequency in Hz between 0 and the recording's Nyquist "
+                                       "frequency, " + number_text(nyquist) + " Hz");
+            }
         }
         out.indices.push_back(network.output_index(name));
         check_output_magnitude(out.channels.back(), data);

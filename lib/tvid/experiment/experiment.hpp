@@ -40,11 +40,23 @@ struct ParameterSetting {
 };
 
 /// A channel of the CSV file bound to a model input or output.
+/// An output's scoring within each window (estimation/residual_filter.hpp): `detrend:
+/// mean | linear` removes the residuals' mean or linear trend, `highpass: HZ` filters
+/// them. Neither by default.
+enum class Detrend { none, mean, linear };
+struct ScoringFilter {
+    Detrend detrend = Detrend::none;
+    double highpass = 0.0;  ///< [Hz], 0: none
+    bool active() const { return detrend != Detrend::none || highpass > 0; }
+};
+
 struct ChannelBinding {
     std::string model_name;  ///< e.g. "Ttm"
     std::string column;      ///< CSV column
     double scale = 1.0;      ///< unit conversion applied when reading (e.g. bar -> Pa)
     double delay = 0.0;      ///< [s] how late the channel was recorded: at model time t it reads t + delay
+    double weight = 1.0;     ///< an output's weight in the cost (its residuals are multiplied by it)
+    ScoringFilter scoring;   ///< an output's detrend and high-pass in the cost
     bool by_angle = false;   ///< a crank-angle channel (cylinder pressure), read against data.angle
     SourceLocation where;
 };
@@ -96,8 +108,15 @@ constexpr const char* optimizer_name(OptimizerKind kind) {
 enum class JacobianKind { sensitivity, fd };
 
 
+/// How the outputs' residuals are made comparable in the cost: `spread` divides each by
+/// its measured spread (standard deviation) in the estimation windows; `none` keeps raw
+/// units; `automatic` is `spread` for several outputs and `none` for one (where it would
+/// only scale the cost).
+enum class OutputNormalization { automatic, spread, none };
+
 struct EstimationSettings {
     CostKind cost = CostKind::l1;
+    OutputNormalization normalize = OutputNormalization::automatic;  ///< `normalize: spread | none`
     OptimizerKind optimizer = OptimizerKind::pso;
     PsoSettings pso;
     LmSettings lm;

@@ -198,9 +198,12 @@ SteadyStartSpec read_steady_start(const YamlMap& m, const NetworkSpec& network, 
 }
 
 EstimationSettings read_estimation(const YamlMap& m) {
-    m.allow_only({"cost", "optimizer", "pso", "lm", "nlopt", "multistart"});
+    m.allow_only({"cost", "normalize", "optimizer", "pso", "lm", "nlopt", "multistart"});
     EstimationSettings s;
     if (m.has("cost")) s.cost = m.choice("cost", {"l1", "l2"}) == "l1" ? CostKind::l1 : CostKind::l2;
+    if (m.has("normalize"))
+        s.normalize = m.choice("normalize", {"spread", "none"}) == "spread" ? OutputNormalization::spread
+                                                                            : OutputNormalization::none;
     if (m.has("optimizer")) s.optimizer = read_optimizer_kind(m);
     if (m.has("pso")) s.pso = read_pso(m.map("pso"));
     if (m.has("nlopt")) s.nlopt = read_nlopt(m.map("nlopt"));

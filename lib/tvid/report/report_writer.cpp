@@ -90,6 +90,21 @@ json parameters_json(const IdentificationProblem& problem, const FitResult& fit)
                 {"correlation", correlation}};
 }
 
+// The cost's kind and value, and how it weighs the outputs: each output's residual is
+// multiplied by `scale` = weight / spread (normalize: spread) or weight (none).
+json cost_json(const Experiment& ex, const Evaluation& ev) {
+    json outputs = json::array();
+    for (std::size_t k = 0; k < ex.outputs.size() && k < ev.output_scale.size(); ++k)
+        outputs.push_back({{"name", ex.outputs[k].model_name},
+                           {"weight", ex.outputs[k].weight},
+                           {"spread", json_number(ev.output_spread[k])},
+                           {"scale", json_number(ev.output_scale[k])}});
+    return {{"kind", ex.estimation_settings.cost == CostKind::l1 ? "l1" : "l2"},
+            {"value", json_number(ev.cost)},
+            {"normalize", ev.normalized ? "spread" : "none"},
+            {"outputs", outputs}};
+}
+
 json identifiability_json(const IdentifiabilityReport& report) {
     json parameters = json::array();
     std::vector<std::string> undetermined;
@@ -137,6 +152,7 @@ json fit_summary_json(const IdentificationProblem& problem, const FitResult& fit
                    {"iterations", fit.run.iterations},
                    {"evaluations", fit.run.evaluations},
                    {"failed_evaluations", fit.run.failed_evaluations},
+                   {"first_failure", fit.run.first_failure.empty() ? json(nullptr) : json(fit.run.first_failure)},
                    {"right_hand_sides", fit.run.right_hand_sides},
                    {"termination", fit.run.termination},
                    {"converged", fit.run.converged}};
@@ -152,8 +168,7 @@ json fit_summary_json(const IdentificationProblem& problem, const FitResult& fit
            {"data", ex.data_file.string()},
            {"data_sha256", ex.data.content_sha256()},
            {"model", ex.network.preset},
-           {"cost", {{"kind", ex.estimation_settings.cost == CostKind::l1 ? "l1" : "l2"},
-                     {"value", json_number(fit.evaluation.cost)}}},
+           {"cost", cost_json(ex, fit.evaluation)},
            {"optimizer", optimizer},
            {"threads", fit.threads},
            {"processes", fit.processes},
