@@ -7,6 +7,7 @@
 // path with and without the groups.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <atomic>
 #include <bit>
 #include <cmath>
@@ -295,4 +296,58 @@ TEST_CASE("the swarm takes the same path with and without SIMD groups, on 1 and 
         REQUIRE(s.history.size() == reference.history.size());
         for (std::size_t k = 0; k < s.history.size(); ++k) CHECK(same_bits(s.history[k].best_cost, reference.history[k].best_cost));
     }
+}
+
+TEST_CASE("the measured bench's candidates cost the same bits in a group, a too-fast one failing in both",
+          "[batch][bench]") {
+    // A speed source, a steady start, two normalised outputs and gears; a stiff stage-2
+    // mesh makes RK4 unstable, and its speeds leave 100 times the measured range.
+    const Experiment ex = load_experiment(test::source_dir() / "configs/aalto_bench.yaml",
+                                          {parse_override("windows.estimation=[ { samples: [0, 1500] } ]")});
+    const IdentificationProblem problem(ex);
+    REQUIRE(batch_supported(problem));
+    const std::size_t m = problem.dimension();
+    std::vector<double> points;
+    for (double scale : {1.0, 1.1, 0.9, 1.05, 0.97})
+        for (std::size_t j = 0; j < m; ++j) points.push_back(problem.initial()[j] * scale);
+    const auto k_2 = static_cast<std::size_t>(
+        std::find(problem.free_names().begin(), problem.free_names().end(), "k_2") - problem.free_names().begin());
+    REQUIRE(k_2 < m);
+    points[3 * m + k_2] = 1.0e5;
+    auto ws = problem.make_workspace();
+    CHECK_FALSE(std::isfinite(problem.cost(points.data() + 3 * m, *ws)));
+    CHECK(problem.failure(points.data() + 3 * m, *ws).find("beyond 100 times the largest measured speed") !=
+          std::string::npos);
+    CHECK(std::isfinite(problem.cost(points.data(), *ws)));
+    CHECK(mismatches(problem, points, std::vector<double>(5, kInf), kBatchLanes) == 0);
+    CHECK(mismatches(problem, points, mixed_bounds(problem, points), kBatchLanes) == 0);
+}
+
+TEST_CASE("a candidate that turns a node far beyond the measured speeds fails in a group as alone", "[batch][bench]") {
+    // The drive's speed channel times a scale: at 150 the motor turns at 50 000 rad/s, a
+    // stable motion but 150 times the measured 338 rad/s, beyond the 100 times allowed.
+    test::TempDir dir;
+    const auto file = dir.write("scaled.yaml", "tvid: 1\nname: scaled-drive\ndata: { file: '" +
+        (test::source_dir() / "data/aalto_bench/ice_excitation1.csv").string() + "', time: t }\n"
+        "model:\n"
+        "  nodes: [ { name: motor, J: 7.94e-4 }, { name: load, J: 5.0e-3 } ]\n"
+        "  elements:\n"
+        "    - { type: speed_source, name: drive, node: motor, input: w_motor, scale: s_w }\n"
+        "    - { type: spring_damper, name: shaft, between: [motor, load], k: 30, c: c_s }\n"
+        "    - { type: friction, name: loss, node: load, c: 0.001 }\n"
+        "inputs: { w_motor: w1 }\n"
+        "outputs: { w1: { column: w1, speed: motor }, torque_upper: { column: torque_upper, torque: shaft } }\n"
+        "parameters:\n"
+        "  s_w: { init: 1, min: 0.5, max: 200 }\n"
+        "  c_s: { init: 0.05, min: 0, max: 1 }\n"
+        "windows: { estimation: [ { samples: [0, 1000] } ] }\n"
+        "initial_state: { kind: steady, node: motor, speed: w1 }\n");
+    const Experiment ex = load_experiment(file);
+    const IdentificationProblem problem(ex);
+    REQUIRE(batch_supported(problem));
+    const std::vector<double> points = {1.0, 0.05, 1.02, 0.06, 150.0, 0.05, 0.98, 0.04};
+    auto ws = problem.make_workspace();
+    CHECK(std::isfinite(problem.cost(points.data(), *ws)));
+    CHECK_FALSE(std::isfinite(problem.cost(points.data() + 4, *ws)));
+    CHECK(mismatches(problem, points, std::vector<double>(4, kInf), kBatchLanes) == 0);
 }

@@ -291,10 +291,16 @@ private:
             problem_.inputs().at(problem_.inputs().time()[a], hint, ws.u.data());
             score(a, x, ws.u.data(), false);
         }
+        // A speed beyond the measured range fails the lane, as it fails the scalar simulation.
+        const bool speed_limited = std::isfinite(d_.speed_limit);
+        const P speed_limit(d_.speed_limit);
         const auto observe = [&](std::size_t i, const std::array<P, N>& xs, const std::vector<double>& u,
                                  const Lanes& sane) {
+            Lanes physical = sane;
+            if (speed_limited)
+                for (std::size_t j = N / 2; j < N; ++j) physical = physical & (abs(xs[j]) <= speed_limit);
             for (int l = 0; l < W; ++l)
-                if (live[l] && !sane[l]) lane_finish(l, inf);  // diverged or not finite
+                if (live[l] && !physical[l]) lane_finish(l, inf);  // diverged, not finite, or too fast
             if (i >= w.first && live.any()) score(i, xs, u.data(), true);
             return live;
         };
