@@ -96,13 +96,7 @@ int run_fit_command(const FitCommand& cmd) {
     const RunContext context{TVID_VERSION, cmd.common.command_line};
     write_fit_report(dir, problem, fit, context);
     if (cmd.common.json) {
-        // summary.json, with the parameters and their correlation of params.json: the
-        // whole result in one document for a script.
-        nlohmann::json out = fit_summary_json(problem, fit, context);
-        const nlohmann::json params = parameters_json(problem, fit);
-        out["parameters"] = params["parameters"];
-        out["correlation"] = params["correlation"];
-        std::cout << json_text(out) << std::endl;
+        std::cout << json_text(fit_summary_json(problem, fit, context)) << std::endl;
     } else if (!cmd.common.quiet) {
         std::cout << fit_summary_text(problem, fit, dir.string()) << std::flush;
     }

@@ -177,17 +177,8 @@ TEST_CASE("tvid fit --json prints the summary on stdout", "[e2e][fit]") {
     args.push_back("--json");
     const RunResult r = run_tvid(args);
     REQUIRE(r.exit_code == 0);
-    json s = json::parse(r.out);
+    const json s = json::parse(r.out);
     CHECK(s["status"] == "ok");
-    // summary.json, and the parameters with their correlation as params.json has them.
-    const json params = read_json(tmp.path() / "r" / "params.json");
-    CHECK(s["parameters"] == params["parameters"]);
-    CHECK(s["correlation"] == params["correlation"]);
-    REQUIRE(s["parameters"].size() == 9);
-    CHECK(s["parameters"][0]["name"] == "rho1");
-    CHECK(s["parameters"][0]["value"].is_number());
-    s.erase("parameters");
-    s.erase("correlation");
     CHECK(s == read_json(tmp.path() / "r" / "summary.json"));
 }
 
