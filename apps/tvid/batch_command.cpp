@@ -303,7 +303,19 @@ int run_batch_command(const BatchCommand& cmd) {
     } else if (!cmd.common.quiet) {
         std::cout << batch_summary_text(summary, prepared->name, dir) << std::flush;
     }
-    return summary.failed + summary.bad_input > 0 ? 1 : 0;
+    if (summary.failed + summary.bad_input > 0) return 1;
+    if (cmd.strict) {
+        // A job whose verdict has an error (batch.csv's verdict column says so).
+        const std::size_t verdict = columns.index("verdict");
+        int poor = 0;
+        for (const BatchRow& row : ordered) poor += row[verdict].find("error") != std::string::npos ? 1 : 0;
+        if (poor > 0) {
+            std::cerr << "tvid: --strict: " << poor << " job" << (poor == 1 ? "'s" : "s'")
+                      << " verdict has an error (batch.csv, column verdict)\n";
+            return 1;
+        }
+    }
+    return 0;
 }
 
 }  // namespace tvid::cli

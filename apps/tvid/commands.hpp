@@ -29,6 +29,7 @@ struct FitCommand {
     std::optional<std::uint64_t> seed;
     std::string optimizer;              ///< --optimizer NAME (overrides estimation.optimizer)
     bool force = false;                 ///< --force: replace a report already in the directory
+    bool strict = false;                ///< --strict: exit 1 when the verdict has an error
     ProcessGroup* processes = nullptr;  ///< mpirun: every process runs the command (nullptr: this one)
 };
 
@@ -72,6 +73,7 @@ struct BatchCommand {
     bool no_validation = false;             ///< --no-validation
     bool resume = false;                    ///< --resume: skip jobs already in batch.csv
     bool force = false;                     ///< --force: replace an existing batch.csv
+    bool strict = false;                    ///< --strict: exit 1 when a job's verdict has an error
     ProcessGroup* processes = nullptr;      ///< mpirun: every process runs the command (nullptr: this one)
 };
 int run_batch_command(const BatchCommand& cmd);

@@ -120,6 +120,12 @@ int run_fit_command(const FitCommand& cmd) {
                   << "; the report in " << dir.string() << " says so\n";
         return 1;
     }
+    if ((cmd.strict || ex.estimation_settings.strict) && fit.verdict.has_errors()) {
+        const Finding& first = fit.verdict.findings.front();  // errors come first
+        std::cerr << "tvid: " << (cmd.strict ? "--strict" : "estimation.strict") << ": the verdict has "
+                  << fit.verdict.summary() << " (" << first.code << ": " << first.message << ")\n";
+        return 1;
+    }
     return 0;
 }
 

@@ -88,6 +88,7 @@ int main(int argc, char** argv) {
     fit_cmd->add_option("--seed", fit.seed, "random seed of the optimizer")->check(kSeed);
     fit_cmd->add_option("--optimizer", fit.optimizer, optimizer_names() + " (overrides estimation.optimizer)");
     fit_cmd->add_flag("--force", fit.force, "replace a report already in the report directory");
+    fit_cmd->add_flag("--strict", fit.strict, "exit 1 when the verdict has an error (for CI)");
 
     EvaluateCommand simulate;
     auto* sim_cmd = app.add_subcommand("simulate", "simulate every window and print measured vs simulated as CSV");
@@ -135,6 +136,7 @@ int main(int argc, char** argv) {
     batch_cmd->add_flag("--no-validation", batch.no_validation, "no validation (else the next cycle validates)");
     auto* resume_flag = batch_cmd->add_flag("--resume", batch.resume, "continue an interrupted batch: skip the jobs in batch.csv");
     batch_cmd->add_flag("--force", batch.force, "replace an existing batch.csv")->excludes(resume_flag);
+    batch_cmd->add_flag("--strict", batch.strict, "exit 1 when a job's verdict has an error (for CI)");
 
     bool models_json = false;
     auto* models_cmd = app.add_subcommand("models", "list the preset models with their parameters, inputs, outputs");

@@ -106,14 +106,24 @@ std::string fit_summary_text(const IdentificationProblem& problem, const FitResu
                       fit.evaluation.cost);
         out << line;
     }
+    // Per split and output the pooled fit, and under it each window's when there are several:
+    // a pooled figure can hide a window the model does not follow.
     auto split_line = [&](const SplitEvaluation& split) {
         for (std::size_t k = 0; k < ex.outputs.size() && k < split.pooled.size(); ++k) {
             const FitMetrics& m = split.pooled[k];
             if (m.samples == 0) continue;
-            std::snprintf(line, sizeof line, "  %-10s %-6s Q %s  fit %s  RMSE %.4g  max |residual ratio| %.3g\n",
+            std::snprintf(line, sizeof line, "  %-10s %-6s Q %s  fit %s  RMSE %.4g  max |residual ratio| %s\n",
                           split.split.c_str(), ex.outputs[k].model_name.c_str(), percent(m.q_index).c_str(),
-                          percent(m.fit_percent).c_str(), m.rmse, m.max_abs_residual_ratio);
+                          percent(m.fit_percent).c_str(), m.rmse, percent(100 * m.max_abs_residual_ratio).c_str());
             out << line;
+            if (split.windows.size() < 2) continue;
+            for (const WindowEvaluation& w : split.windows) {
+                if (k >= w.metrics.size() || w.metrics[k].samples == 0) continue;
+                std::snprintf(line, sizeof line, "      window %-20s Q %s  fit %s  RMSE %.4g\n",
+                              w.trace.window->label.c_str(), percent(w.metrics[k].q_index).c_str(),
+                              percent(w.metrics[k].fit_percent).c_str(), w.metrics[k].rmse);
+                out << line;
+            }
         }
     };
     split_line(fit.evaluation.estimation);
@@ -139,6 +149,7 @@ std::string fit_summary_text(const IdentificationProblem& problem, const FitResu
                               q.flag == IdentifiabilityFlag::weak ? "  weak" : "");
                 relative = buf;
             }
+            if (j < fit.uncertainty.interval.size() && fit.uncertainty.interval[j] == "one-sided") relative += "  on a bound";
         }
         std::snprintf(line, sizeof line, "  %-14s %-16.8g %-12s %s", p.name.c_str(), fit.best_params[i], se.c_str(),
                       relative.c_str());
@@ -146,10 +157,23 @@ std::string fit_summary_text(const IdentificationProblem& problem, const FitResu
         row.erase(row.find_last_not_of(' ') + 1);
         out << row << '\n';
     }
-    const std::string warning = identifiability.warning();
-    if (!warning.empty()) out << "  warning: " << warning << "\n";
+    if (fit.criteria.available) {
+        std::snprintf(line, sizeof line, "  AIC %.6g  BIC %.6g  FPE %.4g  (%zu samples, %d parameters)\n", fit.criteria.aic,
+                      fit.criteria.bic, fit.criteria.fpe, fit.criteria.samples, fit.criteria.parameters);
+        out << line;
+    }
+    out << verdict_text(fit.verdict);
     out << "  report: " << report_dir << "\n";
     return out.str();
+}
+
+std::string verdict_text(const Verdict& verdict) {
+    std::string out = "  verdict: " + verdict.summary() + "\n";
+    for (const Finding& f : verdict.findings) {
+        out += std::string("    ") + to_string(f.severity) + " " + f.code + ": " + f.message + "\n";
+        if (f.severity != Severity::info) out += "      try: " + f.advice + "\n";
+    }
+    return out;
 }
 
 std::string sensitivity_summary_text(const SensitivityStudy& study, const std::vector<OutputRanking>& rankings,

@@ -42,6 +42,9 @@ std::string progress_text(const HistoryRow& row, int planned, bool at_most, doub
 /// The short human summary of a fit: cost, Q, parameters, time, report folder.
 std::string fit_summary_text(const IdentificationProblem& problem, const FitResult& fit, const std::string& report_dir);
 
+/// "  verdict: clean", or the count and one line per finding with what to try under it.
+std::string verdict_text(const Verdict& verdict);
+
 /// The short human summary of `tvid sensitivity`: per output, the ranking table.
 std::string sensitivity_summary_text(const SensitivityStudy& study, const std::vector<OutputRanking>& rankings,
                                      const SensitivityRunInfo& run, const std::string& report_dir);

@@ -69,6 +69,8 @@ ParameterUncertainty estimate_uncertainty(const IdentificationProblem& problem, 
     u.ci_high.assign(m, nan);
     u.determined.assign(m, false);
     u.correlation.assign(m, std::vector<double>(m, nan));
+    u.covariance.assign(m, std::vector<double>(m, nan));
+    u.interval.assign(m, "two-sided");
     if (m == 0) { u.problem = "no free parameters"; return u; }
 
     // The Jacobian in scaled parameters: column j = s_j ∂r/∂p_j, from the forward
@@ -140,6 +142,7 @@ ParameterUncertainty estimate_uncertainty(const IdentificationProblem& problem, 
             if (!u.determined[a] || !u.determined[b]) continue;
             const auto ia = static_cast<Eigen::Index>(a), ib = static_cast<Eigen::Index>(b);
             u.correlation[a][b] = cov(ia, ib) / std::sqrt(cov(ia, ia) * cov(ib, ib));
+            u.covariance[a][b] = scale[a] * scale[b] * cov(ia, ib);
         }
     return u;
 }

@@ -28,6 +28,12 @@ struct ParameterUncertainty {
     std::vector<double> ci_low, ci_high;
     std::vector<bool> determined;
     std::vector<std::vector<double>> correlation;  ///< NaN rows/cols for undetermined parameters
+    /// Covariance of the free parameters (in their units); NaN rows/cols for undetermined ones.
+    std::vector<std::vector<double>> covariance;
+    /// Per free parameter: "two-sided"; "one-sided" when the parameter is on a bound (the
+    /// interval runs from the bound inwards); "clipped" when it reached beyond a bound and
+    /// was cut there (set by the fit's judgement, fit/fit_verdict.hpp).
+    std::vector<std::string> interval;
     /// Unit vectors in relative parameter changes δp_j/|p_j| (absolute when p_j = 0), signed
     /// so that the first component of at least half the largest magnitude is positive.
     std::vector<std::vector<double>> null_directions;

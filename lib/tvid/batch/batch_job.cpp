@@ -50,6 +50,14 @@ BatchRow fit_row(const BatchColumns& columns, const std::string& id, const Ident
     BatchRow row = columns.row(id, fit.success ? kBatchOk : kBatchFailed, message);
     row[columns.index("evaluations")] = std::to_string(fit.run.evaluations);
     row[columns.index("wall_seconds")] = wall_time_text(wall_seconds);
+    row[columns.index("verdict")] = fit.verdict.summary();
+    std::string findings;
+    for (const Finding& f : fit.verdict.findings) {
+        if (f.severity == Severity::info) continue;
+        findings += (findings.empty() ? "" : ";") + std::string(to_string(f.severity)) + ":" + f.code +
+                    (f.subject.empty() ? "" : "(" + f.subject + ")");
+    }
+    row[columns.index("findings")] = findings;
     if (!fit.success) return row;  // no estimate: parameters and metrics stay empty
 
     for (std::size_t j = 0; j < problem.dimension(); ++j)

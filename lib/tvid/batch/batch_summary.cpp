@@ -55,6 +55,13 @@ BatchSummary summarize_batch(const BatchColumns& columns, const std::vector<Batc
         s.ok += row[1] == kBatchOk;
         s.failed += row[1] == kBatchFailed;
         s.bad_input += row[1] == kBatchBadInput;
+        const std::string& verdict = row[columns.index("verdict")];
+        if (verdict.empty()) continue;  // not fitted
+        if (verdict == "clean") ++s.verdict_clean;
+        else if (verdict.find("error") != std::string::npos) {
+            ++s.verdict_errors;
+            s.jobs_with_errors.push_back(row[0]);
+        } else ++s.verdict_warnings;
     }
     s.run = run;
     for (const std::string& p : columns.parameters()) s.parameters.push_back(column_spread(columns.header(), rows, p));
@@ -79,6 +86,10 @@ nlohmann::json batch_summary_json(const BatchSummary& summary, const BatchRunCon
             {"jobs", summary.jobs},
             {"ok", summary.ok},
             {"failed", summary.failed},
+            {"verdicts", {{"clean", summary.verdict_clean},
+                          {"warnings", summary.verdict_warnings},
+                          {"errors", summary.verdict_errors},
+                          {"jobs_with_errors", summary.jobs_with_errors}}},
             {"bad_input", summary.bad_input},
             {"run", summary.run},
             {"resumed", summary.jobs - summary.run},

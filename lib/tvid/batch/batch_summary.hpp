@@ -28,6 +28,9 @@ ColumnSpread column_spread(const std::vector<std::string>& header, const std::ve
 struct BatchSummary {
     std::size_t jobs = 0, ok = 0, failed = 0, bad_input = 0;
     std::size_t run = 0;                    ///< jobs run by this invocation (the rest were resumed)
+    /// Fitted jobs by verdict: clean, with warnings (no error), with an error.
+    std::size_t verdict_clean = 0, verdict_warnings = 0, verdict_errors = 0;
+    std::vector<std::string> jobs_with_errors;  ///< their ids, in job order
     std::vector<ColumnSpread> parameters;   ///< per free parameter
     std::vector<ColumnSpread> metrics;      ///< cost and the Q-index columns
     double wall_seconds = 0.0;              ///< of this invocation

@@ -1,6 +1,7 @@
 #pragma once
 // batch.csv: one row per job (id, status, message, the free parameters, cost, Q, fit %
-// and max residual ratio on estimation and validation, evaluations, wall time). Rows are
+// and max residual ratio on estimation and validation, evaluations, wall time, and the
+// fit's verdict with its findings). Rows are
 // kept as text, so a row read back for --resume is written again unchanged.
 
 #include <filesystem>

@@ -123,6 +123,9 @@ struct EstimationSettings {
     NloptSettings nlopt;                 ///< `nlopt: { algorithm, local_algorithm, ... }`
     MultistartSettings multistart;       ///< `multistart: { starts, seed, max_iterations }`
     JacobianKind jacobian = JacobianKind::sensitivity;  ///< `lm: { jacobian: sensitivity | fd }`
+    /// `strict: true`: a verdict with an error (fit/fit_verdict.hpp) makes `tvid fit` exit 1,
+    /// as `--strict` does.
+    bool strict = false;
 };
 
 struct Experiment {

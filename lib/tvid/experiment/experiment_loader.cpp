@@ -198,8 +198,9 @@ SteadyStartSpec read_steady_start(const YamlMap& m, const NetworkSpec& network, 
 }
 
 EstimationSettings read_estimation(const YamlMap& m) {
-    m.allow_only({"cost", "normalize", "optimizer", "pso", "lm", "nlopt", "multistart"});
+    m.allow_only({"cost", "normalize", "optimizer", "pso", "lm", "nlopt", "multistart", "strict"});
     EstimationSettings s;
+    if (m.has("strict")) s.strict = m.flag("strict");
     if (m.has("cost")) s.cost = m.choice("cost", {"l1", "l2"}) == "l1" ? CostKind::l1 : CostKind::l2;
     if (m.has("normalize"))
         s.normalize = m.choice("normalize", {"spread", "none"}) == "spread" ? OutputNormalization::spread

@@ -5,6 +5,7 @@
 #include <optional>
 
 #include "tvid/estimation/parallel_evaluator.hpp"
+#include "tvid/fit/fit_verdict.hpp"
 #include "tvid/fit/optimizer_table.hpp"
 #include "tvid/util/stop_request.hpp"
 
@@ -70,6 +71,7 @@ FitResult run_fit(const IdentificationProblem& problem, const FitOptions& option
         }
         r.uncertainty = estimate_uncertainty(problem, r.best_free, known);
     }
+    judge_fit(problem, r);
     r.wall_seconds = std::chrono::duration<double>(clock::now() - t0).count();
     return r;
 }

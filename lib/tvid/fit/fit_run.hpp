@@ -11,6 +11,10 @@
 #include <vector>
 
 #include "tvid/analysis/evaluation.hpp"
+#include "tvid/analysis/information_criteria.hpp"
+#include "tvid/analysis/residual_whiteness.hpp"
+#include "tvid/analysis/step_stability.hpp"
+#include "tvid/analysis/verdict.hpp"
 #include "tvid/estimation/identification_problem.hpp"
 #include "tvid/analysis/uncertainty.hpp"
 #include "tvid/optim/levenberg_marquardt.hpp"
@@ -79,6 +83,11 @@ struct FitResult {
     std::vector<double> best_params;        ///< full model parameter vector
     Evaluation evaluation;
     ParameterUncertainty uncertainty;
+    /// Per output: whether the residuals are noise, in the estimation and validation windows.
+    std::vector<ResidualWhiteness> whiteness_estimation, whiteness_validation;
+    InformationCriteria criteria;           ///< over the estimation windows
+    StepStability stability;                ///< of an rk4 simulation at the optimum
+    Verdict verdict;                        ///< what the figures above say (fit/fit_verdict.hpp)
     double optimizer_seconds = 0.0;
     double wall_seconds = 0.0;
     int threads = 1;

@@ -73,6 +73,7 @@ json parameters_json(const IdentificationProblem& problem, const FitResult& fit)
             entry["std_error"] = json_number(fit.uncertainty.std_error[jj]);
             entry["ci95"] = json::array({json_number(fit.uncertainty.ci_low[jj]), json_number(fit.uncertainty.ci_high[jj])});
             entry["determined"] = static_cast<bool>(fit.uncertainty.determined[jj]);
+            entry["interval"] = jj < fit.uncertainty.interval.size() ? fit.uncertainty.interval[jj] : "two-sided";
         } else {
             entry["std_error"] = nullptr;
             entry["ci95"] = nullptr;
@@ -86,8 +87,14 @@ json parameters_json(const IdentificationProblem& problem, const FitResult& fit)
         for (double c : row) r.push_back(json_number(c));
         correlation["matrix"].push_back(r);
     }
+    json covariance{{"parameters", problem.free_names()}, {"matrix", json::array()}};
+    for (const auto& row : fit.uncertainty.covariance) {
+        json r = json::array();
+        for (double c : row) r.push_back(json_number(c));
+        covariance["matrix"].push_back(r);
+    }
     return json{{"experiment", ex.name}, {"model", ex.network.preset}, {"parameters", params},
-                {"correlation", correlation}};
+                {"correlation", correlation}, {"covariance", covariance}};
 }
 
 // The cost's kind and value, and how it weighs the outputs: each output's residual is
@@ -104,6 +111,56 @@ json cost_json(const Experiment& ex, const Evaluation& ev) {
             {"normalize", ev.normalized ? "spread" : "none"},
             {"outputs", outputs}};
 }
+
+json verdict_json(const Verdict& verdict) {
+    json findings = json::array();
+    for (const Finding& f : verdict.findings)
+        findings.push_back({{"code", f.code},
+                            {"severity", to_string(f.severity)},
+                            {"subject", f.subject.empty() ? json(nullptr) : json(f.subject)},
+                            {"message", f.message},
+                            {"advice", f.advice}});
+    return {{"summary", verdict.summary()},
+            {"errors", verdict.count(Severity::error)},
+            {"warnings", verdict.count(Severity::warning)},
+            {"findings", findings}};
+}
+
+namespace {
+
+// Per output: whether the residuals of a split are noise (analysis/residual_whiteness.hpp).
+json whiteness_json(const Experiment& ex, const std::vector<ResidualWhiteness>& whiteness) {
+    json out = json::object();
+    for (std::size_t k = 0; k < ex.outputs.size() && k < whiteness.size(); ++k) {
+        const ResidualWhiteness& w = whiteness[k];
+        if (w.samples == 0) continue;
+        out[ex.outputs[k].model_name] = {{"samples", w.samples},
+                                         {"rms", json_number(w.rms)},
+                                         {"noise_rms", json_number(w.noise_rms)},
+                                         {"systematic_share", json_number(w.systematic_share)},
+                                         {"lag1_correlation", json_number(w.lag1_correlation)},
+                                         {"ljung_box", json_number(w.ljung_box)},
+                                         {"ljung_box_lags", w.lags},
+                                         {"ljung_box_p", json_number(w.p_value)}};
+    }
+    return out;
+}
+
+json criteria_json(const InformationCriteria& c) {
+    if (!c.available) return nullptr;
+    return {{"samples", c.samples}, {"outputs", c.outputs}, {"parameters", c.parameters},
+            {"loss", json_number(c.loss)}, {"fpe", json_number(c.fpe)}, {"aic", json_number(c.aic)},
+            {"aicc", json_number(c.aicc)}, {"naic", json_number(c.naic)}, {"bic", json_number(c.bic)}};
+}
+
+json stability_json(const StepStability& s) {
+    if (!s.assessed) return nullptr;
+    return {{"integrator", "rk4"}, {"step_s", s.step}, {"margin", json_number(s.margin)}, {"window", s.window},
+            {"rate_per_s", json_number(s.rate)}, {"frequency_hz", json_number(s.frequency_hz)},
+            {"damping_ratio", json_number(s.damping_ratio)}};
+}
+
+}  // namespace
 
 json identifiability_json(const IdentifiabilityReport& report) {
     json parameters = json::array();
@@ -177,7 +234,12 @@ json fit_summary_json(const IdentificationProblem& problem, const FitResult& fit
            {"evaluations_per_second", evals_per_s},
            {"estimation", split_json(ex, fit.evaluation.estimation)},
            {"validation", split_json(ex, fit.evaluation.validation)},
-           {"identifiability", identifiability}};
+           {"identifiability", identifiability},
+           {"residuals", {{"estimation", whiteness_json(ex, fit.whiteness_estimation)},
+                          {"validation", whiteness_json(ex, fit.whiteness_validation)}}},
+           {"information_criteria", criteria_json(fit.criteria)},
+           {"step_stability", stability_json(fit.stability)},
+           {"verdict", verdict_json(fit.verdict)}};
     return s;
 }
 

@@ -26,6 +26,9 @@ void write_fit_report(const std::filesystem::path& dir, const IdentificationProb
 /// summary.json's content (also printed by `--json`).
 nlohmann::json fit_summary_json(const IdentificationProblem& problem, const FitResult& fit, const RunContext& context);
 
+/// summary.json's `verdict` block (also a batch row's).
+nlohmann::json verdict_json(const Verdict& verdict);
+
 /// summary.json's `identifiability` block.
 nlohmann::json identifiability_json(const IdentifiabilityReport& report);
 

@@ -1,0 +1,84 @@
+#include "tvid/analysis/step_stability.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <numbers>
+
+#include "tvid/model/state_jacobian.hpp"
+
+namespace tvid {
+
+namespace {
+
+double rk4_amplification(std::complex<double> z) {
+    return std::abs(1.0 + z * (1.0 + z * (0.5 + z * (1.0 / 6.0 + z / 24.0))));
+}
+
+}  // namespace
+
+double rk4_stability_radius(double angle) {
+    const double phi = std::clamp(std::abs(angle), std::numbers::pi / 2, std::numbers::pi);
+    const std::complex<double> direction = std::polar(1.0, phi);
+    // The region is star-shaped about 0 in the left half-plane: scan out to the first
+    // r where the amplification exceeds 1, then bisect.
+    double inside = 0.0, outside = 0.0;
+    for (double r = 0.05; r <= 4.0; r += 0.05) {
+        if (rk4_amplification(r * direction) > 1.0) { outside = r; break; }
+        inside = r;
+    }
+    if (outside == 0.0) return 4.0;
+    for (int i = 0; i < 60; ++i) {
+        const double mid = 0.5 * (inside + outside);
+        (rk4_amplification(mid * direction) > 1.0 ? outside : inside) = mid;
+    }
+    return inside;
+}
+
+StepStability assess_step_stability(const IdentificationProblem& problem, const std::vector<double>& params) {
+    StepStability s;
+    const ProblemDefinition& def = problem.definition();
+    if (def.simulation.method != IntegrationMethod::rk4) return s;
+    const std::vector<double>& time = problem.inputs().time();
+    auto ws = problem.make_workspace();
+    StateJacobian jacobian;
+    std::vector<double> u(problem.inputs().count()), a;
+    for (const Window& w : def.estimation) {
+        ws->params = params;
+        ws->model.set_parameters(ws->params.data());
+        std::string why;
+        if (problem.start_window(w, *ws, &why).status != SimulationStatus::ok) continue;
+        const std::size_t at = problem.warms_up(w) ? w.first : w.start;
+        if (at + 1 >= time.size()) continue;
+        const double interval = time[at + 1] - time[at];
+        const double h = def.simulation.max_step > 0 ? std::min(def.simulation.max_step, interval) : interval;
+        std::size_t hint = at;
+        problem.inputs().at(time[at], hint, u.data());
+        jacobian.bind(ws->model);
+        const auto n = static_cast<Eigen::Index>(jacobian.state_size());
+        a.assign(static_cast<std::size_t>(n * n), 0.0);
+        jacobian.evaluate(ws->x.data(), u.data(), a.data());
+        const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> A(a.data(), n, n);
+        if (!A.allFinite()) continue;
+        const Eigen::EigenSolver<Eigen::MatrixXd> eigen(A, false);
+        if (eigen.info() != Eigen::Success) continue;
+        s.assessed = true;
+        for (Eigen::Index k = 0; k < n; ++k) {
+            const std::complex<double> lambda = eigen.eigenvalues()[k];
+            const double rate = std::abs(lambda);
+            if (!(rate > 0.0)) continue;  // the free rotation of a line: no dynamics
+            const double margin = rate * h / rk4_stability_radius(std::arg(lambda));
+            if (margin <= s.margin) continue;
+            s.margin = margin;
+            s.window = w.label;
+            s.step = h;
+            s.rate = rate;
+            s.frequency_hz = std::abs(lambda.imag()) / (2 * std::numbers::pi);
+            s.damping_ratio = -lambda.real() / rate;
+        }
+    }
+    return s;
+}
+
+}  // namespace tvid

@@ -1,0 +1,37 @@
+#include "tvid/analysis/verdict.hpp"
+
+#include <algorithm>
+
+namespace tvid {
+
+const char* to_string(Severity severity) {
+    switch (severity) {
+        case Severity::info: return "note";
+        case Severity::warning: return "warning";
+        case Severity::error: return "error";
+    }
+    return "note";
+}
+
+void Verdict::add(Finding finding) {
+    // Stable: after every finding at least as severe.
+    const auto at = std::find_if(findings.begin(), findings.end(),
+                                 [&](const Finding& f) { return f.severity < finding.severity; });
+    findings.insert(at, std::move(finding));
+}
+
+int Verdict::count(Severity severity) const {
+    return static_cast<int>(std::count_if(findings.begin(), findings.end(),
+                                          [&](const Finding& f) { return f.severity == severity; }));
+}
+
+std::string Verdict::summary() const {
+    const int errors = count(Severity::error), warnings = count(Severity::warning);
+    if (errors == 0 && warnings == 0) return "clean";
+    std::string s;
+    if (errors > 0) s = std::to_string(errors) + (errors == 1 ? " error" : " errors");
+    if (warnings > 0) s += (s.empty() ? "" : ", ") + std::to_string(warnings) + (warnings == 1 ? " warning" : " warnings");
+    return s;
+}
+
+}  // namespace tvid

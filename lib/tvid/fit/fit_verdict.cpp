@@ -1,0 +1,281 @@
+#include "tvid/fit/fit_verdict.hpp"
+
+#include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "tvid/analysis/identifiability.hpp"
+
+namespace tvid {
+
+namespace {
+
+std::string num(double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.4g", v);
+    return buf;
+}
+
+std::string pct(double fraction) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.0f %%", 100.0 * fraction);
+    return buf;
+}
+
+// ---- the figures ----------------------------------------------------------------------
+
+// Per output, the residual (measured − simulated) of each simulated window of a split.
+std::vector<ResidualWhiteness> split_whiteness(const SplitEvaluation& split, std::size_t outputs) {
+    std::vector<ResidualWhiteness> out(outputs);
+    for (std::size_t k = 0; k < outputs; ++k) {
+        std::vector<std::vector<double>> segments;
+        for (const WindowEvaluation& w : split.windows) {
+            if (w.trace.status != SimulationStatus::ok || k >= w.trace.measured.size()) continue;
+            std::vector<double> e(w.trace.measured[k].size());
+            for (std::size_t i = 0; i < e.size(); ++i) e[i] = w.trace.measured[k][i] - w.trace.simulated[k][i];
+            segments.push_back(std::move(e));
+        }
+        out[k] = assess_whiteness(segments);
+    }
+    return out;
+}
+
+// The N × n_y prediction errors of the estimation windows.
+InformationCriteria estimation_criteria(const SplitEvaluation& split, std::size_t outputs, int parameters) {
+    Eigen::Index rows = 0;
+    for (const WindowEvaluation& w : split.windows)
+        if (w.trace.status == SimulationStatus::ok) rows += static_cast<Eigen::Index>(w.trace.time.size());
+    Eigen::MatrixXd e(rows, static_cast<Eigen::Index>(outputs));
+    Eigen::Index row = 0;
+    for (const WindowEvaluation& w : split.windows) {
+        if (w.trace.status != SimulationStatus::ok) continue;
+        for (std::size_t i = 0; i < w.trace.time.size(); ++i, ++row)
+            for (std::size_t k = 0; k < outputs; ++k)
+                e(row, static_cast<Eigen::Index>(k)) = w.trace.measured[k][i] - w.trace.simulated[k][i];
+    }
+    return information_criteria(e, parameters);
+}
+
+// Which bound a value sits on: -1 lower, +1 upper, 0 neither. On it: the optimizers clamp
+// to a bound exactly, so within kNearBound of the box width, and (for a wide box) within
+// 1 % of the value's own size.
+int on_bound(double value, double lower, double upper) {
+    const bool has_lower = lower > -1e299, has_upper = upper < 1e299;
+    const double width = has_lower && has_upper ? upper - lower : std::max(std::abs(value), 1e-300);
+    auto near = [&](double bound) {
+        const double gap = std::abs(value - bound);
+        return gap <= kNearBound * width && gap <= 0.01 * std::max(std::abs(value), std::abs(bound));
+    };
+    if (has_lower && near(lower)) return -1;
+    if (has_upper && near(upper)) return 1;
+    return 0;
+}
+
+// Intervals that reach beyond the box are cut at it; a parameter on a bound gets the
+// one-sided interval from the bound inwards.
+void bound_intervals(const IdentificationProblem& problem, const std::vector<double>& best, ParameterUncertainty& u) {
+    if (!u.available) return;
+    for (std::size_t j = 0; j < best.size() && j < u.ci_low.size(); ++j) {
+        if (!std::isfinite(u.ci_low[j])) continue;
+        const double lo = problem.lower()[j], hi = problem.upper()[j];
+        const int side = on_bound(best[j], lo, hi);
+        if (side != 0) {
+            u.interval[j] = "one-sided";
+            if (side < 0) u.ci_low[j] = lo;
+            else u.ci_high[j] = hi;
+        }
+        if (u.ci_low[j] < lo) { u.ci_low[j] = lo; if (side == 0) u.interval[j] = "clipped"; }
+        if (u.ci_high[j] > hi) { u.ci_high[j] = hi; if (side == 0) u.interval[j] = "clipped"; }
+    }
+}
+
+// ---- the findings ---------------------------------------------------------------------
+
+void judge_run(const FitResult& fit, Verdict& v) {
+    if (!fit.success) {
+        v.add({"no_result", Severity::error, "", "no candidate simulated: no parameters were identified",
+               "simulate the init values (tvid simulate) and read why the first window fails"});
+        return;
+    }
+    if (fit.interrupted)
+        v.add({"interrupted", Severity::warning, "", "stopped before the optimizer finished: the best parameters so far",
+               "run again to the end"});
+    else if (!fit.run.converged)
+        v.add({"not_converged", Severity::warning, "", fit.run.name + " stopped on its budget (" + fit.run.termination + "), not a tolerance",
+               "raise the optimizer's iteration or evaluation limit, or start closer (init, range)"});
+    if (fit.run.evaluations > 0 && fit.run.failed_evaluations > 0) {
+        const double share = static_cast<double>(fit.run.failed_evaluations) / static_cast<double>(fit.run.evaluations);
+        v.add({"failed_simulations", share >= kFailedShareWarning ? Severity::warning : Severity::info, "",
+               std::to_string(fit.run.failed_evaluations) + " of " + std::to_string(fit.run.evaluations) +
+                   " candidate simulations failed (" + pct(share) + ")" +
+                   (fit.run.first_failure.empty() ? "" : "; the first: " + fit.run.first_failure),
+               "narrow the search box, or a smaller simulation.step or integrator rosenbrock4 for stiff candidates"});
+    }
+    int failed_starts = 0;
+    for (const StartResult& s : fit.multistart.starts) failed_starts += std::isfinite(s.best_cost) ? 0 : 1;
+    if (failed_starts > 0)
+        v.add({"failed_starts", Severity::warning, "",
+               std::to_string(failed_starts) + " of " + std::to_string(fit.multistart.starts.size()) +
+                   " multistart starts failed to simulate",
+               "narrow range to where the model simulates, or a stiffer-safe integrator (rosenbrock4)"});
+}
+
+void judge_windows(const Experiment& ex, const Evaluation& ev, Verdict& v) {
+    const std::string failed = first_failed_window(ev);
+    if (!failed.empty())
+        v.add({"window_failed", Severity::error, "", "at the optimum the " + failed,
+               "the optimum is not usable on every window: check that window's data, or fix the parameter that drives it unstable"});
+    for (const SplitEvaluation* split : {&ev.estimation, &ev.validation}) {
+        for (const WindowEvaluation& w : split->windows) {
+            if (w.trace.status != SimulationStatus::ok) continue;
+            for (std::size_t k = 0; k < ex.outputs.size() && k < w.metrics.size(); ++k) {
+                const double f = w.metrics[k].fit_percent, pooled = split->pooled[k].fit_percent;
+                if (!std::isfinite(f) || !std::isfinite(pooled) || split->windows.size() < 2) continue;
+                if (f >= 0.0 && f >= pooled - kPoorWindowPoints) continue;
+                // A window of little motion has a low fit % at the noise floor: only a
+                // systematic misfit makes it poor.
+                std::vector<double> e(w.trace.measured[k].size());
+                for (std::size_t i = 0; i < e.size(); ++i) e[i] = w.trace.measured[k][i] - w.trace.simulated[k][i];
+                if (assess_whiteness({e}).systematic_share < kSystematicShareError) continue;
+                v.add({"poor_window", Severity::warning, w.trace.window->label,
+                       split->split + " window " + w.trace.window->label + ": fit " + num(f) + " % on " +
+                           ex.outputs[k].model_name + " while the pooled fit is " + num(pooled) + " %",
+                       "look at that window in the report's traces (its misfit is systematic); the pooled figure hides it"});
+            }
+        }
+    }
+}
+
+// A residual at the numerical level (noise-free data fitted exactly): its structure is the
+// integrator's, not a misfit.
+bool exact_fit(const SplitEvaluation& split, std::size_t k) {
+    return k < split.pooled.size() && split.pooled[k].fit_percent >= kExactFitPercent;
+}
+
+void judge_residuals(const Experiment& ex, const FitResult& fit, Verdict& v) {
+    for (std::size_t k = 0; k < ex.outputs.size() && k < fit.whiteness_estimation.size(); ++k) {
+        const ResidualWhiteness& w = fit.whiteness_estimation[k];
+        const std::string& name = ex.outputs[k].model_name;
+        if (w.samples == 0 || exact_fit(fit.evaluation.estimation, k)) continue;
+        const bool error = w.systematic_share >= kSystematicShareError;
+        if (!error && !(w.systematic_share >= kSystematicShareWarning && w.p_value < kWhitenessP)) continue;
+        char p[32];
+        std::snprintf(p, sizeof p, w.p_value < 1e-16 ? "< 1e-16" : "%.2g", w.p_value);
+        v.add({"residuals_not_white", error ? Severity::error : Severity::warning, name,
+               name + ": " + pct(w.systematic_share) + " of the residual variance is systematic (RMSE " + num(w.rms) +
+                   " against a sample-to-sample noise of " + num(w.noise_rms) + "; Ljung-Box p " + p + ")",
+               "the model misses what the data hold: another start or optimizer, wider bounds, scale: log on wide "
+               "boxes, or a model element (a delay, a mode)"});
+    }
+    for (std::size_t k = 0; k < ex.outputs.size() && k < fit.whiteness_validation.size(); ++k) {
+        const ResidualWhiteness& e = fit.whiteness_estimation[k];
+        const ResidualWhiteness& val = fit.whiteness_validation[k];
+        if (e.samples == 0 || val.samples == 0 || !(e.rms > 0)) continue;
+        if (exact_fit(fit.evaluation.estimation, k) && exact_fit(fit.evaluation.validation, k)) continue;
+        // Residuals that are mostly noise: each RMSE over its own noise, so that windows of
+        // more noise do not count as worse fits. Otherwise the RMSEs themselves.
+        const bool noise = e.noise_rms > 0 && val.noise_rms > 0 && e.systematic_share < kSystematicShareError &&
+                           val.systematic_share < kSystematicShareError;
+        const double ratio = noise ? (val.rms / val.noise_rms) / (e.rms / e.noise_rms) : val.rms / e.rms;
+        if (!(ratio > kValidationWorseWarning)) continue;
+        const std::string& name = ex.outputs[k].model_name;
+        v.add({"validation_worse", ratio > kValidationWorseError ? Severity::error : Severity::warning, name,
+               name + ": validation RMSE " + num(val.rms) + " against " + num(e.rms) + " in estimation (" +
+                   num(ratio) + " times worse" + (noise ? ", each over its noise)" : ")"),
+               "the fit follows the estimation data more than the model: estimate on more windows or cycles, "
+               "or fix weakly determined parameters"});
+    }
+}
+
+void judge_parameters(const IdentificationProblem& problem, const FitResult& fit, Verdict& v) {
+    const auto& names = problem.free_names();
+    for (std::size_t j = 0; j < names.size() && j < fit.best_free.size(); ++j) {
+        const double lo = problem.lower()[j], hi = problem.upper()[j], p = fit.best_free[j];
+        const int side = on_bound(p, lo, hi);
+        if (side == 0) continue;
+        v.add({"at_bound", Severity::warning, names[j],
+               names[j] + " = " + num(p) + " is on its " + (side < 0 ? "lower" : "upper") + " bound " +
+                   num(side < 0 ? lo : hi) + ": the optimum may lie beyond it",
+               "widen the bound if the physics allows; if the bound is the physical value, fix " + names[j] + " there"});
+    }
+    const IdentifiabilityReport id = assess_identifiability(fit.uncertainty, names, fit.best_free);
+    if (!id.available) return;
+    if (!id.null_directions.empty()) {
+        std::string text = "the data determine only " + std::to_string(id.rank) + " of " + std::to_string(id.of) +
+                           " parameter directions: ";
+        for (std::size_t i = 0; i < id.null_directions.size(); ++i) text += (i ? "; " : "") + id.null_directions[i].text;
+        const auto& lead = id.null_directions.front().members;
+        v.add({"undetermined", Severity::warning, lead.empty() ? "" : lead.front(), text,
+               id.null_directions.size() == 1
+                   ? "fix one of these parameters at a known value, or add an output that separates them"
+                   : "fix one parameter of each combination at a known value, or add outputs that separate them"});
+    }
+    for (const ParameterIdentifiability& q : id.parameters) {
+        if (q.flag != IdentifiabilityFlag::weak) continue;
+        v.add({"weakly_determined", Severity::warning, q.name,
+               q.name + " is weakly determined: standard error " + pct(q.relative_std_error) + " of its value",
+               "fix it, excite it more (another window or cycle), or read its profile"});
+    }
+}
+
+// Another multistart start that ended as low, elsewhere.
+void judge_starts(const IdentificationProblem& problem, const FitResult& fit, Verdict& v) {
+    const MultistartSummary& ms = fit.multistart;
+    if (ms.best_start < 1 || ms.starts.size() < 2) return;
+    const StartResult& best = ms.starts[static_cast<std::size_t>(ms.best_start - 1)];
+    const auto& names = problem.free_names();
+    for (const StartResult& s : ms.starts) {
+        if (s.start == best.start || !std::isfinite(s.best_cost) || s.best.size() != best.best.size()) continue;
+        if (s.best_cost - best.best_cost > kNearEqualCost * best.best_cost) continue;
+        std::size_t widest = names.size();
+        double widest_gap = 0.0;
+        for (std::size_t j = 0; j < s.best.size(); ++j) {
+            const double gap = std::abs(s.best[j] - best.best[j]);
+            const double se = j < fit.uncertainty.std_error.size() ? fit.uncertainty.std_error[j] : 0.0;
+            const double scale = std::max(std::abs(best.best[j]), 1e-300);
+            if (gap <= kDistinctRelative * scale || (std::isfinite(se) && gap <= 3.0 * se)) continue;
+            if (gap / scale > widest_gap) { widest_gap = gap / scale; widest = j; }
+        }
+        if (widest == names.size()) continue;
+        v.add({"non_unique_optimum", Severity::warning, names[widest],
+               "start " + std::to_string(s.start) + " ends at cost " + num(s.best_cost) + " (best " + num(best.best_cost) +
+                   ", start " + std::to_string(best.start) + ") with " + names[widest] + " = " + num(s.best[widest]) +
+                   " against " + num(best.best[widest]),
+               "the data do not single out one optimum: fix a parameter, add data, or compare the starts in starts.csv"});
+        return;  // one is enough to say it
+    }
+}
+
+void judge_stability(const StepStability& s, Verdict& v) {
+    if (!s.assessed || s.margin < kStepMarginWarning) return;
+    v.add({"near_instability", Severity::warning, s.window,
+           "window " + s.window + ": a mode of " + num(s.frequency_hz) + " Hz (damping ratio " + num(s.damping_ratio) +
+               ", |lambda| " + num(s.rate) + " 1/s) is at " + pct(s.margin) + " of RK4's stability limit for the step " +
+               num(s.step) + " s",
+           "a smaller simulation.step, or integrator rosenbrock4; a slightly stiffer candidate would blow up"});
+}
+
+}  // namespace
+
+void judge_fit(const IdentificationProblem& problem, FitResult& fit) {
+    const Experiment& ex = problem.experiment();
+    const std::size_t outputs = ex.outputs.size();
+    Verdict v;
+    judge_run(fit, v);
+    if (fit.success) {
+        fit.whiteness_estimation = split_whiteness(fit.evaluation.estimation, outputs);
+        fit.whiteness_validation = split_whiteness(fit.evaluation.validation, outputs);
+        fit.criteria = estimation_criteria(fit.evaluation.estimation, outputs, static_cast<int>(problem.dimension()));
+        if (!fit.interrupted) fit.stability = assess_step_stability(problem, fit.best_params);
+        bound_intervals(problem, fit.best_free, fit.uncertainty);
+        judge_windows(ex, fit.evaluation, v);
+        judge_residuals(ex, fit, v);
+        judge_parameters(problem, fit, v);
+        judge_starts(problem, fit, v);
+        judge_stability(fit.stability, v);
+    }
+    fit.verdict = std::move(v);
+}
+
+}  // namespace tvid

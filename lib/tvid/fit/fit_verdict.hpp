@@ -1,0 +1,41 @@
+#pragma once
+// The judgement of a finished fit (analysis/verdict.hpp): the figures it rests on — residual
+// whiteness per output and split, the information criteria, the RK4 step's stability
+// margin, bound-aware intervals — and the findings drawn from them. run_fit calls it last.
+
+#include "tvid/fit/fit_run.hpp"
+
+namespace tvid {
+
+// The thresholds of the findings (docs/report-format.md, "verdict").
+/// A residual with at least this share of systematic variance is an error; from
+/// kSystematicShareWarning on (with a Ljung–Box p below kWhitenessP) a warning.
+constexpr double kSystematicShareError = 0.5;
+constexpr double kSystematicShareWarning = 0.1;
+constexpr double kWhitenessP = 1e-3;
+/// A pooled fit from this on is exact (noise-free data): its residual is not judged.
+constexpr double kExactFitPercent = 99.99;
+/// Validation RMSE over estimation RMSE (each over its sample-to-sample noise).
+constexpr double kValidationWorseWarning = 1.1;
+constexpr double kValidationWorseError = 2.0;
+/// A parameter within this fraction of its box width of a bound (and within 1 % of its
+/// value) is on the bound.
+constexpr double kNearBound = 1e-3;
+/// Failed candidate simulations above this share of all of them: a warning.
+constexpr double kFailedShareWarning = 0.25;
+/// Multistart: another start within this relative cost of the best, at parameters more
+/// than kDistinctRelative (and 3 standard errors) away, is a second optimum.
+constexpr double kNearEqualCost = 0.01;
+constexpr double kDistinctRelative = 0.1;
+/// RK4's stability margin from which a warning is given. Never an error: the simulation
+/// finished (a margin a little above 1 at a window's start is passed through by an engine,
+/// whose inertia changes with crank angle), but a slightly stiffer candidate blows up.
+constexpr double kStepMarginWarning = 0.8;
+/// A window whose fit % is this many points below its split's pooled fit (or below 0), with
+/// a systematic residual.
+constexpr double kPoorWindowPoints = 30.0;
+
+/// Fills fit's whiteness, criteria, stability, interval kinds and verdict.
+void judge_fit(const IdentificationProblem& problem, FitResult& fit);
+
+}  // namespace tvid
