@@ -179,6 +179,13 @@ TEST_CASE("tvid fit --json prints the summary on stdout", "[e2e][fit]") {
     REQUIRE(r.exit_code == 0);
     const json s = json::parse(r.out);
     CHECK(s["status"] == "ok");
+    // With the parameters as params.json lists them: the whole result in one document.
+    const json params = read_json(tmp.path() / "r" / "params.json");
+    CHECK(s["parameters"] == params["parameters"]);
+    REQUIRE(s["parameters"].size() == 9);
+    CHECK(s["parameters"][0]["name"] == "rho1");
+    CHECK(s["parameters"][0]["value"].is_number());
+    CHECK(s["verdict"]["summary"].is_string());
     CHECK(s == read_json(tmp.path() / "r" / "summary.json"));
 }
 

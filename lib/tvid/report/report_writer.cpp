@@ -235,6 +235,8 @@ json fit_summary_json(const IdentificationProblem& problem, const FitResult& fit
            {"estimation", split_json(ex, fit.evaluation.estimation)},
            {"validation", split_json(ex, fit.evaluation.validation)},
            {"identifiability", identifiability},
+           // The result itself, as params.json lists it: `fit --json` is the whole fit in one document.
+           {"parameters", parameters_json(problem, fit)["parameters"]},
            {"residuals", {{"estimation", whiteness_json(ex, fit.whiteness_estimation)},
                           {"validation", whiteness_json(ex, fit.whiteness_validation)}}},
            {"information_criteria", criteria_json(fit.criteria)},
