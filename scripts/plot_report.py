@@ -16,6 +16,10 @@ REPORT_DIR/sensitivity when it holds a sensitivity.json):
   sensitivity_OUTPUT.png  p*dy/dp over time, one panel per free parameter
                           (the methodology paper Figs. 4-5); dy/dp for a parameter at 0
 
+From a directory written by `tvid profile` (profile.json and profile.csv) instead:
+  profile.png         Δχ² against the parameter's value, the 95 % threshold (χ²₁ = 3.84),
+                      the profile interval and the linearised one
+
 The figures go to OUT_DIR (default: REPORT_DIR/plots). Uses Debian's python3-matplotlib
 with the Agg backend (no display needed). Exit status: 0 done, 2 bad input (a missing or
 malformed file), 3 matplotlib is not installed.
@@ -252,9 +256,53 @@ def plot_sensitivity(sens_dir, out_dir, dpi):
         save(fig, out_dir, f"sensitivity_{out}.png", dpi)
 
 
+def plot_profile(profile_dir, out_dir, dpi):
+    info = read_json(os.path.join(profile_dir, "profile.json"))
+    path = os.path.join(profile_dir, "profile.csv")
+    header, rows = read_csv(path)
+    name = info.get("parameter", header[0] if header else "?")
+    v_col, d_col = column(header, name, path), column(header, "delta_chi2", path)
+    points = []
+    for line, row in enumerate(rows, start=2):
+        try:
+            points.append((number(row[v_col]), number(row[d_col])))
+        except (ValueError, IndexError):
+            fail(f"{path}:{line}: expected numbers in {name} and delta_chi2")
+    optimum = info.get("optimum", {}).get("value")
+    threshold = info.get("threshold", 3.841)
+    fig, ax = plt.subplots(figsize=(7, 4.2))
+    finite = [(v, d) for v, d in points if math.isfinite(d)]
+    curve = sorted(finite + ([(optimum, 0.0)] if optimum is not None else []))
+    ax.plot([v for v, _ in curve], [d for _, d in curve], color="tab:blue", lw=1.5, marker="o", ms=4,
+            label="profile: the others refitted")
+    if optimum is not None:
+        ax.plot([optimum], [0.0], marker="*", ms=12, color="tab:red", ls="none", label=f"optimum {optimum:.5g}")
+    ax.axhline(threshold, color="0.3", ls=":", lw=1, label=f"95 % threshold (χ²₁ = {threshold:.2f})")
+    interval = info.get("interval95", {})
+    for key in ("low", "high"):
+        if interval.get(key) is not None:
+            ax.axvline(interval[key], color="tab:blue", lw=1, alpha=0.7)
+    low, high = interval.get("low"), interval.get("high")
+    text = f"profile [{'open' if low is None else f'{low:.5g}'}, {'open' if high is None else f'{high:.5g}'}]"
+    linear = info.get("linearised_interval95")
+    if linear:
+        for x in linear:
+            ax.axvline(x, color="tab:orange", ls="--", lw=1)
+        ax.plot([], [], color="tab:orange", ls="--", label=f"linearised [{linear[0]:.5g}, {linear[1]:.5g}]")
+    ax.plot([], [], color="tab:blue", lw=1, alpha=0.7, label=text)
+    ax.set_xlabel(name)
+    ax.set_ylabel("Δχ² = (S − S_min) / s²")
+    ax.set_ylim(bottom=min(0.0, min((d for _, d in finite), default=0.0)))
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8, loc="upper center")
+    ax.set_title(f"{info.get('experiment', '?')}: profile likelihood of {name}", fontsize=11)
+    fig.tight_layout()
+    save(fig, out_dir, "profile.png", dpi)
+
+
 def main():
     parser = argparse.ArgumentParser(description="Draw the figures of a tvid report directory as PNG files.")
-    parser.add_argument("report_dir", help="report directory written by tvid fit")
+    parser.add_argument("report_dir", help="report directory written by tvid fit (or by tvid profile)")
     parser.add_argument("-o", "--output", help="output directory (default: REPORT_DIR/plots)")
     parser.add_argument("--sensitivity", metavar="SENS_DIR", help="output directory of tvid sensitivity")
     parser.add_argument("--dpi", type=int, default=100, help="resolution (default 100)")
@@ -269,6 +317,10 @@ def main():
     except OSError as e:
         fail(f"{out_dir}: cannot create: {e.strerror}")
 
+    if os.path.isfile(os.path.join(args.report_dir, "profile.json")) and not os.path.isfile(
+            os.path.join(args.report_dir, "summary.json")):
+        plot_profile(args.report_dir, out_dir, args.dpi)
+        return
     summary = read_json(os.path.join(args.report_dir, "summary.json"))
     panels, outputs = traces(args.report_dir)
     if not panels or not outputs:

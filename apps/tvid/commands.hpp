@@ -46,6 +46,16 @@ struct SensitivityCommand {
     bool validation = false;            ///< --validation: the validation windows too
 };
 
+struct ProfileCommand {
+    CommonOptions common;
+    std::string parameter;              ///< --param NAME
+    int points = 21;                    ///< --points N
+    std::optional<double> from, to;     ///< --from, --to: the grid's ends
+    std::string params_file;            ///< --params P.json: where the fit to the optimum starts
+    std::string output_dir;             ///< -o DIR (default: the report directory + /profile-NAME)
+};
+int run_profile_command(const ProfileCommand& cmd);
+
 struct CheckCommand {
     std::string report_dir;             ///< REPORT_DIR written by `tvid fit`
     std::string reference;              ///< --reference REF.json

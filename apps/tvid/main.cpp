@@ -112,6 +112,19 @@ int main(int argc, char** argv) {
         ->check(kNonEmptyPath);
     sens_cmd->add_flag("--validation", sensitivity.validation, "include the validation windows");
 
+    ProfileCommand profile;
+    auto* profile_cmd = app.add_subcommand(
+        "profile", "profile likelihood of one parameter: the others refitted on a grid of its values");
+    add_common(profile_cmd, profile.common);
+    profile_cmd->add_option("--param", profile.parameter, "the free parameter to profile")->required();
+    profile_cmd->add_option("--points", profile.points, "grid points (default 21)")->check(CLI::Range(3, 1001));
+    profile_cmd->add_option("--from", profile.from, "the grid's lower end (default: optimum - 4 standard errors)");
+    profile_cmd->add_option("--to", profile.to, "the grid's upper end (default: optimum + 4 standard errors)");
+    profile_cmd->add_option("--params", profile.params_file, "start of the fit to the optimum (default: the init values)");
+    profile_cmd->add_option("-o,--output", profile.output_dir,
+                            "output directory (default: report.dir or results/NAME, then /profile-PARAM)")
+        ->check(kNonEmptyPath);
+
     CheckCommand check;
     auto* check_cmd = app.add_subcommand("check", "compare a fit report with a reference of expected values (CI)");
     check_cmd->add_option("report", check.report_dir, "report directory written by tvid fit")->required();
@@ -145,12 +158,15 @@ int main(int argc, char** argv) {
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
-        const int code = app.exit(e);
-        return code == 0 ? 0 : 2;
+        if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
+        // One line, as every other input error: CLI11's own adds "Run with --help".
+        std::cerr << "tvid: " << e.what() << " (tvid " << (app.get_subcommands().empty() ? "" : app.get_subcommands().front()->get_name() + " ")
+                  << "--help)\n";
+        return 2;
     }
     const std::string command_line = joined_command_line(argc, argv);
     fit.common.command_line = simulate.common.command_line = validate.common.command_line =
-        sensitivity.common.command_line = command_line;
+        sensitivity.common.command_line = profile.common.command_line = command_line;
 
     batch.common.command_line = command_line;
     fit.processes = batch.processes = &processes;
@@ -162,6 +178,7 @@ int main(int argc, char** argv) {
         if (*sim_cmd) return run_simulate_command(simulate);
         if (*val_cmd) return run_validate_command(validate);
         if (*sens_cmd) return run_sensitivity_command(sensitivity);
+        if (*profile_cmd) return run_profile_command(profile);
         if (*models_cmd) return run_models_command(models_json);
         if (*check_cmd) return run_check_command(check);
     } catch (const tvid::InputError& e) {

@@ -42,7 +42,7 @@ bool has_code(const json& findings, const std::string& code, const std::string& 
 
 }  // namespace
 
-TEST_CASE("--strict exits 1 on a poor fit and 0 on a good one; the report is written either way", "[e2e][verdict]") {
+TEST_CASE("strict mode exits 1 on a poor fit and 0 on a good one, the report written either way", "[e2e][verdict]") {
     TempDir tmp;
     SECTION("a good fit") {
         const RunResult r = run_tvid(cvt_lm("fit", tmp.path() / "good", {"--strict"}));
@@ -76,7 +76,7 @@ TEST_CASE("--strict exits 1 on a poor fit and 0 on a good one; the report is wri
     }
 }
 
-TEST_CASE("summary.json has the information criteria and the residual statistics; params.json the covariance",
+TEST_CASE("summary.json has the information criteria and the residual statistics, params.json the covariance",
           "[e2e][verdict]") {
     TempDir tmp;
     const RunResult r = run_tvid(cvt_lm("fit", tmp.path() / "r", {}));
@@ -110,7 +110,7 @@ TEST_CASE("summary.json has the information criteria and the residual statistics
     CHECK(r.out.find("AIC ") != std::string::npos);
 }
 
-TEST_CASE("batch rows carry each job's verdict; --strict exits 1 when one has an error", "[e2e][verdict]") {
+TEST_CASE("batch rows carry each job verdict, and strict mode exits 1 when one has an error", "[e2e][verdict]") {
     TempDir tmp;
     const std::vector<std::string> data{"--data", (source_dir() / "data/cvt/tipin_a.csv").string(), "--quiet"};
     auto args = cvt_lm("batch", tmp.path() / "poor", kPoor);

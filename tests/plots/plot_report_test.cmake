@@ -25,7 +25,11 @@ run("tvid sensitivity" ${TVID} sensitivity ${experiment} --params ${report}/para
 run("plot_report.py" ${PYTHON} ${SOURCE_DIR}/scripts/plot_report.py ${report} -o ${WORK_DIR}/plots
     --sensitivity ${WORK_DIR}/sens --dpi 60)
 
-foreach(name fit residual_ratio cost_history sensitivity_Tds)
+run("tvid profile" ${TVID} profile ${experiment} --param d_ds --points 7 -o ${WORK_DIR}/profile
+    --set estimation.optimizer=lm --set estimation.cost=l2 --set parameters.rho1=1.42855 --quiet)
+run("plot_report.py profile" ${PYTHON} ${SOURCE_DIR}/scripts/plot_report.py ${WORK_DIR}/profile -o ${WORK_DIR}/plots --dpi 60)
+
+foreach(name fit residual_ratio cost_history sensitivity_Tds profile)
   set(png ${WORK_DIR}/plots/${name}.png)
   if(NOT EXISTS ${png})
     message(FATAL_ERROR "${png} was not written")
@@ -47,4 +51,4 @@ endif()
 if(EXISTS ${WORK_DIR}/empty/plots/fit.png)
   message(FATAL_ERROR "plot_report.py drew a figure from an empty folder")
 endif()
-message("plot_report.py: 4 PNG figures from ${report}")
+message("plot_report.py: 5 PNG figures from ${report} and ${WORK_DIR}/profile")

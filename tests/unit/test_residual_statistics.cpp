@@ -12,7 +12,7 @@
 
 using namespace tvid;
 
-TEST_CASE("white noise is white; a slow misfit on it is systematic by the share it has", "[statistics]") {
+TEST_CASE("white noise is white, and a slow misfit on it is systematic by the share it has", "[statistics]") {
     std::mt19937 random(3);
     std::normal_distribution<double> gauss(0.0, 0.1);
     std::vector<double> noise(5000), misfit(5000);

@@ -30,6 +30,7 @@ OptimizerRun run_least_squares(const IdentificationProblem& problem, const FitOp
                         .iterations = r.lm.iterations,
                         .evaluations = least_squares.simulations(),
                         .failed_evaluations = r.lm.failed_evaluations,
+                        .first_failure = {},  // the swarm's alone
                         .history = history,
                         .termination = r.lm.termination,
                         .termination_type = r.lm.termination_type,

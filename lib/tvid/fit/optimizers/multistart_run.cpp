@@ -34,6 +34,7 @@ OptimizerRun run_multistart_fit(const IdentificationProblem& problem, const FitO
                         .iterations = m.iterations,
                         .evaluations = m.evaluations,
                         .failed_evaluations = m.failed_evaluations,
+                        .first_failure = {},  // the swarm's alone
                         .history = m.history,
                         .termination = m.termination,
                         .termination_type = m.termination_type,

@@ -23,6 +23,7 @@ OptimizerRun run_nlopt_fit(const IdentificationProblem& problem, const FitOption
                         .iterations = static_cast<int>(r.nlopt.evaluations),
                         .evaluations = cost.simulations(),
                         .failed_evaluations = r.nlopt.failed_evaluations,
+                        .first_failure = {},  // the swarm's alone
                         .history = r.nlopt.history,
                         .termination = r.nlopt.termination,
                         .termination_type = r.nlopt.termination_type,
