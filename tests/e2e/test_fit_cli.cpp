@@ -130,8 +130,9 @@ TEST_CASE("tvid fit writes a complete report directory", "[e2e][fit]") {
     // params.csv: header plus 9 rows.
     const auto pcsv = lines_of(read_text(out / "params.csv"));
     REQUIRE(pcsv.size() == 10);
-    CHECK(pcsv[0] == "name,value,init,min,max,fixed,std_error,ci95_low,ci95_high");
+    CHECK(pcsv[0] == "name,value,init,min,max,fixed,std_error,ci95_low,ci95_high,unit");
     CHECK(pcsv[1].rfind("rho1,", 0) == 0);
+    CHECK(pcsv[1].substr(pcsv[1].rfind(',') + 1) == "1/(kg m^2)");  // rho1 = 1/I1
 
     // validate with the fitted parameters reproduces the cost.
     const RunResult v = run_tvid({"validate", (source_dir() / "configs/cvt_tipin.yaml").string(), "--params",

@@ -7,6 +7,7 @@
 #include "tvid/analysis/fit_metrics.hpp"
 #include "tvid/analysis/identifiability.hpp"
 #include "tvid/io/atomic_file.hpp"
+#include "tvid/model/parameter_units.hpp"
 #include "tvid/report/optimizer_report.hpp"
 #include "tvid/report/report_values.hpp"
 #include "tvid/io/json_text.hpp"
@@ -62,11 +63,12 @@ json split_json(const Experiment& experiment, const SplitEvaluation& split) {
 
 json parameters_json(const IdentificationProblem& problem, const FitResult& fit) {
     const Experiment& ex = problem.experiment();
+    const std::vector<std::string> units = parameter_units(ex.network);
     json params = json::array();
     for (std::size_t i = 0; i < ex.parameters.size(); ++i) {
         const ParameterSetting& p = ex.parameters[i];
         const int j = free_position(problem, i);
-        json entry{{"name", p.name},        {"value", json_number(fit.best_params[i])}, {"init", p.init},
+        json entry{{"name", p.name},        {"unit", units[i]}, {"value", json_number(fit.best_params[i])}, {"init", p.init},
                    {"min", bound(p, true)}, {"max", bound(p, false)},              {"fixed", p.fixed}};
         if (j >= 0 && fit.uncertainty.available) {
             const auto jj = static_cast<std::size_t>(j);
@@ -103,6 +105,7 @@ json cost_json(const Experiment& ex, const Evaluation& ev) {
     json outputs = json::array();
     for (std::size_t k = 0; k < ex.outputs.size() && k < ev.output_scale.size(); ++k)
         outputs.push_back({{"name", ex.outputs[k].model_name},
+                           {"unit", output_unit(ex.network.outputs[static_cast<std::size_t>(ex.output_indices[k])])},
                            {"weight", ex.outputs[k].weight},
                            {"spread", json_number(ev.output_spread[k])},
                            {"scale", json_number(ev.output_scale[k])}});
@@ -280,7 +283,8 @@ void write_fit_report(const std::filesystem::path& dir, const IdentificationProb
     write_file_atomically(dir / "params.json", json_text(parameters_json(problem, fit)) + "\n");
 
     std::ostringstream csv;
-    csv << "name,value,init,min,max,fixed,std_error,ci95_low,ci95_high\n";
+    const std::vector<std::string> units = parameter_units(ex.network);
+    csv << "name,value,init,min,max,fixed,std_error,ci95_low,ci95_high,unit\n";
     for (std::size_t i = 0; i < ex.parameters.size(); ++i) {
         const ParameterSetting& p = ex.parameters[i];
         const int j = free_position(problem, i);
@@ -290,7 +294,7 @@ void write_fit_report(const std::filesystem::path& dir, const IdentificationProb
             << (p.has_min ? csv_cell(p.min, "%.17g") : "") << ',' << (p.has_max ? csv_cell(p.max, "%.17g") : "") << ','
             << (p.fixed ? "true" : "false") << ',' << (unc ? csv_cell(fit.uncertainty.std_error[jj]) : "") << ','
             << (unc ? csv_cell(fit.uncertainty.ci_low[jj]) : "") << ',' << (unc ? csv_cell(fit.uncertainty.ci_high[jj]) : "")
-            << '\n';
+            << ',' << units[i] << '\n';
     }
     write_file_atomically(dir / "params.csv", csv.str());
 
