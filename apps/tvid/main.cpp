@@ -77,7 +77,8 @@ int main(int argc, char** argv) {
         std::cout.rdbuf(nullptr);
         std::cerr.rdbuf(nullptr);
     }
-    CLI::App app{"tvid: identify torsional-vibration model parameters of powertrains from measurements"};
+    // Named: the usage line says `tvid`, not the path the binary was started by.
+    CLI::App app{"tvid: identify torsional-vibration model parameters of powertrains from measurements", "tvid"};
     app.set_version_flag("--version", std::string("tvid ") + TVID_VERSION);
     app.require_subcommand(1);
 
@@ -86,7 +87,10 @@ int main(int argc, char** argv) {
     add_common(fit_cmd, fit.common);
     fit_cmd->add_option("-o,--output", fit.output_dir, "report directory (default: report.dir or results/NAME)")->check(kNonEmptyPath);
     fit_cmd->add_option("--seed", fit.seed, "random seed of the optimizer")->check(kSeed);
-    fit_cmd->add_option("--optimizer", fit.optimizer, optimizer_names() + " (overrides estimation.optimizer)");
+    std::vector<std::string> optimizers;
+    for (const tvid::OptimizerKind kind : tvid::kOptimizerKinds) optimizers.emplace_back(tvid::optimizer_name(kind));
+    fit_cmd->add_option("--optimizer", fit.optimizer, optimizer_names() + " (overrides estimation.optimizer)")
+        ->check(CLI::IsMember(optimizers));  // the error names the flag the user typed
     fit_cmd->add_flag("--force", fit.force, "replace a report already in the report directory");
     fit_cmd->add_flag("--strict", fit.strict, "exit 1 when the verdict has an error (for CI)");
 

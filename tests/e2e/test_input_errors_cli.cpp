@@ -1,7 +1,10 @@
 // Bad experiment files and CSV data through the binary: exit status 2 and one line
 // FILE:LINE: key: what is wrong.
 #include <catch2/catch.hpp>
+#include <algorithm>
 #include <sstream>
+#include <utility>
+#include <vector>
 
 #include "support/run_tvid.hpp"
 #include "support/test_files.hpp"
@@ -144,4 +147,23 @@ TEST_CASE("an override with a bad value is reported as coming from --set", "[e2e
     CHECK(r.exit_code == 2);
     CHECK(r.err.find("--set") != std::string::npos);
     CHECK(r.err.find("estimation.pso.iterations") != std::string::npos);
+}
+
+TEST_CASE("command-line errors are one line naming the flag typed, exit 2", "[e2e][errors]") {
+    const std::string cvt = (source_dir() / "configs/cvt_tipin.yaml").string();
+    for (const auto& [args, expected] : std::vector<std::pair<std::vector<std::string>, std::string>>{
+             {{"fit", cvt, "--optimizer", "foo"}, "tvid: --optimizer: foo not in {pso,lm,nlopt,pso+lm,multistart}"},
+             {{"fit", cvt, "--threads", "abc"}, "tvid: --threads: "},
+             {{"fit"}, "tvid: experiment is required"},
+             {{"profile", cvt, "--points", "2"}, "tvid: --points: "}}) {
+        const RunResult r = run_tvid(args);
+        INFO(r.err);
+        CHECK(r.exit_code == 2);
+        CHECK(r.err.rfind(expected, 0) == 0);
+        CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+    }
+    // The usage line names the tool, not the path it was started by.
+    const RunResult help = run_tvid({"fit", "--help"});
+    CHECK(help.exit_code == 0);
+    CHECK(help.out.find("Usage: tvid fit [OPTIONS] experiment") != std::string::npos);
 }
