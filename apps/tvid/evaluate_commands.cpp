@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "commands.hpp"
+#include "terminal.hpp"
 #include "tvid/analysis/evaluation.hpp"
 #include "tvid/estimation/parallel_evaluator.hpp"
 #include "tvid/experiment/experiment.hpp"
@@ -11,6 +12,7 @@
 #include "tvid/report/parameter_file.hpp"
 #include "tvid/report/report_writer.hpp"
 #include "tvid/io/json_text.hpp"
+#include "tvid/report/report_values.hpp"
 
 namespace tvid::cli {
 
@@ -32,6 +34,33 @@ int report_failed_windows(const Evaluation& ev) {
     return 1;
 }
 
+// The metrics of a parameter set as `tvid validate --json` prints them.
+nlohmann::json evaluation_json(const Experiment& ex, const Evaluation& ev) {
+    return {{"experiment", ex.name},
+            {"cost", std::isfinite(ev.cost) ? nlohmann::json(ev.cost) : nlohmann::json(nullptr)},
+            {"estimation", split_json(ex, ev.estimation)},
+            {"validation", split_json(ex, ev.validation)}};
+}
+
+// Every scored sample of a split as columns: t, window, and per output measured and
+// simulated (the CSV's content, for `tvid simulate --json`).
+nlohmann::json traces_json(const Experiment& ex, const SplitEvaluation& split) {
+    nlohmann::json t = nlohmann::json::array(), window = nlohmann::json::array(), outputs = nlohmann::json::object();
+    for (const ChannelBinding& o : ex.outputs)
+        outputs[o.model_name] = {{"measured", nlohmann::json::array()}, {"simulated", nlohmann::json::array()}};
+    for (const WindowEvaluation& w : split.windows)
+        for (std::size_t i = 0; i < w.trace.time.size(); ++i) {
+            t.push_back(w.trace.time[i]);
+            window.push_back(w.trace.window->label);
+            for (std::size_t k = 0; k < ex.outputs.size() && k < w.trace.measured.size(); ++k) {
+                nlohmann::json& o = outputs[ex.outputs[k].model_name];
+                o["measured"].push_back(json_number(w.trace.measured[k][i]));
+                o["simulated"].push_back(json_number(w.trace.simulated[k][i]));
+            }
+        }
+    return {{"t", t}, {"window", window}, {"outputs", outputs}};
+}
+
 }  // namespace
 
 int run_simulate_command(const EvaluateCommand& cmd) {
@@ -43,10 +72,17 @@ int run_simulate_command(const EvaluateCommand& cmd) {
         const std::string more = trace_csv(ex, ev.validation);
         csv += more.substr(more.find('\n') + 1);  // same header
     }
-    if (cmd.output.empty()) {
+    // The CSV goes to -o, else to stdout (for a pipe); --json prints the same samples with
+    // the metrics as JSON instead, and with -o the terminal gets the summary table.
+    if (!cmd.output.empty()) write_file_atomically(cmd.output, csv);
+    if (cmd.common.json) {
+        nlohmann::json j = evaluation_json(ex, ev);
+        j["traces"] = {{"estimation", traces_json(ex, ev.estimation)}, {"validation", traces_json(ex, ev.validation)}};
+        std::cout << json_text(j) << std::endl;
+    } else if (cmd.output.empty()) {
         std::cout << csv;
-    } else {
-        write_file_atomically(cmd.output, csv);
+    } else if (!cmd.common.quiet) {
+        std::cout << evaluation_summary_text("simulate", ex, ev) << "  written: " << cmd.output << "\n" << std::flush;
     }
     return report_failed_windows(ev);
 }
@@ -55,12 +91,11 @@ int run_validate_command(const EvaluateCommand& cmd) {
     const Experiment ex = load_experiment(cmd.common.experiment, parse_overrides(cmd.common.overrides));
     const IdentificationProblem problem(ex);
     const Evaluation ev = evaluate_parameters(problem, chosen_parameters(cmd, ex), resolve_thread_count(cmd.common.threads));
-    nlohmann::json j{{"experiment", ex.name},
-                     {"cost", std::isfinite(ev.cost) ? nlohmann::json(ev.cost) : nlohmann::json(nullptr)},
-                     {"estimation", split_json(ex, ev.estimation)},
-                     {"validation", split_json(ex, ev.validation)}};
+    const nlohmann::json j = evaluation_json(ex, ev);
     if (!cmd.output.empty()) write_file_atomically(cmd.output, json_text(j) + "\n");
-    if (cmd.common.json || cmd.output.empty()) std::cout << json_text(j) << std::endl;
+    // The table as `tvid fit` prints it; the JSON with --json.
+    if (cmd.common.json) std::cout << json_text(j) << std::endl;
+    else if (!cmd.common.quiet) std::cout << evaluation_summary_text("validate", ex, ev) << std::flush;
     return report_failed_windows(ev);
 }
 

@@ -75,6 +75,43 @@ std::string percent(double v) {
 }
 }  // namespace
 
+std::string split_lines(const Experiment& ex, const SplitEvaluation& split) {
+    // Per output the pooled fit, and under it each window's when there are several: a
+    // pooled figure can hide a window the model does not follow.
+    std::string out;
+    char line[512];
+    for (std::size_t k = 0; k < ex.outputs.size() && k < split.pooled.size(); ++k) {
+        const FitMetrics& m = split.pooled[k];
+        if (m.samples == 0) continue;
+        std::snprintf(line, sizeof line, "  %-10s %-6s Q %s  fit %s  RMSE %.4g  max |residual ratio| %s\n",
+                      split.split.c_str(), ex.outputs[k].model_name.c_str(), percent(m.q_index).c_str(),
+                      percent(m.fit_percent).c_str(), m.rmse, percent(100 * m.max_abs_residual_ratio).c_str());
+        out += line;
+        if (split.windows.size() < 2) continue;
+        for (const WindowEvaluation& w : split.windows) {
+            if (k >= w.metrics.size() || w.metrics[k].samples == 0) {
+                if (w.trace.status != SimulationStatus::ok)
+                    out += "      window " + w.trace.window->label + ": " + to_string(w.trace.status) + "\n";
+                continue;
+            }
+            std::snprintf(line, sizeof line, "      window %-20s Q %s  fit %s  RMSE %.4g\n", w.trace.window->label.c_str(),
+                          percent(w.metrics[k].q_index).c_str(), percent(w.metrics[k].fit_percent).c_str(),
+                          w.metrics[k].rmse);
+            out += line;
+        }
+    }
+    return out;
+}
+
+std::string evaluation_summary_text(const std::string& command, const Experiment& ex, const Evaluation& ev) {
+    char line[256];
+    std::snprintf(line, sizeof line, "tvid %s %s: %zu estimation and %zu validation windows\n  cost (%s%s) %.6g\n",
+                  command.c_str(), ex.name.c_str(), ev.estimation.windows.size(), ev.validation.windows.size(),
+                  ex.estimation_settings.cost == CostKind::l1 ? "l1" : "l2",
+                  ev.normalized ? ", each output's residual over its measured spread" : "", ev.cost);
+    return line + split_lines(ex, ev.estimation) + split_lines(ex, ev.validation);
+}
+
 std::string fit_summary_text(const IdentificationProblem& problem, const FitResult& fit, const std::string& report_dir) {
     const Experiment& ex = problem.experiment();
     std::ostringstream out;
@@ -106,28 +143,7 @@ std::string fit_summary_text(const IdentificationProblem& problem, const FitResu
                       fit.evaluation.cost);
         out << line;
     }
-    // Per split and output the pooled fit, and under it each window's when there are several:
-    // a pooled figure can hide a window the model does not follow.
-    auto split_line = [&](const SplitEvaluation& split) {
-        for (std::size_t k = 0; k < ex.outputs.size() && k < split.pooled.size(); ++k) {
-            const FitMetrics& m = split.pooled[k];
-            if (m.samples == 0) continue;
-            std::snprintf(line, sizeof line, "  %-10s %-6s Q %s  fit %s  RMSE %.4g  max |residual ratio| %s\n",
-                          split.split.c_str(), ex.outputs[k].model_name.c_str(), percent(m.q_index).c_str(),
-                          percent(m.fit_percent).c_str(), m.rmse, percent(100 * m.max_abs_residual_ratio).c_str());
-            out << line;
-            if (split.windows.size() < 2) continue;
-            for (const WindowEvaluation& w : split.windows) {
-                if (k >= w.metrics.size() || w.metrics[k].samples == 0) continue;
-                std::snprintf(line, sizeof line, "      window %-20s Q %s  fit %s  RMSE %.4g\n",
-                              w.trace.window->label.c_str(), percent(w.metrics[k].q_index).c_str(),
-                              percent(w.metrics[k].fit_percent).c_str(), w.metrics[k].rmse);
-                out << line;
-            }
-        }
-    };
-    split_line(fit.evaluation.estimation);
-    split_line(fit.evaluation.validation);
+    out << split_lines(ex, fit.evaluation.estimation) << split_lines(ex, fit.evaluation.validation);
     const IdentifiabilityReport identifiability =
         assess_identifiability(fit.uncertainty, problem.free_names(), fit.best_free);
     out << "  parameter        value            std error    relative\n";

@@ -42,6 +42,13 @@ std::string progress_text(const HistoryRow& row, int planned, bool at_most, doub
 /// The short human summary of a fit: cost, Q, parameters, time, report folder.
 std::string fit_summary_text(const IdentificationProblem& problem, const FitResult& fit, const std::string& report_dir);
 
+/// The metric lines of one split: per output the pooled Q, fit %, RMSE and max residual
+/// ratio, and under them each window's when there are several.
+std::string split_lines(const Experiment& ex, const SplitEvaluation& split);
+
+/// What `tvid validate` and `tvid simulate` print: the cost and the split lines.
+std::string evaluation_summary_text(const std::string& command, const Experiment& ex, const Evaluation& ev);
+
 /// "  verdict: clean", or the count and one line per finding with what to try under it.
 std::string verdict_text(const Verdict& verdict);
 

@@ -76,11 +76,11 @@ TEST_CASE("the cvt_clearance preset written as a custom network gives the preset
     const auto params = tmp.write("P.json", truth.at("parameters").dump(2));
     const auto custom = tmp.write("cvt_custom.yaml", cvt_as_custom_network(truth.at("parameters")));
 
-    const RunResult c = run_tvid({"validate", custom.string(), "--params", params.string()});
+    const RunResult c = run_tvid({"validate", custom.string(), "--params", params.string(), "--json"});
     INFO("custom stderr: " << c.err);
     REQUIRE(c.exit_code == 0);
     const RunResult p = run_tvid(
-        {"validate", (source_dir() / "configs/cvt_tipin_clean.yaml").string(), "--params", params.string()});
+        {"validate", (source_dir() / "configs/cvt_tipin_clean.yaml").string(), "--params", params.string(), "--json"});
     INFO("preset stderr: " << p.err);
     REQUIRE(p.exit_code == 0);
 
@@ -96,7 +96,7 @@ TEST_CASE("the cvt_clearance preset written as a custom network gives the preset
     CHECK(cj["validation"]["pooled"]["Tds"]["samples"] == 1000);
 
     // An empty parameter file keeps the experiment's fixed values, the truth: the same cost again.
-    const RunResult own = run_tvid({"validate", custom.string(), "--params", tmp.write("empty.json", "{}").string()});
+    const RunResult own = run_tvid({"validate", custom.string(), "--params", tmp.write("empty.json", "{}").string(), "--json"});
     REQUIRE(own.exit_code == 0);
     CHECK(json::parse(own.out).at("cost").get<double>() == Approx(preset_cost).epsilon(1e-12));
 }

@@ -136,9 +136,25 @@ TEST_CASE("tvid fit writes a complete report directory", "[e2e][fit]") {
 
     // validate with the fitted parameters reproduces the cost.
     const RunResult v = run_tvid({"validate", (source_dir() / "configs/cvt_tipin.yaml").string(), "--params",
-                                  (out / "params.json").string()});
+                                  (out / "params.json").string(), "--json"});
     REQUIRE(v.exit_code == 0);
     CHECK(json::parse(v.out)["cost"].get<double>() == Approx(cost).epsilon(1e-12));
+
+    // Without --json, validate prints the table fit prints: the cost, and Q and fit % per split and window.
+    const RunResult table = run_tvid({"validate", (source_dir() / "configs/cvt_tipin.yaml").string(), "--params",
+                                      (out / "params.json").string()});
+    REQUIRE(table.exit_code == 0);
+    CHECK(table.out.rfind("tvid validate cvt-tipin: 1 estimation and 2 validation windows\n  cost (l1) ", 0) == 0);
+    CHECK(table.out.find("  validation Tds    Q ") != std::string::npos);
+    CHECK(table.out.find("      window time 3 to 3.5 ") != std::string::npos);
+    // simulate --json: the metrics and the samples of the CSV as JSON.
+    const RunResult sj = run_tvid({"simulate", (source_dir() / "configs/cvt_tipin.yaml").string(), "--params",
+                                   (out / "params.json").string(), "--json"});
+    REQUIRE(sj.exit_code == 0);
+    const json sim_json = json::parse(sj.out);
+    CHECK(sim_json["cost"].get<double>() == Approx(cost).epsilon(1e-12));
+    CHECK(sim_json["traces"]["estimation"]["t"].size() == 1500);
+    CHECK(sim_json["traces"]["validation"]["outputs"]["Tds"]["simulated"].size() == 1000);
 
     // simulate prints measured vs simulated for every window.
     const RunResult sim = run_tvid({"simulate", (source_dir() / "configs/cvt_tipin.yaml").string(), "--params",

@@ -85,7 +85,7 @@ void check_interrupted_report(const std::filesystem::path& out, const std::strin
     CHECK(csv_rows(read_text(out / "validation.csv")).size() > 1);
 
     // The parameters written are the point whose cost the history reports.
-    const RunResult v = run_tvid({"validate", config, "--params", (out / "params.json").string()});
+    const RunResult v = run_tvid({"validate", config, "--params", (out / "params.json").string(), "--json"});
     REQUIRE(v.exit_code == 0);
     CHECK(json::parse(v.out)["cost"].get<double>() == Approx(cost).epsilon(1e-9));
 }

@@ -35,7 +35,7 @@ TEST_CASE("tvid simulate and validate exit 1 naming the window whose simulation 
     }
     SECTION("validate") {
         const auto params = tmp.write("p.json", "{ \"rho1\": 1.5 }");
-        const RunResult r = run_tvid(starved("validate", {"--params", params.string()}));
+        const RunResult r = run_tvid(starved("validate", {"--params", params.string(), "--json"}));
         CHECK(r.exit_code == 1);
         CHECK(r.err == expected_line);
         const nlohmann::json j = nlohmann::json::parse(r.out);  // the scores it could compute, as JSON

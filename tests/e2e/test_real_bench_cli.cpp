@@ -23,7 +23,7 @@ double fit_percent(const json& v, const std::string& split, const std::string& o
 }
 
 json validate(const std::string& experiment, const std::string& params) {
-    const RunResult r = run_tvid({"validate", experiment, "--params", params});
+    const RunResult r = run_tvid({"validate", experiment, "--params", params, "--json"});
     INFO(r.err);
     REQUIRE(r.exit_code == 0);
     return json::parse(r.out);
