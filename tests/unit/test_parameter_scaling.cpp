@@ -146,7 +146,7 @@ namespace {
 // The noise-free CVT tip-in with ρ1 fixed at the truth and the other eight parameters
 // started 3 % above it (well posed: every direction determined), fitted by LM; `log`:
 // every parameter whose truth is positive on scale log, with a positive min.
-FitResult cvt_fit(bool log) {
+std::vector<Override> cvt_overrides(bool log) {
     const auto truth =
         nlohmann::json::parse(test::read_text(test::source_dir() / "data/cvt/truth.json"))["parameters"];
     std::vector<Override> overrides = {{"estimation.optimizer", "lm"}, {"estimation.cost", "l2"}};
@@ -158,10 +158,18 @@ FitResult cvt_fit(bool log) {
         overrides.push_back({"parameters." + it.key() + ".scale", "log"});
         overrides.push_back({"parameters." + it.key() + ".min", "1e-6"});
     }
+    return overrides;
+}
+
+FitResult cvt_fit(bool log, std::vector<Override> extra = {}, int threads = 1) {
+    std::vector<Override> overrides = cvt_overrides(log);
+    overrides.insert(overrides.end(), extra.begin(), extra.end());
     const Experiment ex = load_experiment(test::source_dir() / "configs/cvt_tipin_clean.yaml", overrides);
     const IdentificationProblem problem(ex);
     REQUIRE(problem.dimension() == 8);
-    FitResult fit = run_fit(problem, FitOptions{.threads = 1});
+    FitOptions options;
+    options.threads = threads;
+    FitResult fit = run_fit(problem, options);
     REQUIRE(fit.success);
     return fit;
 }
@@ -204,5 +212,45 @@ TEST_CASE("log scaling gives the same optimum as linear scaling on a well-posed 
         }
         CHECK(linear.uncertainty.ci_high[j] - linear.best_free[j] ==
               Approx(linear.best_free[j] - linear.uncertainty.ci_low[j]).epsilon(1e-12));
+    }
+}
+
+TEST_CASE("log-scaled multistart and swarm give the same result on 1 and 2 threads", "[scale][multistart]") {
+    const auto range = [](const char* name, const char* box) { return Override{std::string("parameters.") + name + ".range", box}; };
+    // Boxes of three decades around the truth (k± ~ 3e3 and 9e3, c± ~ 4 and 19, μ ~ 3.6e-3).
+    const std::vector<Override> boxes = {range("k_minus", "[1.0e2, 1.0e5]"), range("k_plus", "[1.0e2, 1.0e5]"),
+                                         range("c_minus", "[0.1, 100]"),     range("c_plus", "[0.1, 100]"),
+                                         range("mu", "[1.0e-4, 0.1]")};
+    SECTION("multistart") {
+        std::vector<Override> extra = boxes;
+        extra.push_back({"estimation.optimizer", "multistart"});
+        extra.push_back({"estimation.multistart", "{ starts: 4, seed: 3, max_iterations: 5 }"});
+        const FitResult one = cvt_fit(true, extra, 1), two = cvt_fit(true, extra, 2);
+        CHECK(one.best_free == two.best_free);
+        CHECK(one.run.best_cost == two.run.best_cost);
+        CHECK(one.run.name == "multistart");
+        REQUIRE(one.multistart.starts.size() == 4);
+        double lowest = 1e300;
+        for (std::size_t i = 0; i < 4; ++i) {
+            CHECK(one.multistart.starts[i].initial == two.multistart.starts[i].initial);
+            // Starts reported as parameters, inside the range box (k_minus, the second free one).
+            CHECK(one.multistart.starts[i].initial[1] >= 1.0e2);
+            CHECK(one.multistart.starts[i].initial[1] <= 1.0e5);
+            lowest = std::min(lowest, one.multistart.starts[i].initial[1]);
+        }
+        // One start in each quarter of the three decades: the lowest below 10^2.75 (linear
+        // sampling would put one there with a chance of 2 %).
+        CHECK(lowest < 562.4);
+    }
+    SECTION("swarm") {
+        std::vector<Override> extra = boxes;
+        extra.push_back({"estimation.optimizer", "pso"});
+        extra.push_back({"estimation.pso", "{ start: latin_hypercube, particles: 8, iterations: 3, seed: 2 }"});
+        const FitResult one = cvt_fit(true, extra, 1), two = cvt_fit(true, extra, 2);
+        CHECK(one.run.name == "pso");
+        CHECK(one.best_free == two.best_free);
+        CHECK(one.run.best_cost == two.run.best_cost);
+        // The best particle reported as parameters: k_minus in thousands, not its logarithm (< 14).
+        CHECK(one.best_free[1] > 20.0);
     }
 }
