@@ -71,6 +71,8 @@ TEST_CASE("every experiment error exits 2 naming the file, the line and the key"
         {"min > max", 13, "  c_minus: { init: 4, min: 50, max: 10 }", "parameters.c_minus"},
         {"init outside bounds", 14, "  c_plus:  { init: 190, min: 0, max: 100 }", "parameters.c_plus"},
         {"min = max on a free parameter", 13, "  c_minus: { init: 4, min: 4, max: 4 }", "parameters.c_minus.max"},
+        {"scale log on a box reaching 0", 13, "  c_minus: { init: 4, min: 0, max: 100, scale: log }",
+         "parameters.c_minus.scale"},
         {"window outside the data", 20, "  estimation: [ { time: [0.002, 5.0] } ]", "windows.estimation"},
         {"column not in the CSV", 8, "outputs: { Tds: Tq }", "outputs.Tds"},
         {"unknown preset", 6, "  preset: cvt_clearence", "model.preset"},

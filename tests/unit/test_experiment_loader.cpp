@@ -599,6 +599,55 @@ TEST_CASE("parameter errors name the line and the key", "[experiment][parameters
     }
 }
 
+TEST_CASE("scale: log or linear per parameter, log only on a positive box", "[experiment][parameters][scale]") {
+    Scratch s;
+    std::vector<std::string> lines = kPreset;
+    lines = with(lines, 9, "  k_minus: { init: 3000, min: 1, max: 1.0e6, scale: log }");
+    lines = with(lines, 10, "  k_plus:  { init: 8000, min: 1, max: 1.0e6, scale: linear }");
+    const Experiment ex = s.load(lines);
+    CHECK(parameter(ex, "k_minus").scale == tvid::ParameterScale::log);
+    CHECK(parameter(ex, "k_plus").scale == tvid::ParameterScale::linear);
+    CHECK(parameter(ex, "rho1").scale == tvid::ParameterScale::linear);  // the default
+    // --set reaches it as any other key.
+    CHECK(parameter(s.load(kPreset, overrides({"parameters.k_plus.scale=log"})), "k_plus").scale ==
+          tvid::ParameterScale::log);
+
+    SECTION("a box reaching 0 or below has no logarithm") {
+        expect_error(with(kPreset, 11, "  c_minus: { init: 4, min: 0, max: 100, scale: log }"), 11,
+                     "parameters.c_minus.scale", "give min > 0 (min is 0)");
+        expect_error(with(kPreset, 15, "  d_ds:    { init: -7, min: -100, max: 100, scale: log }"), 15,
+                     "parameters.d_ds.scale", "min is -100");
+        expect_error(with(kPreset, 11, "  c_minus: { init: 4, range: [1, 10], scale: log }"), 11,
+                     "parameters.c_minus.scale", "no min is given");
+        const auto e = load_error(s.write(kPreset), overrides({"parameters.c_plus.scale=log"}));
+        REQUIRE(e.has_value());
+        CHECK(e->key() == "parameters.c_plus.scale");
+    }
+    SECTION("an unknown scale") {
+        expect_error(with(kPreset, 9, "  k_minus: { init: 3000, min: 1, max: 1.0e6, scale: logarithmic }"), 9,
+                     "parameters.k_minus.scale", "expected log or linear");
+    }
+}
+
+TEST_CASE("a linear search box of more than two decades is found", "[experiment][parameters][scale]") {
+    Scratch s;
+    std::vector<std::string> lines = kPreset;
+    lines = with(lines, 9, "  k_minus: { init: 3000, min: 1, max: 1.0e6 }");                    // bounds: 6 decades
+    lines = with(lines, 10, "  k_plus:  { init: 8000, min: 1, max: 1.0e6, range: [5000, 20000] }");  // range: 0.6
+    lines = with(lines, 11, "  c_minus: { init: 4, min: 0, max: 100 }");                        // from 0: no decades
+    lines = with(lines, 12, "  c_plus:  { init: 19, min: 1, max: 1.0e6, scale: log }");         // already log
+    lines = with(lines, 13, "  mu:      { init: 0.004, min: 1.0e-4, max: 0.1, fixed: true }");  // fixed
+    const Experiment ex = s.load(lines);
+    CHECK(tvid::spans_decades(parameter(ex, "k_minus"), 2));
+    CHECK_FALSE(tvid::spans_decades(parameter(ex, "k_minus"), 6));
+    CHECK_FALSE(tvid::spans_decades(parameter(ex, "k_plus"), 2));
+    CHECK_FALSE(tvid::spans_decades(parameter(ex, "c_minus"), 2));
+    CHECK_FALSE(tvid::spans_decades(parameter(ex, "c_plus"), 2));
+    CHECK_FALSE(tvid::spans_decades(parameter(ex, "mu"), 2));
+    CHECK(tvid::search_interval(parameter(ex, "k_plus")) == std::make_pair(5000.0, 20000.0));
+    CHECK(tvid::search_interval(parameter(ex, "k_minus")) == std::make_pair(1.0, 1.0e6));
+}
+
 // =======================================================================================
 // Windows
 

@@ -134,6 +134,14 @@ ParameterUncertainty estimate_uncertainty(const IdentificationProblem& problem, 
         if (!u.determined[j]) continue;
         const auto jj = static_cast<Eigen::Index>(j);
         u.std_error[j] = scale[j] * std::sqrt(cov(jj, jj));
+        if (problem.scales()[j] == ParameterScale::log && free_best[j] > 0) {
+            // A log-scaled parameter's scaled column is ∂r/∂ln p: the interval is symmetric in
+            // ln p, so p·exp(∓t·σ), asymmetric in p and positive.
+            const double half = t975 * std::sqrt(cov(jj, jj));
+            u.ci_low[j] = free_best[j] * std::exp(-half);
+            u.ci_high[j] = free_best[j] * std::exp(half);
+            continue;
+        }
         u.ci_low[j] = free_best[j] - t975 * u.std_error[j];
         u.ci_high[j] = free_best[j] + t975 * u.std_error[j];
     }

@@ -4,7 +4,8 @@
 // 95 % intervals and correlations, computed in scaled parameters (p_j·∂r/∂p_j) so that
 // inertias of 1e-3 and dampings of 1e1 are conditioned alike. Directions that the data
 // do not determine (near-zero singular values of the scaled J) are reported, and the
-// parameters in them get no standard error.
+// parameters in them get no standard error. The interval of a parameter of `scale: log` is
+// formed in ln p (its scaled column p_j·∂r/∂p_j is ∂r/∂ln p_j) and mapped back: asymmetric in p.
 
 #include <Eigen/Core>
 #include <string>

@@ -25,6 +25,7 @@ IdentificationProblem::IdentificationProblem(const Experiment& experiment)
         range_lo_.push_back(p.range ? p.range->first : p.min);
         range_hi_.push_back(p.range ? p.range->second : p.max);
         init_.push_back(p.init);
+        scales_.push_back(p.scale);
     }
 }
 

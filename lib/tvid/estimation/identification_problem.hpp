@@ -53,6 +53,8 @@ public:
     const std::vector<double>& range_lower() const { return range_lo_; }  ///< initial search box
     const std::vector<double>& range_upper() const { return range_hi_; }
     const std::vector<double>& initial() const { return init_; }     ///< init of the free parameters
+    /// How the optimizers search each free parameter (`scale:`; optim/parameter_scaling.hpp).
+    const std::vector<ParameterScale>& scales() const { return scales_; }
     const InputChannels& inputs() const { return definition_.inputs; }
     const CrankAngleChannels& crank_angle_inputs() const { return definition_.angle_inputs; }
     /// Measured output k (unit-scaled) at every sample.
@@ -130,6 +132,7 @@ private:
     std::vector<std::size_t> free_;
     std::vector<std::string> free_names_;
     std::vector<double> lower_, upper_, range_lo_, range_hi_, init_;
+    std::vector<ParameterScale> scales_;
     std::vector<double> fixed_values_;  ///< full vector with every fixed parameter set
 };
 

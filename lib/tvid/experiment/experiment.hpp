@@ -17,6 +17,7 @@
 #include "tvid/optim/lm_options.hpp"
 #include "tvid/optim/multistart_options.hpp"
 #include "tvid/optim/nlopt_options.hpp"
+#include "tvid/optim/parameter_scale.hpp"
 #include "tvid/optim/pso_options.hpp"
 #include "tvid/sim/simulation_settings.hpp"
 
@@ -36,8 +37,20 @@ struct ParameterSetting {
     double min = -1e300, max = 1e300;  ///< bounds; ±1e300 when not given
     bool has_min = false, has_max = false;
     std::optional<std::pair<double, double>> range;  ///< initial search domain (PSO grid, multistart)
+    /// `scale: log | linear`: whether the optimizers search the parameter or its logarithm
+    /// (optim/parameter_scaling.hpp); log needs a positive min.
+    ParameterScale scale = ParameterScale::linear;
     SourceLocation where;
 };
+
+/// The box a parameter's search starts in: its range, or its bounds where no range is
+/// given (nothing when a bound is missing).
+std::optional<std::pair<double, double>> search_interval(const ParameterSetting& p);
+
+/// True when `p` is free, searched linearly, and its search box is positive and spans more
+/// than `decades` decades (upper / lower > 10^decades): sampled linearly, almost all of its
+/// starts or particles land in the top decade, and `scale: log` would spread them evenly.
+bool spans_decades(const ParameterSetting& p, double decades);
 
 /// A channel of the CSV file bound to a model input or output.
 /// An output's scoring within each window (estimation/residual_filter.hpp): `detrend:

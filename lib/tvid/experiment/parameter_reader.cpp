@@ -2,6 +2,7 @@
 
 #include "tvid/util/text.hpp"
 
+#include <cmath>
 #include <cstdio>
 
 #include "tvid/experiment/model_reader.hpp"
@@ -47,7 +48,7 @@ std::string role_problem(const PhysicalRole& role, const std::string& name, doub
 
 ParameterSetting read_one(const YamlMap& m, const std::string& name, const PhysicalRole& role,
                           bool needs_search_box) {
-    m.allow_only({"init", "value", "fixed", "min", "max", "range"});
+    m.allow_only({"init", "value", "fixed", "min", "max", "range", "scale"});
     ParameterSetting p;
     p.name = name;
     p.where = m.source().where(m.node(), m.path());
@@ -91,6 +92,15 @@ ParameterSetting read_one(const YamlMap& m, const std::string& name, const Physi
             m.fail("range", std::string(role.zero_allowed ? "must not reach below 0: " : "must stay positive: ") +
                                 name + " is " + role.what);
     }
+    if (m.has("scale")) {
+        const std::string scale = m.text("scale");
+        if (scale == "log") p.scale = ParameterScale::log;
+        else if (scale != "linear") m.fail("scale", "expected log or linear, got '" + scale + "'");
+        if (p.scale == ParameterScale::log && !(p.has_min && p.min > 0))
+            m.fail("scale", "scale: log searches the logarithm of " + name +
+                                ", whose box must stay positive: give min > 0 (" +
+                                (p.has_min ? "min is " + number_text(p.min) : std::string("no min is given")) + ")");
+    }
     if (!p.fixed && needs_search_box && !p.range && !(p.has_min && p.has_max))
         m.source().fail(m.node(), m.path(),
                         "the particle swarm needs a search box: give range: [a, b] or both min and max");
@@ -126,6 +136,18 @@ std::vector<ParameterSetting> read_parameters(const YamlMap& parameters, const N
         out.push_back(read_one(YamlMap(src, node, parameters.key_path(name)), name, roles[i], needs_search_box));
     }
     return out;
+}
+
+std::optional<std::pair<double, double>> search_interval(const ParameterSetting& p) {
+    if (p.range) return p.range;
+    if (p.has_min && p.has_max) return std::make_pair(p.min, p.max);
+    return std::nullopt;
+}
+
+bool spans_decades(const ParameterSetting& p, double decades) {
+    if (p.fixed || p.scale != ParameterScale::linear) return false;
+    const auto box = search_interval(p);
+    return box && box->first > 0 && box->second > box->first * std::pow(10.0, decades);
 }
 
 std::string parameter_value_problem(const NetworkSpec& network, const ParameterSetting& setting, std::size_t index,

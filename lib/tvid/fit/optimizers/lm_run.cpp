@@ -4,6 +4,7 @@
 #include "tvid/estimation/experiment_least_squares.hpp"
 #include "tvid/fit/optimizer_table.hpp"
 #include "tvid/fit/optimizers/report_parts.hpp"
+#include "tvid/fit/optimizers/search_box.hpp"
 
 namespace tvid {
 
@@ -22,8 +23,11 @@ OptimizerRun run_least_squares(const IdentificationProblem& problem, const FitOp
         history.push_back(sims);
         return !options.progress || options.progress(sims);
     };
-    r.lm = run_levenberg_marquardt(r.lm_settings, problem.initial(), problem.lower(), problem.upper(), least_squares,
-                                   progress);
+    const ParameterScaling scaling = search_scaling(problem);
+    ScaledLeastSquares search(least_squares, scaling);
+    const SearchBox box = search_box(problem);
+    r.lm = run_levenberg_marquardt(r.lm_settings, search_initial(problem), box.lower, box.upper, search, progress);
+    scaling.to_parameters(r.lm);
     return OptimizerRun{.name = {},  // run_fit names it after its row
                         .best = r.lm.best,
                         .best_cost = r.lm.best_cost,

@@ -21,11 +21,14 @@ OptimizerRun run_multistart_fit(const IdentificationProblem& problem, const FitO
     if (r.multistart_settings.max_iterations) r.lm_settings.max_iterations = *r.multistart_settings.max_iterations;
     const JacobianKind jacobian = settings.jacobian;
     const std::atomic<bool>* stop = options.stop;
-    const LeastSquaresFactory make = [&problem, jacobian, stop](int threads) {
-        return std::make_unique<ExperimentLeastSquares>(problem, threads, jacobian, stop);
+    const ParameterScaling scaling = search_scaling(problem);
+    const LeastSquaresFactory make = [&problem, &scaling, jacobian, stop](int threads) {
+        return std::make_unique<ScaledLeastSquares>(
+            std::make_unique<ExperimentLeastSquares>(problem, threads, jacobian, stop), scaling);
     };
     r.multistart = run_multistart(r.multistart_settings, r.lm_settings, search_box(problem),
                                   resolve_thread_count(options.threads), make, options.progress);
+    scaling.to_parameters(r.multistart);
     r.threads = r.multistart.threads * r.multistart.threads_per_start;
     const MultistartSummary& m = r.multistart;
     return OptimizerRun{.name = {},  // run_fit names it after its row

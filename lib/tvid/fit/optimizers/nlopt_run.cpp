@@ -6,6 +6,7 @@
 #include "tvid/estimation/experiment_cost.hpp"
 #include "tvid/fit/optimizer_table.hpp"
 #include "tvid/fit/optimizers/report_parts.hpp"
+#include "tvid/fit/optimizers/search_box.hpp"
 
 namespace tvid {
 
@@ -16,7 +17,11 @@ OptimizerRun run_nlopt_fit(const IdentificationProblem& problem, const FitOption
     if (options.seed) r.nlopt_settings.seed = *options.seed;
     ExperimentCost cost(problem, options.threads);
     r.threads = cost.threads();
-    r.nlopt = run_nlopt(r.nlopt_settings, problem.initial(), problem.lower(), problem.upper(), cost, options.progress);
+    const ParameterScaling scaling = search_scaling(problem);
+    ScaledCost search(cost, scaling);
+    const SearchBox box = search_box(problem);
+    r.nlopt = run_nlopt(r.nlopt_settings, search_initial(problem), box.lower, box.upper, search, options.progress);
+    scaling.to_parameters(r.nlopt);
     return OptimizerRun{.name = {},  // run_fit names it after its row
                         .best = r.nlopt.best,
                         .best_cost = r.nlopt.best_cost,

@@ -25,8 +25,12 @@ OptimizerRun run_hybrid_fit(const IdentificationProblem& problem, const FitOptio
     ExperimentLeastSquares residuals(problem, options.threads, settings.jacobian, options.stop);
     r.threads = local.threads();
     r.processes = swarm_cost.processes();
-    HybridSummary h =
-        run_pso_then_lm(r.pso_settings, r.lm_settings, search_box(problem), swarm_cost, residuals, options.progress);
+    const ParameterScaling scaling = search_scaling(problem);
+    ScaledCandidateEvaluator swarm_search(swarm_cost, scaling);
+    ScaledLeastSquares residuals_search(residuals, scaling);
+    HybridSummary h = run_pso_then_lm(r.pso_settings, r.lm_settings, search_box(problem), swarm_search,
+                                      residuals_search, options.progress);
+    scaling.to_parameters(h);
     r.pso = std::move(h.pso);
     r.lm = std::move(h.lm);
     return OptimizerRun{.name = {},  // run_fit names it after its row

@@ -18,7 +18,10 @@ OptimizerRun run_swarm(const IdentificationProblem& problem, const FitOptions& o
     DistributedEvaluator evaluator(options.processes, local);
     r.threads = local.threads();
     r.processes = evaluator.processes();
-    r.pso = run_pso(r.pso_settings, search_box(problem), evaluator, options.progress);
+    const ParameterScaling scaling = search_scaling(problem);
+    ScaledCandidateEvaluator search(evaluator, scaling);
+    r.pso = run_pso(r.pso_settings, search_box(problem), search, options.progress);
+    scaling.to_parameters(r.pso);
     return OptimizerRun{.name = {},  // run_fit names it after its row
                         .best = r.pso.best,
                         .best_cost = r.pso.best_cost,
