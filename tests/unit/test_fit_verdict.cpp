@@ -245,3 +245,19 @@ TEST_CASE("the verdict orders findings by severity and counts them", "[verdict]"
     CHECK(v.summary() == "1 error, 2 warnings");
     CHECK(v.has_errors());
 }
+
+TEST_CASE("a linear search box of three decades is flagged, and scale: log clears it", "[verdict]") {
+    // k_s in [1, 1000] with no range: multistart samples it linearly.
+    const std::vector<Override> multistart{parse_override("estimation.optimizer=multistart"),
+                                           parse_override("estimation.multistart.starts=2")};
+    const FitResult linear = fit(noisy_bench().load(kFree, multistart));
+    REQUIRE(linear.success);
+    CHECK(has(linear.verdict, "wide_linear_box", Severity::warning));
+    const FitResult log = fit(noisy_bench().load(
+        "  k_s: { init: 80, min: 1, max: 1000, scale: log }\n  c_s: { init: 0.8, min: 0.01, max: 10, scale: log }", multistart));
+    REQUIRE(log.success);
+    CHECK_FALSE(has(log.verdict, "wide_linear_box"));
+    CHECK(log.best_free[0] == Approx(linear.best_free[0]).epsilon(1e-4));
+    // lm starts at init: its box is only a bound.
+    CHECK_FALSE(has(fit(noisy_bench().load(kFree)).verdict, "wide_linear_box"));
+}

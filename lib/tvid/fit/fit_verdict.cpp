@@ -247,6 +247,23 @@ void judge_starts(const IdentificationProblem& problem, const FitResult& fit, Ve
     }
 }
 
+// A box the optimizer samples linearly over several decades: almost every particle or
+// start lands in its top decade.
+void judge_search_boxes(const Experiment& ex, Verdict& v) {
+    if (ex.estimation_settings.optimizer == OptimizerKind::lm) return;  // starts at init: the box is only a bound
+    for (const ParameterSetting& p : ex.parameters) {
+        if (!spans_decades(p, kWideBoxDecades)) continue;
+        const auto box = search_interval(p);
+        const double decades = std::log10(box->second / box->first);
+        const double top_decade = (box->second - box->second / 10) / (box->second - box->first);  // share of uniform samples
+        v.add({"wide_linear_box", Severity::warning, p.name,
+               p.name + "'s search box [" + num(box->first) + ", " + num(box->second) + "] spans " + num(decades) +
+                   " decades on a linear scale: " + pct(top_decade) + " of the samples fall in its top decade",
+               "scale: log on " + p.name + " spreads the " + std::string(optimizer_name(ex.estimation_settings.optimizer)) +
+                   " samples evenly per decade (or give it a narrower range)"});
+    }
+}
+
 void judge_stability(const StepStability& s, Verdict& v) {
     if (!s.assessed || s.margin < kStepMarginWarning) return;
     v.add({"near_instability", Severity::warning, s.window,
@@ -274,6 +291,7 @@ void judge_fit(const IdentificationProblem& problem, FitResult& fit) {
         judge_parameters(problem, fit, v);
         judge_starts(problem, fit, v);
         judge_stability(fit.stability, v);
+        judge_search_boxes(ex, v);
     }
     fit.verdict = std::move(v);
 }

@@ -31,6 +31,9 @@ constexpr double kDistinctRelative = 0.1;
 /// finished (a margin a little above 1 at a window's start is passed through by an engine,
 /// whose inertia changes with crank angle), but a slightly stiffer candidate blows up.
 constexpr double kStepMarginWarning = 0.8;
+/// A linear search box (range, or bounds) of more decades than this: a warning that
+/// suggests `scale: log`.
+constexpr double kWideBoxDecades = 2.0;
 /// A window whose fit % is this many points below its split's pooled fit (or below 0), with
 /// a systematic residual.
 constexpr double kPoorWindowPoints = 30.0;

@@ -10,6 +10,7 @@
 #include "tvid/estimation/experiment_least_squares.hpp"
 #include "tvid/estimation/identification_problem.hpp"
 #include "tvid/estimation/parallel_evaluator.hpp"
+#include "tvid/model/parameter_units.hpp"
 #include "tvid/util/input_error.hpp"
 
 namespace tvid {
@@ -76,6 +77,7 @@ ProfileResult profile_likelihood(const Experiment& ex, const std::vector<double>
 
     ProfileResult r;
     r.parameter = options.parameter;
+    r.unit = parameter_units(ex.network)[held];
     r.threads = resolve_thread_count(options.threads);
 
     // θ̂: Levenberg–Marquardt from the start, on every thread.

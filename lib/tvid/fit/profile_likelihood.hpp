@@ -43,6 +43,7 @@ struct ProfilePoint {
 
 struct ProfileResult {
     std::string parameter;
+    std::string unit;                   ///< its SI unit (model/parameter_units.hpp)
     std::vector<std::string> others;    ///< names of the other free parameters
     std::vector<double> optimum;        ///< the free parameters at θ̂
     double best_value = 0.0;            ///< θ̂ of the profiled parameter

@@ -33,6 +33,7 @@ nlohmann::json profile_json(const ProfileResult& profile, const ProfileRunInfo& 
             {"command", run.command_line},
             {"experiment", run.experiment},
             {"parameter", profile.parameter},
+            {"unit", profile.unit},
             {"optimum", {{"value", profile.best_value},
                          {"cost", profile.best_cost},
                          {"termination", profile.optimum_termination},

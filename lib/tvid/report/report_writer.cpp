@@ -68,7 +68,8 @@ json parameters_json(const IdentificationProblem& problem, const FitResult& fit)
     for (std::size_t i = 0; i < ex.parameters.size(); ++i) {
         const ParameterSetting& p = ex.parameters[i];
         const int j = free_position(problem, i);
-        json entry{{"name", p.name},        {"unit", units[i]}, {"value", json_number(fit.best_params[i])}, {"init", p.init},
+        json entry{{"name", p.name},        {"unit", units[i]}, {"scale", scale_name(p.scale)},
+                   {"value", json_number(fit.best_params[i])}, {"init", p.init},
                    {"min", bound(p, true)}, {"max", bound(p, false)},              {"fixed", p.fixed}};
         if (j >= 0 && fit.uncertainty.available) {
             const auto jj = static_cast<std::size_t>(j);
