@@ -62,7 +62,7 @@ int run_fit_command(const FitCommand& cmd) {
         // Before the fit: refuse early, not after it. The root holds the directory until
         // the report is written.
         if (group.is_root())
-            l->directory_lock = prepare_report_directory(report_directory(l->experiment, cmd.output_dir), cmd.force);
+            l->directory_lock = prepare_report_directory(report_directory(l->experiment, cmd.output_dir), cmd.force, l->experiment.name);
         return l;
     });
     const Experiment& ex = loaded->experiment;

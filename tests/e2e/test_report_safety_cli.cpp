@@ -15,6 +15,8 @@
 #include <map>
 #include <random>
 #include <thread>
+#include <utility>
+#include <vector>
 
 #include "support/run_tvid.hpp"
 #include "support/test_files.hpp"
@@ -79,20 +81,38 @@ const char* const kReportFiles[] = {"params.json", "params.csv", "estimation.csv
 
 }  // namespace
 
-TEST_CASE("a report directory that holds a run is refused without --force", "[e2e][report]") {
+TEST_CASE("the same fit again replaces its own report; anything else is refused without --force", "[e2e][report]") {
     TempDir tmp;
     const fs::path out = tmp.path() / "run";
     std::vector<std::string> args = quick_fit(out);
     args.pop_back();  // without --force
     REQUIRE(run_tvid(args).exit_code == 0);
+    // Running the same command again replaces tvid's own report, and leaves the user's files.
+    tmp.write("run/notes.txt", "my notes");
+    const RunResult same = run_tvid(args);
+    INFO(same.err);
+    CHECK(same.exit_code == 0);
+    CHECK(read_text(out / "notes.txt") == "my notes");
     const std::string before = read_text(out / "params.json");
-    const RunResult again = run_tvid(args);
-    CHECK(again.exit_code == 2);
-    CHECK(again.err.find(out.string()) != std::string::npos);
-    CHECK(again.err.find("already holds a fit report") != std::string::npos);
-    CHECK(again.err.find("--force") != std::string::npos);
-    CHECK(std::count(again.err.begin(), again.err.end(), '\n') == 1);  // one line
-    CHECK(read_text(out / "params.json") == before);
+
+    // A summary.json tvid did not write, or another experiment's report: refused, one line.
+    nlohmann::json other = nlohmann::json::parse(read_text(out / "summary.json"));
+    other["experiment"] = "engine-idle";
+    for (const auto& [summary, why] : std::vector<std::pair<std::string, std::string>>{
+             {"{ \"tool\": \"other\" }", "a summary.json that tvid did not write"},
+             {"not json", "a summary.json that tvid did not write"},
+             {other.dump(), "the fit report of experiment 'engine-idle'"}}) {
+        tmp.write("run/summary.json", summary);
+        const RunResult again = run_tvid(args);
+        INFO(again.err);
+        CHECK(again.exit_code == 2);
+        CHECK(again.err.find(out.string()) != std::string::npos);
+        CHECK(again.err.find(why) != std::string::npos);
+        CHECK(again.err.find("--force") != std::string::npos);
+        CHECK(std::count(again.err.begin(), again.err.end(), '\n') == 1);  // one line
+        CHECK(read_text(out / "params.json") == before);
+        CHECK(read_text(out / "summary.json") == summary);
+    }
     // With --force it is replaced, and temporary files a killed run left are swept away;
     // a user's own file that merely looks temporary is kept.
     const fs::path leftover = out / "params.json.tvid-tmp.99999";
@@ -101,6 +121,7 @@ TEST_CASE("a report directory that holds a run is refused without --force", "[e2
     REQUIRE(run_tvid(quick_fit(out)).exit_code == 0);
     CHECK_FALSE(fs::exists(leftover));
     CHECK(read_text(out / "notes.tmp.2024") == "my notes");
+    CHECK(nlohmann::json::parse(read_text(out / "summary.json"))["tool"] == "tvid");
 }
 
 TEST_CASE("an unusable report place is bad input before the fit", "[e2e][report]") {

@@ -1,22 +1,42 @@
 #include "tvid/report/report_directory.hpp"
 
+#include <fstream>
+#include <nlohmann/json.hpp>
 #include <string>
 
-#include "tvid/io/output_directory.hpp"
 #include "tvid/util/input_error.hpp"
 
 namespace tvid {
 
-OutputDirectoryLock prepare_report_directory(const std::filesystem::path& dir, bool force) {
+namespace {
+
+// Why the files already in `dir` are not a tvid report of `experiment`; "" when they are
+// (or when there is none).
+std::string foreign_report(const std::filesystem::path& dir, const std::string& experiment) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    const bool summary = fs::exists(dir / "summary.json", ec), params = fs::exists(dir / "params.json", ec);
+    if (!summary && !params) return "";
+    if (!summary) return "already holds params.json without a summary.json of tvid's";
+    std::ifstream in(dir / "summary.json");
+    const nlohmann::json manifest = nlohmann::json::parse(in, nullptr, false);
+    if (manifest.is_discarded() || !manifest.is_object() || manifest.value("tool", "") != "tvid")
+        return "already holds a summary.json that tvid did not write";
+    const std::string theirs = manifest.value("experiment", "");
+    if (theirs != experiment) return "already holds the fit report of experiment '" + theirs + "'";
+    return "";
+}
+
+}  // namespace
+
+OutputDirectoryLock prepare_report_directory(const std::filesystem::path& dir, bool force, const std::string& experiment) {
     namespace fs = std::filesystem;
     std::error_code ec;
     if (fs::exists(dir, ec) && !fs::is_directory(dir, ec))
         throw InputError(dir.string(), 0, "", "the report directory is a file");
-    for (const char* name : {"summary.json", "params.json"})
-        if (!force && fs::exists(dir / name, ec))
-            throw InputError(dir.string(), 0, "",
-                             std::string("already holds a fit report (") + name +
-                                 "): use --force to replace it, or -o for another directory");
+    if (!force)
+        if (const std::string why = foreign_report(dir, experiment); !why.empty())
+            throw InputError(dir.string(), 0, "", why + ": use --force to replace it, or -o for another directory");
     return prepare_output_directory(dir, "report directory");
 }
 

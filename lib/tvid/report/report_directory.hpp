@@ -1,19 +1,24 @@
 #pragma once
-// Where a fit report goes, checked before any work is done: a directory that already
-// holds a report is not overwritten unless asked (`--force`), an unwritable place is bad
-// input rather than a failure after a long fit, and temporary files that a killed run left
-// behind (the atomic writes' `NAME.tvid-tmp.PID`) are swept away.
+// Where a fit report goes, checked before any work is done. A report tvid wrote there for
+// the same experiment is replaced (running the same command again just works); a report of
+// another experiment, or a file tvid did not write under one of its report's names, is not
+// overwritten unless asked (`--force`); files of other names are never touched. An
+// unwritable place is bad input rather than a failure after a long fit, and temporary files
+// that a killed run left behind (the atomic writes' `NAME.tvid-tmp.PID`) are swept away.
 
 #include <filesystem>
+#include <string>
 
 #include "tvid/io/output_directory.hpp"
 
 namespace tvid {
 
 /// Creates `dir` if needed and makes sure a report can be written there. Throws InputError
-/// (exit status 2) when `dir` is a file, cannot be created or written, or already holds a
-/// fit report (summary.json or params.json) and `force` is false, or another run holds it.
-/// Keep the returned lock until the report is written.
-[[nodiscard]] OutputDirectoryLock prepare_report_directory(const std::filesystem::path& dir, bool force);
+/// (exit status 2) when `dir` is a file, cannot be created or written, or another run holds
+/// it; and, unless `force`, when it holds params.json or summary.json that are not a tvid
+/// report of `experiment` (summary.json, the report's manifest, names the tool and the
+/// experiment). Keep the returned lock until the report is written.
+[[nodiscard]] OutputDirectoryLock prepare_report_directory(const std::filesystem::path& dir, bool force,
+                                                           const std::string& experiment);
 
 }  // namespace tvid
