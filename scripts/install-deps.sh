@@ -1,6 +1,15 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages tvid needs to build and test. Idempotent, non-interactive.
+#   scripts/install-deps.sh            everything: build, tests, plots, sanitizers, fuzzing, MPI
+#   scripts/install-deps.sh --minimal  only what building and running the tvid tool needs
 set -euo pipefail
+
+minimal=0
+case "${1:-}" in
+  "") ;;
+  --minimal) minimal=1 ;;
+  *) echo "install-deps: unknown option '$1' (use --minimal, or nothing)" >&2; exit 2 ;;
+esac
 
 packages=(
   build-essential cmake ninja-build pkg-config
@@ -9,9 +18,11 @@ packages=(
   libnlopt-cxx-dev       # NLopt 2.7 with its C++ API
   libyaml-cpp-dev        # yaml-cpp 0.7: experiment files
   libcli11-dev           # CLI11 2.1: command line
-  catch2                 # Catch2 2.13: tests
   nlohmann-json3-dev     # nlohmann-json 3.11: report files
   libssl-dev             # OpenSSL: SHA-256 of config and data in the report
+)
+[ "$minimal" -eq 1 ] || packages+=(
+  catch2                 # Catch2 2.13: tests
   python3                # data generation and test helpers (standard library only)
   python3-matplotlib     # scripts/plot_report.py: figures of a report directory
   python3-numpy          # scripts/fir_reference.py: the black-box reference of a measured bench
