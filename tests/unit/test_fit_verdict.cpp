@@ -166,6 +166,9 @@ TEST_CASE("a stiff mode close to RK4's stability limit is flagged", "[verdict]")
     CHECK(s.margin == Approx(std::sqrt(4.6e5 * 15) * 1e-3 / rk4_stability_radius(1.5707963267948966)).epsilon(0.01));
     CHECK(s.margin > kStepMarginWarning);
     CHECK(s.frequency_hz == Approx(std::sqrt(4.6e5 * 15) / (2 * 3.141592653589793)).epsilon(0.01));
+    // The fit's verdict says it; the true stiffness does not come near.
+    CHECK(has(fit(ex).verdict, "near_instability", Severity::warning));
+    CHECK_FALSE(has(fit(noisy_bench().load(kFree)).verdict, "near_instability"));
 }
 
 TEST_CASE("RK4's stability region: 2.785 on the negative real axis, 2√2 on the imaginary", "[verdict]") {
@@ -216,6 +219,40 @@ TEST_CASE("validation much worse than estimation, and a second optimum among the
             judge_fit(problem, r);
             CHECK_FALSE(has(r.verdict, "non_unique_optimum"));
         }
+    }
+    SECTION("a weakly determined and an undetermined parameter") {
+        r.uncertainty.std_error[1] = 2.0 * r.best_free[1];  // twice its value
+        judge_fit(problem, r);
+        CHECK(has(r.verdict, "weakly_determined", Severity::warning));
+        r.uncertainty.rank = 1;
+        r.uncertainty.determined = {false, false};
+        r.uncertainty.std_error = {std::nan(""), std::nan("")};
+        r.uncertainty.null_directions = {{0.6, 0.8}};
+        judge_fit(problem, r);
+        CHECK(has(r.verdict, "undetermined", Severity::warning));
+    }
+    SECTION("a window with a systematic misfit that the pooled figure hides") {
+        WindowEvaluation second = r.evaluation.validation.windows[0];
+        for (std::size_t i = 0; i < second.trace.simulated[0].size(); ++i)
+            second.trace.simulated[0][i] += 0.05 * std::sin(2 * 3.141592653589793 * second.trace.time[i]);
+        second.metrics[0].fit_percent = -12.0;
+        r.evaluation.validation.windows.push_back(second);
+        judge_fit(problem, r);
+        CHECK(has(r.verdict, "poor_window", Severity::warning));
+    }
+    SECTION("a window that cannot be simulated at the optimum") {
+        r.evaluation.validation.windows[0].trace.status = SimulationStatus::diverged;
+        r.evaluation.validation.windows[0].trace.problem = "simulation diverged";
+        judge_fit(problem, r);
+        CHECK(has(r.verdict, "window_failed", Severity::error));
+    }
+    SECTION("a fit without a result, and an interrupted one") {
+        r.interrupted = true;
+        judge_fit(problem, r);
+        CHECK(has(r.verdict, "interrupted", Severity::warning));
+        r.success = false;
+        judge_fit(problem, r);
+        CHECK(has(r.verdict, "no_result", Severity::error));
     }
     SECTION("a share of failed simulations, and failed starts") {
         r.run.evaluations = 100;
