@@ -23,6 +23,25 @@ std::vector<std::vector<double>> finite_runs(const std::vector<std::vector<doubl
     return runs;
 }
 
+// The one-step prediction error variance of the best AR(L) predictor over the variance,
+// Π (1 − κ_k²), by the Levinson–Durbin recursion on ρ_0 = 1, ρ_1 … ρ_L.
+double prediction_error_ratio(const std::vector<double>& rho) {
+    const std::size_t order = rho.size() - 1;
+    std::vector<double> a(order + 1, 0.0), previous(order + 1, 0.0);
+    double error = 1.0;
+    for (std::size_t k = 1; k <= order; ++k) {
+        double acc = rho[k];
+        for (std::size_t j = 1; j < k; ++j) acc -= a[j] * rho[k - j];
+        const double kappa = error > 0 ? acc / error : 0.0;
+        if (!(std::abs(kappa) < 1.0)) return 0.0;  // perfectly predictable (a pure tone, a trend)
+        previous = a;
+        a[k] = kappa;
+        for (std::size_t j = 1; j < k; ++j) a[j] = previous[j] - kappa * previous[k - j];
+        error *= 1.0 - kappa * kappa;
+    }
+    return error;
+}
+
 }  // namespace
 
 ResidualWhiteness assess_whiteness(const std::vector<std::vector<double>>& segments, int lags) {
@@ -41,18 +60,13 @@ ResidualWhiteness assess_whiteness(const std::vector<std::vector<double>>& segme
     w.rms = std::sqrt(sum_sq / static_cast<double>(n));
     w.lags = std::max(1, std::min(lags, static_cast<int>(longest / 3)));
 
-    double variance_sum = 0.0, diff_sq = 0.0;
-    std::size_t diffs = 0;
+    double variance_sum = 0.0;
     std::vector<double> lagged(static_cast<std::size_t>(w.lags) + 1, 0.0);
     for (const auto& r : runs) {
         for (std::size_t i = 0; i < r.size(); ++i) {
             const double e = r[i] - mean;
             variance_sum += e * e;
             for (std::size_t k = 1; k < lagged.size() && i + k < r.size(); ++k) lagged[k] += e * (r[i + k] - mean);
-            if (i + 1 < r.size()) {
-                diff_sq += (r[i + 1] - r[i]) * (r[i + 1] - r[i]);
-                ++diffs;
-            }
         }
     }
     if (!(variance_sum > 0.0)) {  // a constant residual: nothing random in it at all
@@ -62,17 +76,18 @@ ResidualWhiteness assess_whiteness(const std::vector<std::vector<double>>& segme
         return w;
     }
     const double dn = static_cast<double>(n);
+    std::vector<double> rho(lagged.size(), 1.0);
     for (std::size_t k = 1; k < lagged.size(); ++k) {
-        const double rho = lagged[k] / variance_sum;
-        if (k == 1) w.lag1_correlation = rho;
-        w.ljung_box += rho * rho / (dn - static_cast<double>(k));
+        rho[k] = lagged[k] / variance_sum;  // the biased estimate: a positive definite sequence
+        w.ljung_box += rho[k] * rho[k] / (dn - static_cast<double>(k));
     }
+    w.lag1_correlation = rho[1];
     w.ljung_box *= dn * (dn + 2.0);
     const boost::math::chi_squared chi2(w.lags);
     w.p_value = boost::math::cdf(boost::math::complement(chi2, w.ljung_box));
-    w.noise_rms = diffs > 0 ? std::sqrt(diff_sq / static_cast<double>(diffs) / 2.0) : 0.0;
-    const double variance = variance_sum / dn;
-    w.systematic_share = std::max(0.0, 1.0 - w.noise_rms * w.noise_rms / variance);
+    const double unpredictable = std::clamp(prediction_error_ratio(rho), 0.0, 1.0);
+    w.systematic_share = 1.0 - unpredictable;
+    w.noise_rms = std::sqrt(unpredictable * variance_sum / dn);
     return w;
 }
 

@@ -3,13 +3,15 @@
 // contiguous stretch of samples; no lag crosses a window boundary):
 //   ρ_k   = Σ e_i e_{i+k} / Σ e_i²                 (normalised autocorrelation, e mean-free)
 //   Q     = N (N+2) Σ_{k=1..L} ρ_k² / (N − k)      (Ljung & Box 1978), χ²(L) when e is white
-//   σ_n   = sqrt(mean (e_{i+1} − e_i)² / 2)        (the sample-to-sample noise: white noise
-//                                                  of variance σ² has mean Δe² = 2σ²; a misfit
-//                                                  slow against the sampling adds almost nothing)
-//   share = max(0, 1 − σ_n² / var e)               (the share of the residual variance that is
-//                                                  systematic; ≈ ρ_1)
-// A fit at the noise floor has share ≈ 0 and a large p-value; a fit at RMSE 0.35 on noise
-// 0.10 has share ≈ 0.92.
+//   share = 1 − Π_{k=1..L} (1 − κ_k²)             (the share of the residual variance that its
+//                                                  own past L samples predict: κ_k are the
+//                                                  reflection coefficients of the Levinson–Durbin
+//                                                  recursion on ρ_0 … ρ_L, the AR(L) predictor)
+//   σ_n   = sqrt((1 − share) · var e)              (what no predictor removes: the noise)
+// A misfit slow against the sampling (a missed resonance, a wrong stiffness) and one near
+// the Nyquist frequency (a missed mode above the model's) are both predictable; noise is
+// not. A fit at the noise floor has share ≈ L/N and a large p-value; a fit at RMSE 0.35 on
+// noise 0.10 has share ≈ 0.91.
 
 #include <cstddef>
 #include <vector>
@@ -26,8 +28,8 @@ struct ResidualWhiteness {
     double lag1_correlation = 0.0; ///< ρ_1
     double ljung_box = 0.0;        ///< Q
     double p_value = 1.0;          ///< P(χ²(L) > Q)
-    double noise_rms = 0.0;        ///< σ_n
-    double systematic_share = 0.0; ///< of the residual variance
+    double noise_rms = 0.0;        ///< σ_n: the residual's unpredictable part
+    double systematic_share = 0.0; ///< of the residual variance: what an AR(L) predictor explains
 };
 
 /// `segments`: one output's residuals, one contiguous stretch per window. Non-finite values

@@ -164,7 +164,7 @@ void judge_residuals(const Experiment& ex, const FitResult& fit, Verdict& v) {
         std::snprintf(p, sizeof p, w.p_value < 1e-16 ? "< 1e-16" : "%.2g", w.p_value);
         v.add({"residuals_not_white", error ? Severity::error : Severity::warning, name,
                name + ": " + pct(w.systematic_share) + " of the residual variance is systematic (RMSE " + num(w.rms) +
-                   " against a sample-to-sample noise of " + num(w.noise_rms) + "; Ljung-Box p " + p + ")",
+                   " against an unpredictable part (noise) of " + num(w.noise_rms) + "; Ljung-Box p " + p + ")",
                "the model misses what the data hold: another start or optimizer, wider bounds, scale: log on wide "
                "boxes, or a model element (a delay, a mode)"});
     }
@@ -183,8 +183,8 @@ void judge_residuals(const Experiment& ex, const FitResult& fit, Verdict& v) {
         v.add({"validation_worse", ratio > kValidationWorseError ? Severity::error : Severity::warning, name,
                name + ": validation RMSE " + num(val.rms) + " against " + num(e.rms) + " in estimation (" +
                    num(ratio) + " times worse" + (noise ? ", each over its noise)" : ")"),
-               "the fit follows the estimation data more than the model: estimate on more windows or cycles, "
-               "or fix weakly determined parameters"});
+               "estimate on more windows or cycles, or fix weakly determined parameters; and check that each "
+               "validation window starts as the recording does (initial_state, warm-up)"});
     }
 }
 
