@@ -1,4 +1,4 @@
-// Residual whiteness (Ljung–Box, sample-to-sample noise) and the information criteria
+// Residual whiteness (Ljung–Box, the predictable share of the residual) and the information criteria
 // (FPE, AIC, AICc, BIC as the System Identification Toolbox defines them).
 #include <catch2/catch.hpp>
 #include <Eigen/Dense>
