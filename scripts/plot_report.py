@@ -5,9 +5,10 @@ Usage:
     plot_report.py REPORT_DIR [-o OUT_DIR] [--sensitivity SENS_DIR] [--dpi DPI]
 
 From REPORT_DIR (written by `tvid fit`, see docs/report-format.md):
-  fit.png             measured vs simulated output, one panel per window and output
+  fit.png             measured vs simulated output (in its unit), one panel per window and output
                       (estimation windows, then validation windows; the methodology paper Figs. 2a/3a,
-                      Yoshida & Takamatsu Fig. 7), with each window's Q-index in its title
+                      Yoshida & Takamatsu Fig. 7), with each window's Q-index, fit % and RMSE in its
+                      title and the verdict in the figure's
   residual_ratio.png  residual ratio (y - y*)/y in percent per window (the methodology paper Figs. 2b/3b)
   cost_history.png    best cost against iteration and against simulations, log scale
                       (Yoshida & Takamatsu Fig. 6)
@@ -100,12 +101,27 @@ def outputs_of(header):
     return [h[: -len("_measured")] for h in header if h.endswith("_measured")]
 
 
-def window_q(summary, split, label, output):
+def window_metric(summary, split, label, output, key):
     for w in summary.get(split, {}).get("windows", []):
         if w.get("window") == label:
-            q = w.get("outputs", {}).get(output, {}).get("q_index_percent")
-            return q
+            return w.get("outputs", {}).get(output, {}).get(key)
     return None
+
+
+def window_q(summary, split, label, output):
+    return window_metric(summary, split, label, output, "q_index_percent")
+
+
+def unit_of(summary, output):
+    """The output's unit as summary.json's cost.outputs names it ('' when not given)."""
+    for o in summary.get("cost", {}).get("outputs", []):
+        if o.get("name") == output:
+            return o.get("unit", "")
+    return ""
+
+
+def labelled(name, unit):
+    return f"{name} [{unit}]" if unit else name
 
 
 def traces(report_dir):
@@ -144,18 +160,25 @@ def plot_fit(panels, outputs, summary, out_dir, dpi):
     for r, (split, label, table) in enumerate(panels):
         for c, out in enumerate(outputs):
             ax = axes[r][c]
-            ax.plot(table["t"], table[f"{out}_measured"], color="0.2", lw=1.0, label="measured")
-            ax.plot(table["t"], table[f"{out}_simulated"], color="tab:red", lw=1.0, ls="--", label="simulated")
+            # The simulation drawn over the measurement, in a colour and weight of its own.
+            ax.plot(table["t"], table[f"{out}_measured"], color="0.55", lw=0.8, label="measured", zorder=1)
+            ax.plot(table["t"], table[f"{out}_simulated"], color="tab:red", lw=1.3, ls="--", label="simulated", zorder=3)
             q = window_q(summary, split, label, out)
-            ax.set_title(f"{split}: {label}" + (f"   Q = {q:.2f} %" if q is not None else ""), fontsize=9)
-            ax.set_ylabel(out)
+            fit = window_metric(summary, split, label, out, "fit_percent")
+            rmse = window_metric(summary, split, label, out, "rmse")
+            figures = ([f"Q = {q:.2f} %"] if q is not None else []) + ([f"fit = {fit:.1f} %"] if fit is not None else []) \
+                + ([f"RMSE = {rmse:.3g} {unit_of(summary, out)}".rstrip()] if rmse is not None else [])
+            ax.set_title(f"{split}: {label}   " + "   ".join(figures), fontsize=9)
+            ax.set_ylabel(labelled(out, unit_of(summary, out)))
             ax.grid(alpha=0.3)
             if r == 0:
                 ax.legend(loc="best", fontsize=8)
     for ax in axes[-1]:
         ax.set_xlabel("t [s]")
-    fig.suptitle(f"{title_of(summary)}: measured vs simulated", fontsize=11)
-    fig.tight_layout()
+    verdict = summary.get("verdict", {}).get("summary")
+    fig.suptitle(f"{title_of(summary)}: measured vs simulated" + (f"   (verdict: {verdict})" if verdict else ""),
+                 fontsize=11)
+    fig.tight_layout(rect=(0, 0, 1, 1 - 0.35 / fig.get_figheight()))  # room for the figure title
     save(fig, out_dir, "fit.png", dpi)
 
 
