@@ -117,7 +117,7 @@ TEST_CASE("batch.csv columns: parameters, cost, metrics per split, counts", "[ba
     CHECK(one.header() == std::vector<std::string>{"id", "status", "message", "J1", "C1", "cost", "q_estimation",
                                                    "fit_estimation", "max_residual_ratio_estimation", "q_validation",
                                                    "fit_validation", "max_residual_ratio_validation", "evaluations",
-                                                   "wall_seconds", "verdict", "findings"});
+                                                   "verdict", "findings", "wall_seconds"});
     const BatchColumns two({"k"}, {"a", "b"});
     CHECK(two.index("q_estimation_a") < two.index("q_estimation_b"));
     CHECK(two.index("max_residual_ratio_validation_b") + 5 == two.size());

@@ -34,9 +34,9 @@ BatchColumns::BatchColumns(std::vector<std::string> parameters, std::vector<std:
         for (const std::string& out : outputs_)
             for (const char* m : kMetrics) header_.push_back(metric(m, split, out));
     header_.push_back("evaluations");
-    header_.push_back("wall_seconds");
     header_.push_back("verdict");   // "clean", or "1 error, 2 warnings"
     header_.push_back("findings");  // "error:residuals_not_white(Tds);warning:at_bound(C21)"
+    header_.push_back("wall_seconds");  // last: the one cell that differs between equal runs
 }
 
 std::string BatchColumns::repeated_column() const {
