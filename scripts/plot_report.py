@@ -61,7 +61,19 @@ def read_csv(path):
         rows = list(csv.reader(f))
     if not rows:
         fail(f"{path}: empty file, expected a header line")
-    return rows[0], rows[1:]
+    return [bare_name(h) for h in rows[0]], rows[1:]
+
+
+def bare_name(heading):
+    """A column's name without the unit tvid writes after it: 'Tds_measured [N m]' -> 'Tds_measured'."""
+    return heading.split(" [", 1)[0]
+
+
+def percent_columns(path):
+    """The columns whose heading gives the unit %."""
+    with open(path, newline="") as f:
+        header = next(csv.reader(f), [])
+    return {bare_name(h) for h in header if h.endswith(" [%]")}
 
 
 def read_json(path):
@@ -135,7 +147,12 @@ def traces(report_dir):
         for out in outputs:
             for suffix in ("_measured", "_simulated", "_residual", "_residual_ratio"):
                 column(header, out + suffix, path)
+        percent = percent_columns(path)
         for label, table in windows_of(header, rows, path).items():
+            for out in outputs:  # a report from before the ratio was written in %
+                name = out + "_residual_ratio"
+                if name not in percent:
+                    table[name] = [100.0 * v for v in table[name]]
             panels.append((split, label, table))
     return panels, outputs
 
@@ -188,7 +205,7 @@ def plot_residual_ratio(panels, outputs, summary, out_dir, dpi):
     for r, (split, label, table) in enumerate(panels):
         for c, out in enumerate(outputs):
             ax = axes[r][c]
-            ratio = [100.0 * v for v in table[f"{out}_residual_ratio"]]  # empty where y = 0: NaN, a gap
+            ratio = table[f"{out}_residual_ratio"]  # [%]; empty where y = 0: NaN, a gap
             ax.plot(table["t"], ratio, color="tab:blue", lw=0.8)
             finite = [abs(v) for v in ratio if math.isfinite(v)]
             peak = max(finite) if finite else math.nan

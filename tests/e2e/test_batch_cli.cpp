@@ -113,7 +113,7 @@ TEST_CASE("tvid batch --cycles fits each engine cycle and validates on the next"
         CHECK(std::stod(row[column(t, "q_estimation")]) > 90);
         CHECK(std::stod(row[column(t, "q_validation")]) > 90);
         CHECK_FALSE(row[column(t, "fit_validation")].empty());
-        CHECK_FALSE(row[column(t, "max_residual_ratio_validation")].empty());
+        CHECK_FALSE(row[column(t, "max_residual_ratio_percent_validation")].empty());
     }
     const json s = json::parse(read_text(out / "batch_summary.json"));
     CHECK(s["ok"] == 2);

@@ -143,9 +143,9 @@ TEST_CASE("a two-node gear train driven by a torque input simulates", "[e2e][net
             const auto lines = lines_of(read_text(out));
             REQUIRE(lines.size() == 1 + 200);  // header + samples 1..200
             const auto header = cells_of(lines[0]);
-            const std::size_t ia = column_index(header, "theta_a_simulated");
-            const std::size_t ib = column_index(header, "theta_b_simulated");
-            const std::size_t it = column_index(header, "T_mesh_simulated");
+            const std::size_t ia = column_index(header, "theta_a_simulated [rad]");
+            const std::size_t ib = column_index(header, "theta_b_simulated [rad]");
+            const std::size_t it = column_index(header, "T_mesh_simulated [N m]");
             for (std::size_t i = 1; i < lines.size(); ++i) {
                 const auto cells = cells_of(lines[i]);
                 REQUIRE(cells.size() == header.size());

@@ -97,7 +97,7 @@ TEST_CASE("tvid fit writes a complete report directory", "[e2e][fit]") {
     const json& est = s["estimation"]["pooled"]["Tds"];
     CHECK(est["samples"] == 1500);  // (1.5, 3.0] at 1 kHz
     CHECK(est["cost_l1"].get<double>() == Approx(cost).epsilon(1e-12));
-    for (const char* k : {"q_index_percent", "fit_percent", "rmse", "max_abs_residual_ratio", "e0"})
+    for (const char* k : {"q_index_percent", "fit_percent", "rmse", "max_abs_residual_ratio_percent", "e0"})
         CHECK(est[k].is_number());
     CHECK(s["validation"]["windows"].size() == 2);
     CHECK(s["validation"]["pooled"]["Tds"]["samples"] == 1000);
@@ -106,7 +106,7 @@ TEST_CASE("tvid fit writes a complete report directory", "[e2e][fit]") {
     // estimation.csv: header plus one row per scored sample; residual = measured − simulated.
     const auto est_lines = lines_of(read_text(out / "estimation.csv"));
     REQUIRE(est_lines.size() == 1501);
-    CHECK(est_lines[0] == "t,window,Tds_measured,Tds_simulated,Tds_residual,Tds_residual_ratio");
+    CHECK(est_lines[0] == "t [s],window,Tds_measured [N m],Tds_simulated [N m],Tds_residual [N m],Tds_residual_ratio [%]");
     double abs_sum = 0;
     for (std::size_t i = 1; i < est_lines.size(); ++i) {
         std::vector<std::string> cells;

@@ -90,7 +90,7 @@ std::vector<double> simulated_speed(const std::string& experiment, const std::fi
     std::string line;
     std::getline(in, line);
     const std::vector<std::string> header = cells(line);
-    const auto col = static_cast<std::size_t>(std::find(header.begin(), header.end(), "omega_dw_simulated") - header.begin());
+    const auto col = static_cast<std::size_t>(std::find(header.begin(), header.end(), "omega_dw_simulated [rad/s]") - header.begin());
     REQUIRE(col < header.size());
     std::vector<double> y;
     while (std::getline(in, line)) y.push_back(std::stod(cells(line)[col]));

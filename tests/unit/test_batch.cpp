@@ -115,12 +115,12 @@ TEST_CASE("cycles are checked against the recording, its warm-up and the validat
 TEST_CASE("batch.csv columns: parameters, cost, metrics per split, counts", "[batch]") {
     const BatchColumns one({"J1", "C1"}, {"omega_dw"});
     CHECK(one.header() == std::vector<std::string>{"id", "status", "message", "J1", "C1", "cost", "q_estimation",
-                                                   "fit_estimation", "max_residual_ratio_estimation", "q_validation",
-                                                   "fit_validation", "max_residual_ratio_validation", "evaluations",
+                                                   "fit_estimation", "max_residual_ratio_percent_estimation", "q_validation",
+                                                   "fit_validation", "max_residual_ratio_percent_validation", "evaluations",
                                                    "verdict", "findings", "wall_seconds"});
     const BatchColumns two({"k"}, {"a", "b"});
     CHECK(two.index("q_estimation_a") < two.index("q_estimation_b"));
-    CHECK(two.index("max_residual_ratio_validation_b") + 5 == two.size());
+    CHECK(two.index("max_residual_ratio_percent_validation_b") + 5 == two.size());
 }
 
 TEST_CASE("rows are quoted where needed and read back unchanged; a torn last line is dropped", "[batch]") {

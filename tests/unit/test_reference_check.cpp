@@ -23,7 +23,7 @@ FitReportFiles example_report() {
         {"name": "k_plus", "value": 5000.0, "fixed": false, "min": 1, "max": 1e6},
         {"name": "d_ds", "value": 0.0, "fixed": false, "min": -100, "max": 100},
         {"name": "sigma", "value": 1132.81, "fixed": true, "min": null, "max": null}]})");
-    const json metrics = {{"samples", 100}, {"q_index_percent", 99.5}, {"max_abs_residual_ratio", 0.02},
+    const json metrics = {{"samples", 100}, {"q_index_percent", 99.5}, {"max_abs_residual_ratio_percent", 2.0},
                           {"rmse", 0.1}, {"cost_l1", 0.05}, {"cost_l2", 1.0}, {"e0", 10.0}, {"fit_percent", 98.0}};
     json worse = metrics;
     worse["q_index_percent"] = 97.0;
@@ -235,7 +235,7 @@ TEST_CASE("a reference written from a report passes on it and leaves out undeter
     CHECK(written["parameters"]["d_ds"]["abs"].get<double>() == Approx(10.0));  // 0: 5 % of the bound span
     CHECK(written["cost"]["max"].get<double>() == Approx(0.0525));
     CHECK(written["estimation"]["Tds"]["q_index_percent"]["min"].get<double>() == Approx(100 - 0.5 * 1.05));
-    CHECK(written["validation"]["Tds"]["max_abs_residual_ratio"]["max"].get<double>() == Approx(0.021));
+    CHECK(written["validation"]["Tds"]["max_abs_residual_ratio_percent"]["max"].get<double>() == Approx(2.1));
     CHECK(written["description"].get<std::string>().find("left out the undetermined parameters rho1") != std::string::npos);
 
     const CheckResult r = check_report(report, parse_reference(written, "written.json"));
@@ -270,4 +270,26 @@ TEST_CASE("a report directory that is missing, incomplete or not a tvid report",
     CHECK_THROWS_WITH(read_fit_report(tmp.path()), Catch::Contains("params.json:1: not valid JSON"));
     tmp.write("params.json", example.params.dump());
     CHECK(read_fit_report(tmp.path()).params["parameters"].size() == 4);
+}
+
+TEST_CASE("the largest residual ratio checks in percent and in the older fraction alike", "[reference-check]") {
+    // A report in percent against a reference in the fraction an older tvid wrote …
+    const FitReportFiles report = example_report();  // validation max ratio 2 %
+    const CheckResult old_reference = check_report(report, reference(R"({"tvid_reference": 1,
+        "validation": {"Tds": {"max_abs_residual_ratio": {"max": 0.025}}}})"));
+    REQUIRE(old_reference.rows.size() == 1);
+    CHECK(old_reference.rows[0].pass);
+    CHECK(old_reference.rows[0].actual.get<double>() == Approx(0.02));
+    // … and a report in the fraction against a reference in percent.
+    FitReportFiles older = report;
+    for (const char* split : {"estimation", "validation"}) {
+        json& m = older.summary[split]["pooled"]["Tds"];
+        m.erase("max_abs_residual_ratio_percent");
+        m["max_abs_residual_ratio"] = 0.03;
+    }
+    const CheckResult new_reference = check_report(older, reference(R"({"tvid_reference": 1,
+        "validation": {"Tds": {"max_abs_residual_ratio_percent": {"max": 2.5}}}})"));
+    REQUIRE(new_reference.rows.size() == 1);
+    CHECK_FALSE(new_reference.rows[0].pass);  // 3 % > 2.5 %
+    CHECK(new_reference.rows[0].actual.get<double>() == Approx(3.0));
 }

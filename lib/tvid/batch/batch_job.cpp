@@ -70,8 +70,8 @@ BatchRow fit_row(const BatchColumns& columns, const std::string& id, const Ident
             const std::string& out = ex.outputs[k].model_name;
             row[columns.index(columns.metric("q", split->split, out))] = batch_number(m.q_index);
             row[columns.index(columns.metric("fit", split->split, out))] = batch_number(m.fit_percent);
-            row[columns.index(columns.metric("max_residual_ratio", split->split, out))] =
-                batch_number(m.max_abs_residual_ratio);
+            row[columns.index(columns.metric("max_residual_ratio_percent", split->split, out))] =
+                batch_number(100.0 * m.max_abs_residual_ratio);
         }
     }
     return row;

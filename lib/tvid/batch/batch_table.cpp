@@ -16,7 +16,7 @@ namespace tvid {
 
 namespace {
 
-constexpr const char* kMetrics[] = {"q", "fit", "max_residual_ratio"};
+constexpr const char* kMetrics[] = {"q", "fit", "max_residual_ratio_percent"};
 constexpr const char* kSplits[] = {"estimation", "validation"};
 
 }  // namespace

@@ -38,7 +38,7 @@ public:
     /// Index of a column by name; throws std::out_of_range when absent.
     std::size_t index(const std::string& name) const;
     /// The metric column for a split ("estimation"/"validation"), a metric ("q", "fit",
-    /// "max_residual_ratio") and an output.
+    /// "max_residual_ratio_percent") and an output.
     std::string metric(const std::string& metric, const std::string& split, const std::string& output) const;
 
     /// A row with id, status and message and every other cell empty.

@@ -175,6 +175,24 @@ const json& field(const json& j, const std::string& file, const std::vector<std:
     return *v;
 }
 
+// A metric of one output's block (`path` leads to the block). The largest residual ratio is
+// reported in percent (`max_abs_residual_ratio_percent`); a reference or a report from before
+// that holds the fraction (`max_abs_residual_ratio`) is converted, so either checks either.
+json metric_value(const json& j, const std::string& file, std::vector<std::string> path, const std::string& metric) {
+    const json& block = field(j, file, path);
+    constexpr const char* kPercent = "max_abs_residual_ratio_percent";
+    constexpr const char* kFraction = "max_abs_residual_ratio";
+    const bool percent_for_fraction = metric == kFraction && !block.contains(kFraction) && block.contains(kPercent);
+    const bool fraction_for_percent = metric == kPercent && !block.contains(kPercent) && block.contains(kFraction);
+    if (percent_for_fraction || fraction_for_percent) {
+        const json& v = block[percent_for_fraction ? kPercent : kFraction];
+        if (!v.is_number()) return v;
+        return percent_for_fraction ? v.get<double>() / 100.0 : v.get<double>() * 100.0;
+    }
+    path.push_back(metric);
+    return field(j, file, path);
+}
+
 CheckRow make_row(std::string quantity, const Expectation& e, json actual, std::string note = "") {
     CheckRow row;
     row.quantity = std::move(quantity);
@@ -192,7 +210,8 @@ CheckRow make_row(std::string quantity, const Expectation& e, json actual, std::
 
 const std::vector<std::string>& reference_metric_names() {
     static const std::vector<std::string> names = {"q_index_percent", "fit_percent", "rmse",   "cost_l1",
-                                                   "cost_l2",         "e0",          "max_abs_residual_ratio"};
+                                                   "cost_l2",         "e0",          "max_abs_residual_ratio_percent",
+                                                   "max_abs_residual_ratio"};
     return names;
 }
 
@@ -347,17 +366,16 @@ CheckResult check_report(const FitReportFiles& report, const Reference& referenc
             if (!m.each_window) {
                 const json& metrics = pooled[out];
                 const bool empty = field(metrics, summary_file, {"samples"}) == 0;
-                result.rows.push_back(make_row(key, m.expectation, field(summary, summary_file, {m.split, "pooled", out, m.metric}),
+                result.rows.push_back(make_row(key, m.expectation, metric_value(summary, summary_file, {m.split, "pooled", out}, m.metric),
                                                empty ? "no samples in " + m.split : ""));
                 continue;
             }
             const json& windows = field(summary, summary_file, {m.split, "windows"});
             if (windows.empty()) result.rows.push_back(make_row(key, m.expectation, nullptr, "no " + m.split + " windows"));
             for (const json& w : windows) {
-                const json& metrics = field(w, summary_file, {"outputs", out});
                 const std::string label = w.value("window", "?");
                 result.rows.push_back(make_row(key + " [" + label + "]", m.expectation,
-                                               field(metrics, summary_file, {m.metric})));
+                                               metric_value(w, summary_file, {"outputs", out}, m.metric)));
             }
         }
     }
@@ -434,8 +452,11 @@ ordered_json reference_from_report(const FitReportFiles& report, double rel) {
             ordered_json checks = ordered_json::object();
             if (m.contains("q_index_percent") && m["q_index_percent"].is_number())
                 checks["q_index_percent"] = {{"min", 100.0 - (100.0 - m["q_index_percent"].get<double>()) * grow}};
-            if (m.contains("max_abs_residual_ratio") && m["max_abs_residual_ratio"].is_number())
-                checks["max_abs_residual_ratio"] = {{"max", m["max_abs_residual_ratio"].get<double>() * grow}};
+            const json ratio = m.contains("max_abs_residual_ratio_percent") || m.contains("max_abs_residual_ratio")
+                                   ? metric_value(m, report.summary_file(), {}, "max_abs_residual_ratio_percent")
+                                   : json();
+            if (ratio.is_number())
+                checks["max_abs_residual_ratio_percent"] = {{"max", ratio.get<double>() * grow}};
             if (!checks.empty()) block[out] = checks;
         }
         if (!block.empty()) r[split] = block;

@@ -44,7 +44,7 @@ struct ParameterCheck {
     Expectation expectation;
 };
 
-/// A fit metric of summary.json (`q_index_percent`, `max_abs_residual_ratio`, …).
+/// A fit metric of summary.json (`q_index_percent`, `max_abs_residual_ratio_percent`, …).
 struct MetricCheck {
     std::string split;         ///< "estimation" or "validation"
     std::string output;        ///< an output name; "" for every output of the report

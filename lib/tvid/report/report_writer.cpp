@@ -31,7 +31,7 @@ json metrics_json(const FitMetrics& m) {
                 {"e0", json_number(m.e0)},
                 {"fit_percent", json_number(m.fit_percent)},
                 {"rmse", json_number(m.rmse)},
-                {"max_abs_residual_ratio", json_number(m.max_abs_residual_ratio)}};
+                {"max_abs_residual_ratio_percent", json_number(100.0 * m.max_abs_residual_ratio)}};
 }
 
 // Index of free parameter for model parameter i, or -1.
@@ -251,10 +251,14 @@ json fit_summary_json(const IdentificationProblem& problem, const FitResult& fit
 
 std::string trace_csv(const Experiment& experiment, const SplitEvaluation& split) {
     std::ostringstream out;
-    out << "t,window";
-    for (const ChannelBinding& o : experiment.outputs) {
-        const std::string& n = o.model_name;
-        out << ',' << n << "_measured," << n << "_simulated," << n << "_residual," << n << "_residual_ratio";
+    // Each column's unit in brackets after its name: "Tds_measured [N m]".
+    out << "t [s],window";
+    for (std::size_t k = 0; k < experiment.outputs.size(); ++k) {
+        const std::string& n = experiment.outputs[k].model_name;
+        const std::string unit = std::string(" [") +
+            output_unit(experiment.network.outputs[static_cast<std::size_t>(experiment.output_indices[k])]) + "]";
+        out << ',' << n << "_measured" << unit << ',' << n << "_simulated" << unit << ',' << n << "_residual" << unit
+            << ',' << n << "_residual_ratio [%]";
     }
     out << '\n';
     for (const WindowEvaluation& w : split.windows) {
@@ -263,7 +267,8 @@ std::string trace_csv(const Experiment& experiment, const SplitEvaluation& split
             out << csv_cell(tr.time[i], "%.9g") << ',' << tr.window->label;  // labels hold no comma
             for (std::size_t k = 0; k < tr.measured.size(); ++k) {
                 const double y = tr.measured[k][i], ys = tr.simulated[k][i];
-                out << ',' << csv_cell(y) << ',' << csv_cell(ys) << ',' << csv_cell(y - ys) << ',' << csv_cell(residual_ratio(y, ys));
+                out << ',' << csv_cell(y) << ',' << csv_cell(ys) << ',' << csv_cell(y - ys) << ','
+                    << csv_cell(100.0 * residual_ratio(y, ys));
             }
             out << '\n';
         }
