@@ -160,3 +160,30 @@ TEST_CASE("a two-node gear train driven by a torque input simulates", "[e2e][net
         }
     }
 }
+
+TEST_CASE("the shipped custom-network example identifies the CVT model by least squares", "[e2e][network]") {
+    // configs/cvt_custom_network.yaml fits the noisy tip-in recording from the middle of the
+    // paper's search domain. On noisy data the fit must cost no more than the truth does, and
+    // the well-determined stiffness on the engaged side must come within 2 % of the truth.
+    const json truth = json::parse(read_text(source_dir() / "data/cvt/truth.json")).at("parameters");
+    TempDir tmp;
+    const auto config = (source_dir() / "configs/cvt_custom_network.yaml").string();
+    const RunResult fit = run_tvid({"fit", config, "-o", (tmp.path() / "report").string(), "--quiet"});
+    INFO("stderr: " << fit.err);
+    REQUIRE(fit.exit_code == 0);
+    const json summary = json::parse(read_text(tmp.path() / "report/summary.json"));
+    CHECK(summary["optimizer"]["converged"] == true);
+    const double fitted_cost = summary["cost"]["value"].get<double>();
+
+    const auto truth_file = tmp.write("truth.json", truth.dump());
+    const RunResult at_truth = run_tvid({"validate", config, "--params", truth_file.string(), "--json"});
+    REQUIRE(at_truth.exit_code == 0);
+    const double truth_cost = json::parse(at_truth.out).at("cost").get<double>();
+    CHECK(fitted_cost <= truth_cost);
+    CHECK(fitted_cost > 0.9 * truth_cost);  // the noise is not fitted away
+
+    const json params = json::parse(read_text(tmp.path() / "report/params.json"));
+    for (const json& p : params["parameters"])
+        if (p["name"] == "k_plus")
+            CHECK(p["value"].get<double>() == Approx(truth["k_plus"].get<double>()).epsilon(0.02));
+}
