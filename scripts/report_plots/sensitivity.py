@@ -1,0 +1,153 @@
+"""From a directory written by `tvid sensitivity`:
+
+sensitivity_OUTPUT.png   p·∂y/∂p over time, one panel per free parameter (the methodology paper
+                         Figs. 4-5): the change of y, in y's unit, for a 100 % change of p;
+                         ∂y/∂p for a parameter at 0.
+sensitivity_ranking.png  the free parameters ranked by the RMS of p·∂y/∂p over the scored
+                         samples (ranking.csv), one panel per output, log scale: a parameter
+                         whose bar is decades below the first moves the output too little
+                         to be identified from it.
+
+sensitivity.json records no units; they are read from the fit report whose params.json
+the run used (`--params` in its command) or from the directory above (the default
+REPORT/sensitivity)."""
+
+import math
+import os
+import shlex
+
+from . import common
+from .common import plt
+
+
+def report_units(directory, info):
+    """({output: unit}, {parameter: unit}) from the fit report behind the run, if found."""
+    candidates = []
+    try:
+        words = shlex.split(info.get("command", ""))
+    except ValueError:
+        words = []
+    for i, w in enumerate(words):
+        if w == "--params" and i + 1 < len(words):
+            candidates.append(words[i + 1])
+        elif w.startswith("--params="):
+            candidates.append(w[len("--params="):])
+    candidates.append(os.path.join(os.path.dirname(os.path.abspath(directory)), "params.json"))
+    outputs, params = {}, {}
+    for path in candidates:
+        if not os.path.isfile(path):
+            continue
+        try:
+            params = common.parameter_units(common.read_json(path)) or params
+            summary_path = os.path.join(os.path.dirname(path), "summary.json")
+            if os.path.isfile(summary_path):
+                summary = common.read_json(summary_path)
+                outputs = {o: common.output_unit(summary, o) for o in info.get("outputs", [])}
+        except common.ReportError:
+            continue  # a params file of the plain {name: value} form, or not a report's: no units from it
+        if params:
+            break
+    return outputs, params
+
+
+def read_series(directory, info, free, raw):
+    path = os.path.join(directory, "sensitivity.csv")
+    header, rows = common.read_csv(path)
+    source = {p: common.column(header, ("d_" if raw[p] else "s_") + p, path) for p in free}
+    w_col, t_col, o_col = (common.column(header, n, path) for n in ("window", "time", "output"))
+    values = {p: {} for p in free}
+    for line, row in enumerate(rows, start=2):
+        if len(row) != len(header):
+            common.fail(f"{path}:{line}: {len(row)} cells, the header has {len(header)}")
+        for p in free:
+            series = values[p].setdefault(row[o_col], {}).setdefault(row[w_col], ([], []))
+            try:
+                series[0].append(common.number(row[t_col]))
+                series[1].append(common.number(row[source[p]]))
+            except ValueError:
+                common.fail(f"{path}:{line}: a cell is not a number")
+    return values
+
+
+def draw_series(info, free, raw, values, out_units, par_units, out_dir, dpi):
+    names = []
+    value_of = {q["name"]: q["value"] for q in info.get("parameters", [])}
+    for out in info.get("outputs", []):
+        unit = out_units.get(out, "")
+        cols = 2 if len(free) > 3 else 1
+        n_rows = math.ceil(len(free) / cols)
+        fig, axes = plt.subplots(n_rows, cols, figsize=(6.5 * cols, 1.9 * n_rows + 0.9), squeeze=False, sharex=True, layout="constrained")
+        for i, p in enumerate(free):
+            ax = axes[i // cols][i % cols]
+            for t, s in values[p].get(out, {}).values():  # one line per window
+                ax.plot(t, s, color="tab:purple", lw=0.9)
+            pu = par_units.get(p, "")
+            ax.set_title(f"{p} = {value_of.get(p, math.nan):.4g} {pu}".rstrip(), fontsize=9, loc="left")
+            if raw[p]:
+                ax.set_ylabel(common.labelled(f"∂{out}/∂{p}", common.quotient_unit(unit, pu) if unit else ""),
+                              fontsize=8)
+            else:
+                ax.set_ylabel(common.labelled(f"{p}·∂{out}/∂{p}", unit), fontsize=8)
+            ax.tick_params(labelsize=8)
+            ax.grid(alpha=0.3)
+        for j in range(len(free), n_rows * cols):
+            axes[j // cols][j % cols].set_visible(False)
+        for c in range(cols):  # the lowest panel of each column carries the time axis
+            last = axes[max(i // cols for i in range(len(free)) if i % cols == c)][c]
+            last.xaxis.set_tick_params(labelbottom=True)
+            last.set_xlabel("t [s]", fontsize=9)
+        fig.suptitle(f"{info.get('experiment', '?')}: scaled sensitivities p·∂{out}/∂p "
+                     f"(change of {out} for a 100 % change of p)", fontsize=11)
+        names.append(common.save(fig, out_dir, f"sensitivity_{out}.png", dpi))
+    return names
+
+
+def draw_ranking(info, out_units, out_dir, dpi):
+    ranking = info.get("ranking") or {}
+    outputs = [o for o in info.get("outputs", []) if ranking.get(o)]
+    if not outputs:
+        return []
+    n = max(len(ranking[o]) for o in outputs)
+    fig, axes = plt.subplots(1, len(outputs), figsize=(6.5 * len(outputs), 0.32 * n + 1.6), squeeze=False, layout="constrained")
+    for ax, out in zip(axes[0], outputs):
+        rows = sorted(ranking[out], key=lambda r: r.get("rank", 0))
+        names = [r["parameter"] for r in rows]
+        rms = [r.get("rms_scaled") for r in rows]
+        shown = [v if v is not None and v > 0 else math.nan for v in rms]
+        y = list(range(len(rows)))
+        ax.barh(y, shown, color="tab:purple", alpha=0.8)
+        ax.set_yticks(y)
+        ax.set_yticklabels(names, fontsize=9)
+        ax.invert_yaxis()  # rank 1 on top
+        ax.set_xscale("log")
+        positive = [v for v in shown if math.isfinite(v)]
+        if positive:
+            ax.set_xlim(min(positive) / 3, max(positive) * 30)  # room for the labels right of the bars
+        for yi, r, v in zip(y, rows, shown):
+            rel = r.get("relative")
+            if math.isfinite(v):
+                text = f"{100 * rel:.3g} %" if rel is not None else ""
+                ax.text(v * 1.15, yi, text, va="center", fontsize=8)
+            elif r.get("value") == 0:  # p·∂y/∂p vanishes at p = 0: no bar, its raw RMS instead
+                ax.text(0.01, yi, f"at {r['parameter']} = 0: RMS ∂{out}/∂{r['parameter']} = {r.get('rms_raw', 0):.3g}",
+                        transform=ax.get_yaxis_transform(), va="center", fontsize=8, color="0.3")
+        ax.set_xlabel(common.labelled(f"RMS of p·∂{out}/∂p", out_units.get(out, "")), fontsize=9)
+        ax.grid(alpha=0.3, axis="x", which="both")
+        ax.set_title(f"{out}: rank by RMS of p·∂{out}/∂p (label: % of the first)", fontsize=9, loc="left")
+    fig.suptitle(f"{info.get('experiment', '?')}: parameters ranked by scaled sensitivity", fontsize=11)
+    return [common.save(fig, out_dir, "sensitivity_ranking.png", dpi)]
+
+
+def draw(directory, out_dir, dpi):
+    if not common.exists(directory, "sensitivity.json"):
+        return []
+    info = common.read_json(os.path.join(directory, "sensitivity.json"))
+    free = info.get("free_parameters", [])
+    if not free:
+        common.fail(f"{os.path.join(directory, 'sensitivity.json')}: no free parameters")
+    value_of = {q["name"]: q["value"] for q in info.get("parameters", [])}
+    raw = {p: value_of.get(p) == 0 for p in free}  # p·∂y/∂p is 0 for a parameter at 0: ∂y/∂p instead
+    values = read_series(directory, info, free, raw)
+    out_units, par_units = report_units(directory, info)
+    return draw_series(info, free, raw, values, out_units, par_units, out_dir, dpi) + \
+        draw_ranking(info, out_units, out_dir, dpi)
