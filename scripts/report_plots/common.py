@@ -35,15 +35,29 @@ def number(cell):
     return float(cell) if cell != "" else math.nan
 
 
-def read_csv(path):
-    """(header, rows) of a CSV file."""
+def split_heading(heading):
+    """(name, unit) of a column heading: tvid writes 'Tds_measured [N m]'; a heading
+    without brackets has the unit ''."""
+    name, bracket, rest = heading.partition(" [")
+    return name, (rest[:-1] if bracket and rest.endswith("]") else "")
+
+
+def read_csv_with_units(path):
+    """(column names, their units, rows) of a CSV file."""
     if not os.path.isfile(path):
         fail(f"{path}: not found (is this a tvid report directory?)")
     with open(path, newline="") as f:
         rows = list(csv.reader(f))
     if not rows:
         fail(f"{path}: empty file, expected a header line")
-    return rows[0], rows[1:]
+    names, units = zip(*(split_heading(h) for h in rows[0])) if rows[0] else ((), ())
+    return list(names), list(units), rows[1:]
+
+
+def read_csv(path):
+    """(column names without their units, rows) of a CSV file."""
+    names, _, rows = read_csv_with_units(path)
+    return names, rows
 
 
 def read_json(path):
@@ -87,18 +101,28 @@ def output_unit(summary, output):
     """The output's unit as summary.json's cost.outputs names it ('' when not given)."""
     for o in (summary or {}).get("cost", {}).get("outputs", []):
         if o.get("name") == output:
-            return o.get("unit", "")
+            return pretty_unit(o.get("unit", ""))
     return ""
 
 
 def parameter_units(params):
     """{parameter: unit} from a params.json document ('' when not given)."""
-    return {p.get("name"): p.get("unit", "") for p in (params or {}).get("parameters", [])}
+    return {p.get("name"): pretty_unit(p.get("unit", "")) for p in (params or {}).get("parameters", [])}
+
+
+_POWERS = {"^-1": "⁻¹", "^-2": "⁻²", "^2": "²", "^3": "³", "^4": "⁴"}
+
+
+def pretty_unit(unit):
+    """'kg m^2' as 'kg m²'."""
+    for plain, superscript in _POWERS.items():
+        unit = unit.replace(plain, superscript)
+    return unit
 
 
 def labelled(name, unit):
     """'name [unit]'; '[1]' for a dimensionless quantity, none when the unit is unknown."""
-    return f"{name} [{unit}]" if unit else name
+    return f"{name} [{pretty_unit(unit)}]" if unit else name
 
 
 def product_unit(a, b):
@@ -131,19 +155,23 @@ def outputs_of(header):
 
 def traces(directory):
     """([(split, label, {column: values})] for estimation then validation, outputs), or
-    ([], []) when the directory holds no fit report's traces."""
+    ([], []) when the directory holds no fit report's traces. The residual ratio is in %."""
     panels, outputs = [], []
     for split in ("estimation", "validation"):
         path = os.path.join(directory, f"{split}.csv")
         if not os.path.isfile(path):
             continue
-        header, rows = read_csv(path)
+        header, units, rows = read_csv_with_units(path)
         column(header, "t", path)
         outputs = outputs_of(header) or outputs
         for out in outputs:
             for suffix in ("_measured", "_simulated", "_residual", "_residual_ratio"):
                 column(header, out + suffix, path)
         for label, table in table_by(header, rows, path, "window").items():
+            for out in outputs:  # the ratio in percent; a report written before it was a fraction
+                name = out + "_residual_ratio"
+                if units[header.index(name)] != "%":
+                    table[name] = [100.0 * v for v in table[name]]
             panels.append((split, label, table))
     return panels, outputs
 
@@ -184,6 +212,33 @@ def has_crank_angle(panels):
     return bool(panels) and all("crank_deg" in table for _, _, table in panels)
 
 
+def rows_of(panels, by_angle):
+    """The panels grouped into figure rows: [(split, [(label, table), ...])]. An engine
+    report's windows of one split that follow each other on the crank angle (the validation
+    cycles 3, 4, 5, ...) share a row, so the cycle boundaries show between them; otherwise
+    each window has its own row."""
+    rows = []
+    for split, label, table in panels:
+        if by_angle and rows and rows[-1][0] == split:
+            previous = rows[-1][1][-1][1]["crank_deg"]
+            here = table["crank_deg"]
+            if previous and here and 0 <= here[0] - previous[-1] <= 1.0:  # at most a sample step apart
+                rows[-1][1].append((label, table))
+                continue
+        rows.append((split, [(label, table)]))
+    return rows
+
+
+def row_label(windows):
+    """'cycle 3' for one window; 'cycles 3 to 8' for consecutive cycle windows; else the labels."""
+    if len(windows) == 1:
+        return windows[0][0]
+    first, last = _CYCLES.match(windows[0][0]), _CYCLES.match(windows[-1][0])
+    if first and last:
+        return f"cycles {first.group(1)} to {last.group(2) or last.group(1)}"
+    return ", ".join(label for label, _ in windows)
+
+
 def x_axis(table, use_angle):
     """(x values, axis label) of a window: the crank angle for an engine report, else time."""
     if use_angle:
@@ -194,7 +249,8 @@ def x_axis(table, use_angle):
 def mark_cycles(ax, angles, cycle_deg, label=None):
     """Dashed lines at the cycle boundaries inside [min, max] of `angles` (the multiples of
     the cycle of the cumulative crank angle) and each cycle's number at its start; ticks
-    every quarter cycle (the firing TDCs of a four-cylinder four-stroke)."""
+    every quarter cycle (the firing TDCs of a four-cylinder four-stroke), labelled every
+    quarter, half or whole cycle as the window's length allows."""
     finite = [a for a in angles if math.isfinite(a)]
     if not finite:
         return
@@ -217,8 +273,47 @@ def mark_cycles(ax, angles, cycle_deg, label=None):
                     fontsize=7, color="0.25")
         base += cycle_deg
         k += 1
-    ax.xaxis.set_major_locator(ticker.MultipleLocator(cycle_deg / 4))
+    cycles = (hi - lo) / cycle_deg
+    step = cycle_deg / 4 if cycles <= 2.05 else cycle_deg / 2 if cycles <= 4.05 else cycle_deg
+    ax.xaxis.set_major_locator(ticker.MultipleLocator(step))
+    ax.xaxis.set_minor_locator(ticker.MultipleLocator(cycle_deg / 4))
     ax.set_xlim(lo, hi)
+
+
+def figure_rows(panels, outputs, row_height):
+    """(fig, axes, rows, by_angle, cycle): one row of axes per figure row (rows_of), one
+    column per output; wider when a row holds several cycles."""
+    by_angle = has_crank_angle(panels)
+    cycle = cycle_length_deg(panels) if by_angle else None
+    rows = rows_of(panels, by_angle)
+    widest = max(len(windows) for _, windows in rows)
+    width = min(8.0 + 1.6 * (widest - 1), 16.0)
+    fig, axes = plt.subplots(len(rows), len(outputs), figsize=(width * len(outputs), row_height * len(rows) + 0.9),
+                             squeeze=False, layout="constrained")
+    return fig, axes, rows, by_angle, cycle
+
+
+def decorate_row(ax, split, windows, by_angle, cycle, title_text, window_text):
+    """The row's title (`title_text`: the metrics of its one window, or pooled), its x axis,
+    and for an engine row the cycle boundaries, with `window_text(label)` at the start of
+    each window when the row holds several."""
+    xs = [x for _, table in windows for x in x_axis(table, by_angle)[0]]
+    if by_angle:
+        mark_cycles(ax, xs, cycle, windows[0][0])
+        if len(windows) > 1:
+            for label, table in windows:
+                ax.text(table["crank_deg"][0], 0.9, " " + window_text(label), transform=ax.get_xaxis_transform(),
+                        va="top", ha="left", fontsize=7, color="0.15")
+            low, high = ax.get_ylim()
+            ax.set_ylim(low, high + 0.3 * (high - low))  # headroom for the cycles' labels
+    ax.set_title(f"{split}: {row_label(windows)}    {title_text}".rstrip(), fontsize=9, loc="left")
+    ax.set_xlabel(x_axis(windows[0][1], by_angle)[1], fontsize=8)
+    ax.tick_params(labelsize=8)
+    ax.grid(alpha=0.3)
+
+
+def split_has_windows(summary, split, count):
+    return len((summary or {}).get(split, {}).get("windows", [])) == count
 
 
 # ---- saving ----------------------------------------------------------------------------

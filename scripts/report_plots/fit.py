@@ -1,28 +1,42 @@
-"""fit.png: measured and simulated output, one panel per window and output (estimation
-windows, then validation windows), in the output's unit, against time, or for an engine
-report against the crank angle with the cycle boundaries marked (the methodology paper
-Figs. 2a/3a, Yoshida & Takamatsu Fig. 7). Each panel's title gives the window's Q-index,
-fit % and RMSE; the figure's title gives the verdict."""
+"""fit.png: measured and simulated output per window and output (estimation windows, then
+validation windows), in the output's unit, against time, or for an engine report against
+the crank angle with the cycle boundaries marked and consecutive cycles side by side (the
+methodology paper Figs. 2a/3a, Yoshida & Takamatsu Fig. 7). The titles give each window's
+(or the split's pooled) Q-index, fit % and RMSE; the figure's title gives the verdict."""
 
 import os
 
 from . import common
-from .common import plt
 
 
-def metrics_text(summary, split, label, out):
-    q = common.window_metric(summary, split, label, out, "q_index_percent")
-    fit = common.window_metric(summary, split, label, out, "fit_percent")
-    rmse = common.window_metric(summary, split, label, out, "rmse")
-    unit = common.output_unit(summary, out)
+def metrics_text(metrics, unit, short=False):
+    """'Q = 99.95 %   fit = 85.0 %   RMSE = 0.08 rad/s' from a metrics object."""
+    q, fit, rmse = (metrics or {}).get("q_index_percent"), (metrics or {}).get("fit_percent"), \
+        (metrics or {}).get("rmse")
     parts = []
     if q is not None:
-        parts.append(f"Q = {q:.2f} %")
+        parts.append(f"Q {q:.2f} %" if short else f"Q = {q:.2f} %")
     if fit is not None:
-        parts.append(f"fit = {fit:.1f} %")
-    if rmse is not None:
+        parts.append(f"fit {fit:.1f} %" if short else f"fit = {fit:.1f} %")
+    if rmse is not None and not short:
         parts.append(f"RMSE = {rmse:.3g} {unit}".rstrip())
-    return "   ".join(parts)
+    return ("  " if short else "   ").join(parts)
+
+
+def window_metrics(summary, split, label, out):
+    for w in summary.get(split, {}).get("windows", []):
+        if w.get("window") == label:
+            return w.get("outputs", {}).get(out)
+    return None
+
+
+def row_metrics(summary, split, windows, out):
+    """The window's metrics, or the split's pooled ones when the row holds the whole split."""
+    if len(windows) == 1:
+        return window_metrics(summary, split, windows[0][0], out), ""
+    if common.split_has_windows(summary, split, len(windows)):
+        return summary.get(split, {}).get("pooled", {}).get(out), "pooled: "
+    return None, ""
 
 
 def draw(directory, out_dir, dpi):
@@ -32,25 +46,23 @@ def draw(directory, out_dir, dpi):
     panels, outputs = common.traces(directory)
     if not panels or not outputs:
         return []
-    by_angle = common.has_crank_angle(panels)
-    cycle = common.cycle_length_deg(panels) if by_angle else None
-    rows, cols = len(panels), len(outputs)
-    fig, axes = plt.subplots(rows, cols, figsize=(8 * cols, 2.3 * rows + 0.9), squeeze=False, layout="constrained")
-    for r, (split, label, table) in enumerate(panels):
-        x, xlabel = common.x_axis(table, by_angle)
+    fig, axes, rows, by_angle, cycle = common.figure_rows(panels, outputs, 2.3)
+    for r, (split, windows) in enumerate(rows):
         for c, out in enumerate(outputs):
             ax = axes[r][c]
-            # The simulation drawn over the measurement: a thin red line on a broad grey one, so
-            # both show where they coincide and the measurement's noise does not hide the model.
-            ax.plot(x, table[f"{out}_measured"], color="0.62", lw=2.0, label="measured", zorder=2)
-            ax.plot(x, table[f"{out}_simulated"], color="tab:red", lw=0.9, label="simulated", zorder=3)
-            if by_angle:
-                common.mark_cycles(ax, x, cycle, label)
-            ax.set_title(f"{split}: {label}    {metrics_text(summary, split, label, out)}", fontsize=9, loc="left")
-            ax.set_ylabel(common.labelled(out, common.output_unit(summary, out)), fontsize=9)
-            ax.set_xlabel(xlabel, fontsize=8)
-            ax.tick_params(labelsize=8)
-            ax.grid(alpha=0.3)
+            unit = common.output_unit(summary, out)
+            for i, (label, table) in enumerate(windows):
+                x, _ = common.x_axis(table, by_angle)
+                # The simulation drawn over the measurement: a thin red line on a broad grey one,
+                # so both show where they coincide and the measurement's noise does not hide it.
+                ax.plot(x, table[f"{out}_measured"], color="0.62", lw=2.0, zorder=2,
+                        label="measured" if i == 0 else None)
+                ax.plot(x, table[f"{out}_simulated"], color="tab:red", lw=0.9, zorder=3,
+                        label="simulated" if i == 0 else None)
+            metrics, prefix = row_metrics(summary, split, windows, out)
+            common.decorate_row(ax, split, windows, by_angle, cycle, prefix + metrics_text(metrics, unit),
+                                lambda label: metrics_text(window_metrics(summary, split, label, out), unit, True))
+            ax.set_ylabel(common.labelled(out, unit), fontsize=9)
             if r == 0:
                 ax.legend(loc="lower right", fontsize=8, framealpha=0.9)
     verdict = summary.get("verdict", {}).get("summary")

@@ -10,7 +10,6 @@ import math
 import os
 
 from . import common
-from .common import plt
 
 NEAR_ZERO = 0.10  # a sample with |y| < NEAR_ZERO · max |y| of its window has no meaningful ratio
 
@@ -19,24 +18,20 @@ def noise_rms(summary, split, out):
     return (summary.get("residuals", {}).get(split, {}).get(out) or {}).get("noise_rms")
 
 
-def grid(panels, outputs, height):
-    rows, cols = len(panels), len(outputs)
-    return plt.subplots(rows, cols, figsize=(8 * cols, height * rows + 0.9), squeeze=False, layout="constrained")
+def peak(values):
+    finite = [abs(v) for v in values if math.isfinite(v)]
+    return max(finite) if finite else None
 
 
-def finish(fig, axes, title):
-    fig.suptitle(title, fontsize=11)
-
-
-def draw_residual(summary, panels, outputs, by_angle, cycle, out_dir, dpi):
-    fig, axes = grid(panels, outputs, 1.9)
-    for r, (split, label, table) in enumerate(panels):
-        x, xlabel = common.x_axis(table, by_angle)
+def draw_residual(summary, panels, outputs, out_dir, dpi):
+    fig, axes, rows, by_angle, cycle = common.figure_rows(panels, outputs, 1.9)
+    for r, (split, windows) in enumerate(rows):
         for c, out in enumerate(outputs):
             ax = axes[r][c]
             unit = common.output_unit(summary, out)
-            e = table[f"{out}_residual"]
-            ax.plot(x, e, color="tab:blue", lw=0.8, zorder=2)
+            for label, table in windows:
+                ax.plot(common.x_axis(table, by_angle)[0], table[f"{out}_residual"], color="tab:blue", lw=0.8,
+                        zorder=2)
             ax.axhline(0.0, color="0.3", lw=0.7, zorder=1)
             limits = ax.get_ylim()
             sigma = noise_rms(summary, split, out)
@@ -45,51 +40,59 @@ def draw_residual(summary, panels, outputs, by_angle, cycle, out_dir, dpi):
                            label=f"± σ_n = {sigma:.3g} {unit}: the {split} residual's noise".rstrip())
                 ax.legend(loc="lower right", fontsize=7, framealpha=0.9)
                 ax.set_ylim(limits)  # the residual sets the scale, not the band
-            if by_angle:
-                common.mark_cycles(ax, x, cycle, label)
-            rmse = common.window_metric(summary, split, label, out, "rmse")
-            finite = [abs(v) for v in e if math.isfinite(v)]
-            text = f"RMSE = {rmse:.3g} {unit}".rstrip() if rmse is not None else ""
-            if finite:
-                text += f"   max |y − y*| = {max(finite):.3g} {unit}".rstrip()
-            ax.set_title(f"{split}: {label}    {text}", fontsize=9, loc="left")
+
+            def rmse_text(label, short=False):
+                rmse = common.window_metric(summary, split, label, out, "rmse")
+                return "" if rmse is None else (f"RMSE {rmse:.3g}" if short else f"RMSE = {rmse:.3g} {unit}".rstrip())
+
+            largest = peak([v for _, table in windows for v in table[f"{out}_residual"]])
+            text = rmse_text(windows[0][0]) if len(windows) == 1 else ""
+            if largest is not None:
+                text += f"   max |y − y*| = {largest:.3g} {unit}".rstrip()
+            common.decorate_row(ax, split, windows, by_angle, cycle, text.strip(), lambda label: rmse_text(label, True))
             ax.set_ylabel(common.labelled(f"{out} − {out}*", unit), fontsize=9)
-            ax.set_xlabel(xlabel, fontsize=8)
-            ax.tick_params(labelsize=8)
-            ax.grid(alpha=0.3)
-    finish(fig, axes, f"{common.title_of(summary)}: residual y − y* (measured − simulated)")
+    fig.suptitle(f"{common.title_of(summary)}: residual y − y* (measured − simulated)", fontsize=11)
     return common.save(fig, out_dir, "residual.png", dpi)
 
 
-def draw_ratio(summary, panels, outputs, by_angle, cycle, out_dir, dpi):
-    fig, axes = grid(panels, outputs, 1.8)
-    for r, (split, label, table) in enumerate(panels):
-        x, xlabel = common.x_axis(table, by_angle)
+def ratio_shown(table, out):
+    """(the ratio [%] with NaN where |y| < NEAR_ZERO · max |y| of the window, count left out)."""
+    y = table[f"{out}_measured"]
+    largest = peak(y) or 0.0
+    shown, left_out = [], 0
+    for v, ratio in zip(y, table[f"{out}_residual_ratio"]):
+        if math.isfinite(v) and abs(v) >= NEAR_ZERO * largest and math.isfinite(ratio):
+            shown.append(ratio)
+        else:
+            shown.append(math.nan)  # a gap in the line
+            left_out += 1
+    return shown, left_out
+
+
+def draw_ratio(summary, panels, outputs, out_dir, dpi):
+    fig, axes, rows, by_angle, cycle = common.figure_rows(panels, outputs, 1.8)
+    for r, (split, windows) in enumerate(rows):
         for c, out in enumerate(outputs):
             ax = axes[r][c]
-            y = table[f"{out}_measured"]
-            peak = max((abs(v) for v in y if math.isfinite(v)), default=0.0)
-            shown, left_out = [], 0
-            for v, ratio in zip(y, table[f"{out}_residual_ratio"]):
-                if math.isfinite(v) and abs(v) >= NEAR_ZERO * peak and math.isfinite(ratio):
-                    shown.append(100.0 * ratio)
-                else:
-                    shown.append(math.nan)  # a gap in the line
-                    left_out += 1
-            ax.plot(x, shown, color="tab:blue", lw=0.8)
+            left_out, every = 0, []
+            for label, table in windows:
+                shown, n = ratio_shown(table, out)
+                left_out += n
+                every += shown
+                ax.plot(common.x_axis(table, by_angle)[0], shown, color="tab:blue", lw=0.8)
             ax.axhline(0.0, color="0.3", lw=0.7, zorder=1)
-            if by_angle:
-                common.mark_cycles(ax, x, cycle, label)
-            finite = [abs(v) for v in shown if math.isfinite(v)]
-            text = f"max |r| = {max(finite):.3g} %" if finite else "no sample away from zero"
+            largest = peak(every)
+            text = f"max |r| = {largest:.3g} %" if largest is not None else "no sample away from zero"
             if left_out:
                 text += f"   ({left_out} samples with |y| < {NEAR_ZERO * 100:.0f} % of max |y| left out)"
-            ax.set_title(f"{split}: {label}    {text}", fontsize=9, loc="left")
+
+            def window_peak(label):
+                value = peak(ratio_shown(dict(windows)[label], out)[0])
+                return f"max |r| {value:.2g} %" if value is not None else ""
+
+            common.decorate_row(ax, split, windows, by_angle, cycle, text, window_peak)
             ax.set_ylabel(f"(y − y*)/y of {out} [%]", fontsize=8)
-            ax.set_xlabel(xlabel, fontsize=8)
-            ax.tick_params(labelsize=8)
-            ax.grid(alpha=0.3)
-    finish(fig, axes, f"{common.title_of(summary)}: residual ratio r = (y − y*)/y")
+    fig.suptitle(f"{common.title_of(summary)}: residual ratio r = (y − y*)/y", fontsize=11)
     return common.save(fig, out_dir, "residual_ratio.png", dpi)
 
 
@@ -100,7 +103,4 @@ def draw(directory, out_dir, dpi):
     panels, outputs = common.traces(directory)
     if not panels or not outputs:
         return []
-    by_angle = common.has_crank_angle(panels)
-    cycle = common.cycle_length_deg(panels) if by_angle else None
-    return [draw_residual(summary, panels, outputs, by_angle, cycle, out_dir, dpi),
-            draw_ratio(summary, panels, outputs, by_angle, cycle, out_dir, dpi)]
+    return [draw_residual(summary, panels, outputs, out_dir, dpi), draw_ratio(summary, panels, outputs, out_dir, dpi)]

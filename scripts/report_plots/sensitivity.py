@@ -12,6 +12,7 @@ sensitivity.json records no units; they are read from the fit report whose param
 the run used (`--params` in its command) or from the directory above (the default
 REPORT/sensitivity)."""
 
+import bisect
 import math
 import os
 import shlex
@@ -20,8 +21,9 @@ from . import common
 from .common import plt
 
 
-def report_units(directory, info):
-    """({output: unit}, {parameter: unit}) from the fit report behind the run, if found."""
+def report_behind(directory, info):
+    """The fit report directory whose params.json the run used (or the one above the
+    sensitivity directory), or None."""
     candidates = []
     try:
         words = shlex.split(info.get("command", ""))
@@ -33,21 +35,63 @@ def report_units(directory, info):
         elif w.startswith("--params="):
             candidates.append(w[len("--params="):])
     candidates.append(os.path.join(os.path.dirname(os.path.abspath(directory)), "params.json"))
-    outputs, params = {}, {}
     for path in candidates:
-        if not os.path.isfile(path):
-            continue
-        try:
-            params = common.parameter_units(common.read_json(path)) or params
-            summary_path = os.path.join(os.path.dirname(path), "summary.json")
-            if os.path.isfile(summary_path):
-                summary = common.read_json(summary_path)
-                outputs = {o: common.output_unit(summary, o) for o in info.get("outputs", [])}
-        except common.ReportError:
-            continue  # a params file of the plain {name: value} form, or not a report's: no units from it
-        if params:
-            break
-    return outputs, params
+        report = os.path.dirname(path)
+        if os.path.isfile(path) and os.path.isfile(os.path.join(report, "summary.json")):
+            return report
+    return None
+
+
+def report_units(report, info):
+    """({output: unit}, {parameter: unit}) from the fit report, if any."""
+    if report is None:
+        return {}, {}
+    try:
+        params = common.parameter_units(common.read_json(os.path.join(report, "params.json")))
+        summary = common.read_json(os.path.join(report, "summary.json"))
+    except common.ReportError:
+        return {}, {}  # not a report's files after all: no units from it
+    return {o: common.output_unit(summary, o) for o in info.get("outputs", [])}, params
+
+
+def crank_angle_of(report):
+    """{window: [(time, crank angle [deg])]} from the fit report's traces (an engine report's),
+    and its cycle length; ({}, None) without."""
+    if report is None:
+        return {}, None
+    try:
+        panels, _ = common.traces(report)
+    except common.ReportError:
+        return {}, None
+    if not common.has_crank_angle(panels):
+        return {}, None
+    angle = {label: sorted(zip(table["t"], table["crank_deg"])) for _, label, table in panels}
+    return angle, common.cycle_length_deg(panels)
+
+
+def angle_at(samples, t):
+    """The crank angle of the trace sample at time t (the files write time to 9 and 10
+    significant digits), or None."""
+    i = bisect.bisect_left(samples, (t,))
+    for j in (i - 1, i):
+        if 0 <= j < len(samples) and abs(samples[j][0] - t) <= 1e-8 * max(1.0, abs(t)):
+            return samples[j][1]
+    return None
+
+
+def on_crank_angle(values, angle):
+    """The series with time replaced by the crank angle when every sample has one, else None."""
+    out = {}
+    for p, by_output in values.items():
+        out[p] = {}
+        for o, by_window in by_output.items():
+            out[p][o] = {}
+            for w, (t, s) in by_window.items():
+                a = [angle_at(angle.get(w, []), x) for x in t]
+                if any(v is None for v in a):
+                    return None
+                out[p][o][w] = (a, s)
+    return out
 
 
 def read_series(directory, info, free, raw):
@@ -69,7 +113,8 @@ def read_series(directory, info, free, raw):
     return values
 
 
-def draw_series(info, free, raw, values, out_units, par_units, out_dir, dpi):
+def draw_series(info, free, raw, values, out_units, par_units, cycle, out_dir, dpi):
+    """One figure per output; against the crank angle when `cycle` is given."""
     names = []
     value_of = {q["name"]: q["value"] for q in info.get("parameters", [])}
     for out in info.get("outputs", []):
@@ -79,8 +124,11 @@ def draw_series(info, free, raw, values, out_units, par_units, out_dir, dpi):
         fig, axes = plt.subplots(n_rows, cols, figsize=(6.5 * cols, 1.9 * n_rows + 0.9), squeeze=False, sharex=True, layout="constrained")
         for i, p in enumerate(free):
             ax = axes[i // cols][i % cols]
-            for t, s in values[p].get(out, {}).values():  # one line per window
+            series = values[p].get(out, {})
+            for t, s in series.values():  # one line per window
                 ax.plot(t, s, color="tab:purple", lw=0.9)
+            if cycle and series:
+                common.mark_cycles(ax, [a for t, _ in series.values() for a in t], cycle, next(iter(series)))
             pu = par_units.get(p, "")
             ax.set_title(f"{p} = {value_of.get(p, math.nan):.4g} {pu}".rstrip(), fontsize=9, loc="left")
             if raw[p]:
@@ -95,20 +143,38 @@ def draw_series(info, free, raw, values, out_units, par_units, out_dir, dpi):
         for c in range(cols):  # the lowest panel of each column carries the time axis
             last = axes[max(i // cols for i in range(len(free)) if i % cols == c)][c]
             last.xaxis.set_tick_params(labelbottom=True)
-            last.set_xlabel("t [s]", fontsize=9)
+            last.set_xlabel("crank angle [deg]" if cycle else "t [s]", fontsize=9)
         fig.suptitle(f"{info.get('experiment', '?')}: scaled sensitivities p·∂{out}/∂p "
                      f"(change of {out} for a 100 % change of p)", fontsize=11)
         names.append(common.save(fig, out_dir, f"sensitivity_{out}.png", dpi))
     return names
 
 
-def draw_ranking(info, out_units, out_dir, dpi):
+def relative_errors(report):
+    """{parameter: standard error / |value|} from the fit report's params.json, if any."""
+    if report is None:
+        return {}
+    try:
+        params = common.read_json(os.path.join(report, "params.json"))
+    except common.ReportError:
+        return {}
+    out = {}
+    for p in params.get("parameters", []):
+        se, value = p.get("std_error"), p.get("value")
+        if se is not None and value:
+            out[p.get("name")] = se / abs(value)
+        elif p.get("determined") is False:
+            out[p.get("name")] = math.inf  # undetermined: a null direction of the fit
+    return out
+
+
+def draw_ranking(info, out_units, errors, out_dir, dpi):
     ranking = info.get("ranking") or {}
     outputs = [o for o in info.get("outputs", []) if ranking.get(o)]
     if not outputs:
         return []
     n = max(len(ranking[o]) for o in outputs)
-    fig, axes = plt.subplots(1, len(outputs), figsize=(6.5 * len(outputs), 0.32 * n + 1.6), squeeze=False, layout="constrained")
+    fig, axes = plt.subplots(1, len(outputs), figsize=(7.5 * len(outputs), 0.32 * n + 1.8), squeeze=False, layout="constrained")
     for ax, out in zip(axes[0], outputs):
         rows = sorted(ranking[out], key=lambda r: r.get("rank", 0))
         names = [r["parameter"] for r in rows]
@@ -122,18 +188,25 @@ def draw_ranking(info, out_units, out_dir, dpi):
         ax.set_xscale("log")
         positive = [v for v in shown if math.isfinite(v)]
         if positive:
-            ax.set_xlim(min(positive) / 3, max(positive) * 30)  # room for the labels right of the bars
+            ax.set_xlim(min(positive) / 3, max(positive) * (3000 if errors else 30))  # room for the labels
         for yi, r, v in zip(y, rows, shown):
             rel = r.get("relative")
             if math.isfinite(v):
                 text = f"{100 * rel:.3g} %" if rel is not None else ""
+                se = errors.get(r["parameter"])
+                if se is not None:
+                    percent = 100 * se
+                    text += "   σ/|p| undetermined" if math.isinf(se) else \
+                        f"   σ/|p| {percent:.2g} %" if percent < 100 else f"   σ/|p| {percent:.0f} %"
                 ax.text(v * 1.15, yi, text, va="center", fontsize=8)
             elif r.get("value") == 0:  # p·∂y/∂p vanishes at p = 0: no bar, its raw RMS instead
                 ax.text(0.01, yi, f"at {r['parameter']} = 0: RMS ∂{out}/∂{r['parameter']} = {r.get('rms_raw', 0):.3g}",
                         transform=ax.get_yaxis_transform(), va="center", fontsize=8, color="0.3")
         ax.set_xlabel(common.labelled(f"RMS of p·∂{out}/∂p", out_units.get(out, "")), fontsize=9)
         ax.grid(alpha=0.3, axis="x", which="both")
-        ax.set_title(f"{out}: rank by RMS of p·∂{out}/∂p (label: % of the first)", fontsize=9, loc="left")
+        ax.set_title(f"{out}: labels give the % of the first"
+                     + ("\nand σ/|p|, the fit's relative standard error (params.json)" if errors else ""),
+                     fontsize=9, loc="left")
     fig.suptitle(f"{info.get('experiment', '?')}: parameters ranked by scaled sensitivity", fontsize=11)
     return [common.save(fig, out_dir, "sensitivity_ranking.png", dpi)]
 
@@ -148,6 +221,13 @@ def draw(directory, out_dir, dpi):
     value_of = {q["name"]: q["value"] for q in info.get("parameters", [])}
     raw = {p: value_of.get(p) == 0 for p in free}  # p·∂y/∂p is 0 for a parameter at 0: ∂y/∂p instead
     values = read_series(directory, info, free, raw)
-    out_units, par_units = report_units(directory, info)
-    return draw_series(info, free, raw, values, out_units, par_units, out_dir, dpi) + \
-        draw_ranking(info, out_units, out_dir, dpi)
+    report = report_behind(directory, info)
+    out_units, par_units = report_units(report, info)
+    angle, cycle = crank_angle_of(report)
+    by_angle = on_crank_angle(values, angle) if angle else None
+    if by_angle is not None:
+        values = by_angle
+    else:
+        cycle = None
+    return draw_series(info, free, raw, values, out_units, par_units, cycle, out_dir, dpi) + \
+        draw_ranking(info, out_units, relative_errors(report), out_dir, dpi)
