@@ -47,7 +47,9 @@ def draw(directory, out_dir, dpi):
     ax.plot([], [], color="tab:blue", lw=1, alpha=0.7, label=text)
     ax.set_xlabel(common.labelled(name, info.get("unit", "")))
     ax.set_ylabel("Δχ² = (S − S_min) / s²  [1]")
-    ax.set_ylim(bottom=min(0.0, min((d for _, d in finite), default=0.0)))
+    low = min(0.0, min((d for _, d in finite), default=0.0))
+    high = max([threshold] + [d for _, d in finite])
+    ax.set_ylim(low - 0.04 * (high - low), high + 0.08 * (high - low))  # the optimum's star whole
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8, loc="best", framealpha=0.9)
     title = f"{info.get('experiment', '?')}: profile likelihood of {name}"

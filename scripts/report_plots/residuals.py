@@ -29,15 +29,19 @@ def draw_residual(summary, panels, outputs, out_dir, dpi):
         for c, out in enumerate(outputs):
             ax = axes[r][c]
             unit = common.output_unit(summary, out)
+            samples = sum(len(table["t"]) for _, table in windows)
             for label, table in windows:
-                ax.plot(common.x_axis(table, by_angle)[0], table[f"{out}_residual"], color="tab:blue", lw=0.8,
-                        zorder=2)
+                ax.plot(common.x_axis(table, by_angle)[0], table[f"{out}_residual"], color="tab:blue",
+                        lw=0.8 if samples < 3000 else 0.4, zorder=2)
             ax.axhline(0.0, color="0.3", lw=0.7, zorder=1)
             limits = ax.get_ylim()
             sigma = noise_rms(summary, split, out)
             if sigma is not None and sigma > 0:  # the unpredictable part of the split's residual
-                ax.axhspan(-sigma, sigma, color="tab:green", alpha=0.15, lw=0, zorder=0,
-                           label=f"± σ_n = {sigma:.3g} {unit}: the {split} residual's noise".rstrip())
+                ax.axhspan(-sigma, sigma, color="tab:green", alpha=0.15, lw=0, zorder=0)
+                for level in (-sigma, sigma):  # on top, where a dense residual hides the band
+                    ax.axhline(level, color="darkgreen", ls="--", lw=1.3, zorder=4,
+                               label=f"± σ_n = {sigma:.3g} {unit}: the {split} residual's noise".rstrip()
+                               if level > 0 else None)
                 ax.legend(loc="lower right", fontsize=7, framealpha=0.9)
                 ax.set_ylim(limits)  # the residual sets the scale, not the band
 
@@ -75,11 +79,12 @@ def draw_ratio(summary, panels, outputs, out_dir, dpi):
         for c, out in enumerate(outputs):
             ax = axes[r][c]
             left_out, every = 0, []
+            samples = sum(len(table["t"]) for _, table in windows)
             for label, table in windows:
                 shown, n = ratio_shown(table, out)
                 left_out += n
                 every += shown
-                ax.plot(common.x_axis(table, by_angle)[0], shown, color="tab:blue", lw=0.8)
+                ax.plot(common.x_axis(table, by_angle)[0], shown, color="tab:blue", lw=0.8 if samples < 3000 else 0.4)
             ax.axhline(0.0, color="0.3", lw=0.7, zorder=1)
             largest = peak(every)
             text = f"max |r| = {largest:.3g} %" if largest is not None else "no sample away from zero"

@@ -188,7 +188,7 @@ def draw_ranking(info, out_units, errors, out_dir, dpi):
         ax.set_xscale("log")
         positive = [v for v in shown if math.isfinite(v)]
         if positive:
-            ax.set_xlim(min(positive) / 3, max(positive) * (3000 if errors else 30))  # room for the labels
+            ax.set_xlim(min(positive) / 3, max(positive) * (300 if errors else 30))  # room for the labels
         for yi, r, v in zip(y, rows, shown):
             rel = r.get("relative")
             if math.isfinite(v):

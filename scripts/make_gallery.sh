@@ -1,0 +1,38 @@
+#!/bin/sh
+# Draws the images of docs/gallery.md into docs/images/gallery/ (run from the repository
+# root after building tvid; about a minute, most of it the engine fit). The runs go to
+# results/gallery (or $R); the PNGs are reduced to a 64-colour palette to keep them small.
+set -e
+T=${TVID:-build/release/apps/tvid/tvid}
+P="/usr/bin/python3 scripts/plot_report.py"
+R=${R:-results/gallery}
+G=docs/images/gallery
+rm -rf "$R"; mkdir -p "$R" "$G"
+$T fit configs/cvt_tipin_clean.yaml -o "$R/cvt" --optimizer lm --set estimation.cost=l2 --quiet
+$T sensitivity configs/cvt_tipin_clean.yaml --params "$R/cvt/params.json" -o "$R/cvt/sensitivity" --quiet
+$P "$R/cvt" --dpi 70 >/dev/null
+$T fit configs/engine_idle.yaml -o "$R/engine" --quiet
+$T sensitivity configs/engine_idle.yaml --params "$R/engine/params.json" -o "$R/engine/sensitivity" --quiet
+$P "$R/engine" --dpi 70 >/dev/null
+$T fit configs/cvt_tipin.yaml -o "$R/multistart" --optimizer multistart --set estimation.cost=l2 \
+   --set estimation.multistart.starts=12 --set estimation.multistart.max_iterations=40 --quiet
+$P "$R/multistart" --dpi 70 >/dev/null
+$T profile configs/cvt_tipin_clean.yaml --param d_ds --points 9 --params "$R/cvt/params.json" -o "$R/profile" \
+   --set estimation.cost=l2 --quiet
+$P "$R/profile" --dpi 70 >/dev/null
+for f in fit residual residual_ratio cost_history sensitivity_Tds sensitivity_ranking; do
+  cp "$R/cvt/plots/$f.png" "$G/cvt_$f.png"
+done
+for f in fit residual residual_ratio sensitivity_omega_dw sensitivity_ranking; do
+  cp "$R/engine/plots/$f.png" "$G/engine_$f.png"
+done
+cp "$R/multistart/plots/multistart.png" "$G/cvt_multistart.png"
+cp "$R/profile/plots/profile.png" "$G/cvt_profile.png"
+/usr/bin/python3 - "$G" <<'PY'
+import os, sys
+from PIL import Image  # Debian python3-pil, which matplotlib needs anyway
+for name in sorted(os.listdir(sys.argv[1])):
+    path = os.path.join(sys.argv[1], name)
+    Image.open(path).convert("RGB").quantize(colors=64).save(path, optimize=True)
+    print(f"{path}: {os.path.getsize(path) // 1024} kB")
+PY
