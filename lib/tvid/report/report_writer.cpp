@@ -260,6 +260,10 @@ std::string trace_csv(const Experiment& experiment, const SplitEvaluation& split
         out << ',' << n << "_measured" << unit << ',' << n << "_simulated" << unit << ',' << n << "_residual" << unit
             << ',' << n << "_residual_ratio [%]";
     }
+    // With data.angle, the last column is the cumulative crank angle of each sample, as
+    // tvid unwrapped it: cycle boundaries are its multiples of data.cycle_deg.
+    const bool with_angle = !experiment.crank_angle.empty();
+    if (with_angle) out << ",crank_deg [deg]";
     out << '\n';
     for (const WindowEvaluation& w : split.windows) {
         const WindowTrace& tr = w.trace;
@@ -270,6 +274,7 @@ std::string trace_csv(const Experiment& experiment, const SplitEvaluation& split
                 out << ',' << csv_cell(y) << ',' << csv_cell(ys) << ',' << csv_cell(y - ys) << ','
                     << csv_cell(100.0 * residual_ratio(y, ys));
             }
+            if (with_angle) out << ',' << csv_cell(experiment.crank_angle[tr.samples[i]] * 180.0 / 3.14159265358979323846, "%.10g");
             out << '\n';
         }
     }
