@@ -2,6 +2,7 @@
 // its fields, the summary it prints, and exit statuses.
 #include <catch2/catch.hpp>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <regex>
 #include <sstream>
@@ -319,4 +320,37 @@ TEST_CASE("command-line misuse exits 2", "[e2e]") {
     const RunResult ver = run_tvid({"--version"});
     CHECK(ver.exit_code == 0);
     CHECK(ver.out.find("tvid") != std::string::npos);
+}
+
+TEST_CASE("an engine's traces end with the crank angle: cycle k runs from k·720 deg to (k + 1)·720 deg", "[e2e][fit]") {
+    // data/engine/idle.csv starts at 0 deg and is sampled every 0.5 deg; cycle k of a
+    // four-stroke is [720 k, 720 (k + 1)], scored from its first sample to its last.
+    TempDir tmp;
+    const auto csv = tmp.path() / "trace.csv";
+    const RunResult r = run_tvid({"simulate", (source_dir() / "configs" / "engine_idle.yaml").string(), "-o",
+                                  csv.string(), "--threads", "2"});
+    INFO(r.err);
+    REQUIRE(r.exit_code == 0);
+    const auto lines = lines_of(read_text(csv));
+    REQUIRE(lines.size() > 2);
+    const std::string& header = lines[0];
+    CHECK(header.substr(header.rfind(',') + 1) == "crank_deg [deg]");
+    std::map<std::string, std::pair<double, double>> span;  // window: first and last angle
+    for (std::size_t i = 1; i < lines.size(); ++i) {
+        const std::string& l = lines[i];
+        const std::size_t a = l.find(','), b = l.find(',', a + 1);
+        const double angle = std::stod(l.substr(l.rfind(',') + 1));
+        auto [it, fresh] = span.try_emplace(l.substr(a + 1, b - a - 1), angle, angle);
+        if (!fresh) {
+            CHECK(angle == Approx(it->second.second + 0.5));  // one sample step on
+            it->second.second = angle;
+        }
+    }
+    REQUIRE(span.size() == 7);  // cycle 2 (estimation), cycles 3 … 8 (validation)
+    for (int k = 2; k <= 8; ++k) {
+        INFO("cycle " << k);
+        const auto& [first, last] = span.at("cycle " + std::to_string(k));
+        CHECK(first == Approx(720.0 * k));
+        CHECK(last == Approx(720.0 * (k + 1)));
+    }
 }
