@@ -348,5 +348,5 @@ TEST_CASE("a CSV file with a UTF-8 byte-order mark is read", "[e2e]") {
     CHECK(std::filesystem::is_regular_file(r.out / "estimation.csv"));
     // The first column was found by its name "t", not "\xEF\xBB\xBFt".
     const std::string est = read_text(r.out / "estimation.csv");
-    CHECK(est.rfind("t,window,", 0) == 0);
+    CHECK(est.rfind("t [s],window,", 0) == 0);
 }
