@@ -105,3 +105,19 @@ TEST_CASE("a cycle is whole when its grid lies within one sample of the samples"
     CHECK(turns[0].cycle == 1);
     CHECK(turns[0].order == std::vector<double>{1.0, 2.0, 3.0, 4.0});
 }
+
+TEST_CASE("orders stop below half the samples per cycle", "[spectra]") {
+    // 37 samples per 720° cycle resolve bins up to 18 (orders up to 9), not order 12: the
+    // higher ones would be aliases of the lower.
+    std::vector<double> angle, x;
+    for (int j = 0; j <= 2 * 37; ++j) {
+        angle.push_back(720.0 * j / 37.0);
+        x.push_back(known_orders(angle.back() * kDeg));
+    }
+    const std::vector<CycleOrderSpectrum> cycles = order_spectrum(angle, x, 0.0);
+    REQUIRE(cycles.size() == 2);
+    CHECK(cycles[0].order.size() == 18);
+    CHECK(cycles[0].order.back() == 9.0);
+    // Resampled from 37 samples onto 38 points (at least 2·18 + 2), order 2 is still read to a few per cent.
+    CHECK(cycles[0].amplitude[at_order(2)] == Approx(3.0).epsilon(0.05));
+}

@@ -35,10 +35,13 @@ std::vector<CycleOrderSpectrum> order_spectrum(std::span<const double> angle_deg
         return out;
     const double cycle = settings.cycle_deg;
     const double revolutions = cycle / 360.0;  // R
-    const auto top_bin = static_cast<std::size_t>(std::floor(settings.max_order * revolutions + 1e-9));
-    if (top_bin == 0) return out;
     const double spacing = median_spacing(angle_deg);
     if (!(spacing > 0)) return out;
+    // The orders the samples resolve: below half the samples per cycle (Nyquist in angle).
+    const double samples_per_cycle = cycle / spacing;
+    const auto top_bin = static_cast<std::size_t>(std::max(
+        0.0, std::min(std::floor(settings.max_order * revolutions + 1e-9), std::ceil(samples_per_cycle / 2) - 1)));
+    if (top_bin == 0) return out;
     std::size_t m = settings.grid_points;
     if (m == 0) m = static_cast<std::size_t>(std::lround(cycle / spacing));
     m = std::max(m, 2 * top_bin + 2);

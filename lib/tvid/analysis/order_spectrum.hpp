@@ -15,7 +15,7 @@
 namespace tvid {
 
 struct OrderSettings {
-    double max_order = 12.0;      ///< orders 1/R, 2/R, … up to this
+    double max_order = 12.0;      ///< orders 1/R, 2/R, … up to this, and below half the samples per cycle
     double cycle_deg = 720.0;     ///< crank angle of one engine cycle (720 four-stroke, 360 two-stroke)
     std::size_t grid_points = 0;  ///< M; 0: the samples per cycle (Θ over the median spacing), at least 2·m_max + 2
 };
