@@ -1,0 +1,218 @@
+"""Spectra of a tvid fit report: where in frequency, or in engine order, the misfit lies.
+
+From a report directory written by `tvid fit` (docs/report-format.md):
+  spectra.png  per output (rows) and split (columns): the Welch power spectral densities of
+               the measured output, the simulated output and the residual in unit^2/Hz on a
+               log axis (spectra.csv), the residual's dominant band shaded with its share of
+               the residual variance (summary.json `residual_spectrum`), both axes
+               logarithmic, and the model's
+               eigenfrequencies as vertical lines when summary.json has `modes.modes[]`
+               (rigid-body modes left out)
+  orders.png   experiments with a crank angle (orders.csv): per output and split, the
+               amplitude of the measured output, the simulated output and the residual at
+               each order, the RMS over the split's cycles, on a log axis in the output's unit
+
+draw(directory, out_dir, dpi) writes them and returns the PNG file names written (an
+empty list when the directory holds neither file). Standard library, numpy and
+matplotlib (Agg backend) only.
+"""
+
+import csv
+import json
+import math
+import os
+import re
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+_COLUMN = re.compile(r"^(?P<output>.+)_(?P<kind>measured|simulated|residual)_psd \[(?P<unit>[^\]]*)\]$")
+_STYLE = {
+    "measured": dict(color="0.6", lw=2.4, alpha=0.8, label="measured"),
+    "simulated": dict(color="tab:red", lw=1.1, ls="--", label="simulated"),
+    "residual": dict(color="tab:blue", lw=1.3, label="residual (measured - simulated)"),
+}
+
+
+def _read_csv(path):
+    with open(path, newline="") as f:
+        rows = list(csv.reader(f))
+    return (rows[0], rows[1:]) if rows else ([], [])
+
+
+def _number(cell):
+    return float(cell) if cell not in ("", None) else math.nan
+
+
+def _percent(share):
+    """A share as the terminal writes it: "38 %", "0.39 %"."""
+    return f"{100 * share:.0f} %" if share >= 0.1 else f"{100 * share:.2g} %"
+
+
+def _hz(value):
+    return f"{value:.0f}" if value >= 100 else f"{value:.3g}"
+
+
+def _summary(directory):
+    path = os.path.join(directory, "summary.json")
+    if not os.path.isfile(path):
+        return {}
+    with open(path) as f:
+        return json.load(f)
+
+
+def _eigenfrequencies(summary):
+    """(frequency_hz, kind) of the model's flexible modes, when the summary lists them."""
+    modes = (summary.get("modes") or {}).get("modes") or []
+    out = []
+    for m in modes:
+        f = m.get("frequency_hz")
+        if m.get("kind") == "rigid_body" or not isinstance(f, (int, float)) or not f > 0:
+            continue
+        out.append((float(f), m.get("kind", "")))
+    return out
+
+
+def _spectra(path):
+    """{split: {"f": array, output: {kind: array}}}, and {output: density unit}."""
+    header, rows = _read_csv(path)
+    columns = []
+    units = {}
+    for i, name in enumerate(header[2:], start=2):
+        m = _COLUMN.match(name)
+        if m:
+            columns.append((i, m["output"], m["kind"]))
+            units[m["output"]] = m["unit"]
+    data = {}
+    for row in rows:
+        split = data.setdefault(row[0], {"f": []})
+        split["f"].append(_number(row[1]))
+        for i, output, kind in columns:
+            split.setdefault(output, {}).setdefault(kind, []).append(_number(row[i]))
+    for split in data.values():
+        split["f"] = np.array(split["f"])
+        for key, value in split.items():
+            if key != "f":
+                for kind in value:
+                    value[kind] = np.array(value[kind])
+    return data, units
+
+
+def _draw_spectra(directory, out_dir, dpi, summary):
+    data, units = _spectra(os.path.join(directory, "spectra.csv"))
+    splits = [s for s in ("estimation", "validation") if s in data and len(data[s]["f"]) > 1]
+    outputs = list(units)
+    if not splits or not outputs:
+        return []
+    modes = _eigenfrequencies(summary)
+    fig, axes = plt.subplots(len(outputs), len(splits), figsize=(7.5 * len(splits), 3.4 * len(outputs) + 0.6),
+                             squeeze=False)
+    for r, output in enumerate(outputs):
+        for c, split in enumerate(splits):
+            ax = axes[r][c]
+            f = data[split]["f"]
+            for kind in ("measured", "simulated", "residual"):
+                d = data[split][output][kind]
+                keep = (f > 0) & np.isfinite(d) & (d > 0)  # 0 Hz holds nothing: each segment's mean is removed
+                ax.loglog(f[keep], d[keep], **_STYLE[kind])
+            title = f"{split}: {output}"
+            peak = (((summary.get("residual_spectrum") or {}).get(split) or {}).get(output) or {}).get("frequency")
+            if peak and peak.get("band_hz") and None not in peak["band_hz"]:
+                lo, hi = peak["band_hz"]
+                ax.axvspan(max(lo, f[1]), hi, color="tab:blue", alpha=0.12, lw=0,
+                           label=f"residual band: {_percent(peak['share'])} of its variance")
+                title += (f"   residual peak {_hz(peak['peak_hz'])} Hz"
+                          f" ({_percent(peak['share'])} in {_hz(lo)}-{_hz(hi)} Hz)")
+            for i, (fm, kind) in enumerate(modes):
+                if fm <= f[-1]:
+                    ax.axvline(fm, color="tab:green", lw=0.9, ls=":",
+                               label="model eigenfrequency" if i == 0 else None)
+            ax.set_xlim(f[1], f[-1])
+            ax.set_title(title, fontsize=9)
+            ax.set_ylabel(f"PSD of {output} [{units[output]}]")
+            ax.grid(alpha=0.3, which="both")
+            if r == 0 and c == 0:
+                ax.legend(loc="lower left", fontsize=7)
+    for ax in axes[-1]:
+        ax.set_xlabel("frequency [Hz]")
+    fig.suptitle(f"{summary.get('experiment', '')}: power spectral densities (Welch, Hann segments)".strip(": "),
+                 fontsize=11)
+    fig.tight_layout(rect=(0, 0, 1, 1 - 0.35 / fig.get_figheight()))
+    fig.savefig(os.path.join(out_dir, "spectra.png"), dpi=dpi)
+    plt.close(fig)
+    return ["spectra.png"]
+
+
+def _draw_orders(directory, out_dir, dpi, summary):
+    header, rows = _read_csv(os.path.join(directory, "orders.csv"))
+    if not rows:
+        return []
+    at = {name: i for i, name in enumerate(header)}
+    # {(split, output): {order: {kind: [amplitudes over cycles]}}}
+    table, units, cycles = {}, {}, {}
+    for row in rows:
+        key = (row[at["split"]], row[at["output"]])
+        units[key[1]] = row[at["unit"]]
+        cycles.setdefault(key, set()).add((row[at["window"]], row[at["cycle"]]))
+        per_order = table.setdefault(key, {}).setdefault(float(row[at["order"]]), {})
+        for kind in ("measured", "simulated", "residual"):
+            per_order.setdefault(kind, []).append(_number(row[at[f"{kind}_amplitude"]]))
+    splits = [s for s in ("estimation", "validation") if any(k[0] == s for k in table)]
+    outputs = list(units)
+    fig, axes = plt.subplots(len(outputs), len(splits), figsize=(7.5 * len(splits), 3.4 * len(outputs) + 0.6),
+                             squeeze=False)
+    colors = {"measured": "0.6", "simulated": "tab:red", "residual": "tab:blue"}
+    for r, output in enumerate(outputs):
+        for c, split in enumerate(splits):
+            ax = axes[r][c]
+            per_order = table.get((split, output), {})
+            orders = sorted(per_order)
+            x = np.arange(len(orders))
+            for i, kind in enumerate(("measured", "simulated", "residual")):
+                rms = [math.sqrt(np.nanmean(np.square(per_order[o][kind]))) for o in orders]
+                ax.bar(x + (i - 1) * 0.27, rms, width=0.27, color=colors[kind], label=kind, log=True)
+            ax.set_xticks(x)
+            ax.set_xticklabels([f"{o:g}" for o in orders], fontsize=7)
+            n = len(cycles.get((split, output), ()))
+            peak = (((summary.get("residual_spectrum") or {}).get(split) or {}).get(output) or {}).get("order")
+            title = f"{split}: {output}, RMS over {n} cycle{'s' if n != 1 else ''}"
+            if peak:
+                title += f"   residual: {_percent(peak['share'])} of its variance at order {peak['order']:g}"
+                if peak.get("orders_share") is not None:
+                    title += f", {_percent(peak['orders_share'])} up to order {peak.get('max_order', 0):g}"
+            ax.set_title(title, fontsize=9)
+            ax.set_xlabel("order [per revolution of the angle channel's shaft]")
+            ax.set_ylabel(f"amplitude of {output} [{units[output]}]")
+            ax.grid(alpha=0.3, axis="y", which="both")
+            if r == 0 and c == 0:
+                ax.legend(loc="upper right", fontsize=7)
+    fig.suptitle(f"{summary.get('experiment', '')}: order spectrum, cycle by cycle of the crank angle".strip(": "),
+                 fontsize=11)
+    fig.tight_layout(rect=(0, 0, 1, 1 - 0.35 / fig.get_figheight()))
+    fig.savefig(os.path.join(out_dir, "orders.png"), dpi=dpi)
+    plt.close(fig)
+    return ["orders.png"]
+
+
+def draw(directory, out_dir, dpi):
+    """Writes spectra.png (and orders.png for an engine) to out_dir; returns the names written."""
+    summary = _summary(directory)
+    written = []
+    if os.path.isfile(os.path.join(directory, "spectra.csv")):
+        written += _draw_spectra(directory, out_dir, dpi, summary)
+    if os.path.isfile(os.path.join(directory, "orders.csv")):
+        written += _draw_orders(directory, out_dir, dpi, summary)
+    return written
+
+
+if __name__ == "__main__":
+    import sys
+
+    report = sys.argv[1] if len(sys.argv) > 1 else "."
+    target = sys.argv[2] if len(sys.argv) > 2 else report
+    os.makedirs(target, exist_ok=True)
+    for name in draw(report, target, 110):
+        print(os.path.join(target, name))
