@@ -30,6 +30,7 @@ MODULES = [
     "multistart",   # multistart.png: each start's cost, sorted, and the noise floor
     "sensitivity",  # sensitivity_OUTPUT.png, sensitivity_ranking.png
     "profile",      # profile.png
+    "spectra",      # spectra.png (Welch densities), orders.png (engine orders)
 ]
 
 
