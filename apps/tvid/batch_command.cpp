@@ -252,8 +252,8 @@ std::unique_ptr<PreparedBatch> prepare_batch(const BatchCommand& cmd, const Batc
         if (!rows.count(j)) pending.push_back(j);
     // Opened here, so that a file that cannot be written stops every process before any job.
     auto appender = std::make_unique<BatchAppender>(table, kept);
-    return std::make_unique<PreparedBatch>(PreparedBatch{std::move(jobs), ex.name, outputs, std::move(units), columns, dir, table,
-                                                         summary_file, std::move(rows), std::move(pending),
+    return std::make_unique<PreparedBatch>(PreparedBatch{std::move(jobs), ex.name, outputs, std::move(units), columns,
+                                                         dir, table, summary_file, std::move(rows), std::move(pending),
                                                          std::move(appender), std::move(lock)});
 }
 

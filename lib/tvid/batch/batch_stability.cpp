@@ -116,7 +116,8 @@ nlohmann::json cross_matrix_json(const CrossMatrix& m) {
     for (std::size_t i = 0; i < m.cells.size(); ++i) {
         nlohmann::json own = nlohmann::json::array();
         for (double f : m.cells[i][i].fit_percent) own.push_back(finite_or_null(f));
-        jobs.push_back({{"id", m.jobs[i]}, {"own_fit_percent", own}, {"mean_cross_fit_percent", finite_or_null(mean[i])}});
+        jobs.push_back(
+            {{"id", m.jobs[i]}, {"own_fit_percent", own}, {"mean_cross_fit_percent", finite_or_null(mean[i])}});
         for (std::size_t j = 0; j < m.cells[i].size(); ++j)
             for (double f : m.cells[i][j].fit_percent) {
                 if (!std::isfinite(f)) continue;
@@ -142,7 +143,8 @@ nlohmann::json cross_matrix_json(const CrossMatrix& m) {
             {"jobs", jobs},
             {"outputs", m.outputs},
             {"failed_cells", failed},
-            {"diagonal_mean_fit_percent", n_diagonal ? finite_or_null(diagonal / static_cast<double>(n_diagonal)) : nullptr},
+            {"diagonal_mean_fit_percent",
+             n_diagonal ? finite_or_null(diagonal / static_cast<double>(n_diagonal)) : nullptr},
             {"off_diagonal_mean_fit_percent", n_off ? finite_or_null(off / static_cast<double>(n_off)) : nullptr},
             {"off_diagonal_median_fit_percent", finite_or_null(median(off_values))},
             {"off_diagonal_min_fit_percent", finite_or_null(worst)},

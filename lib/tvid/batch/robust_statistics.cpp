@@ -47,7 +47,8 @@ std::vector<double> robust_z_scores(const std::vector<double>& values) {
 
 Stability stability(const std::vector<double>& values) {
     const std::vector<double> x = finite_values(values);
-    Stability s{x.size(), kNoStatistic, kNoStatistic, kNoStatistic, kNoStatistic, kNoStatistic, kNoStatistic, kNoStatistic};
+    constexpr double none = kNoStatistic;
+    Stability s{x.size(), none, none, none, none, none, none, none};
     if (x.empty()) return s;
     double sum = 0.0;
     for (double v : x) sum += v;
