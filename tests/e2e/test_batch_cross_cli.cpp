@@ -94,6 +94,18 @@ TEST_CASE("tvid batch --cross: one row per cycle, batch.csv's fit on the diagona
     CHECK(read_text(tmp.path() / "t2" / "matrix_long.csv") == read_text(tmp.path() / "t1" / "matrix_long.csv"));
     CHECK(read_text(tmp.path() / "t2" / "parameter_stability.csv") ==
           read_text(tmp.path() / "t1" / "parameter_stability.csv"));
+
+    // --resume on the finished batch fits nothing and computes the matrix again from batch.csv.
+    const std::string matrix_text = read_text(tmp.path() / "t1" / "matrix.csv");
+    fs::remove(tmp.path() / "t1" / "matrix.csv");
+    const RunResult resumed =
+        run_tvid({"batch", (source_dir() / "configs/engine_idle_clean.yaml").string(), "--cycles", "3-5", "--set",
+                  "estimation.lm.max_iterations=2", "--cross", "--resume", "-o", (tmp.path() / "t1").string(),
+                  "--json"});
+    INFO(resumed.err);
+    REQUIRE(resumed.exit_code == 0);
+    CHECK(json::parse(resumed.out)["run"] == 0);
+    CHECK(read_text(tmp.path() / "t1" / "matrix.csv") == matrix_text);
 }
 
 TEST_CASE("tvid batch --cross over recordings; without --cross no matrix, but the stability table",
