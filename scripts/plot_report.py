@@ -31,6 +31,7 @@ MODULES = [
     "sensitivity",  # sensitivity_OUTPUT.png, sensitivity_ranking.png
     "profile",      # profile.png
     "spectra",      # spectra.png (Welch densities), orders.png (engine orders)
+    "batch",        # a batch directory: cross_matrix.png, parameter_spread.png
 ]
 
 
@@ -82,9 +83,6 @@ def main():
     if not written:
         if not existed and os.path.isdir(out_dir) and not os.listdir(out_dir):
             os.rmdir(out_dir)
-        if os.path.isfile(os.path.join(args.report_dir, "batch.csv")):
-            print(f"plot_report.py: {args.report_dir}: no figures for a batch directory yet")
-            return
         fail(f"{args.report_dir}: no figure to draw: summary.json: not found "
              "(nor sensitivity.json, profile.json or batch.csv: is this a tvid output directory?)")
 

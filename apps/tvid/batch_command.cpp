@@ -14,6 +14,8 @@
 #include "tvid/batch/batch_identity.hpp"
 #include "tvid/batch/batch_plan.hpp"
 #include "tvid/batch/batch_runner.hpp"
+#include "tvid/batch/batch_stability.hpp"
+#include "tvid/batch/cross_matrix.hpp"
 #include "tvid/batch/batch_summary.hpp"
 #include "tvid/batch/batch_table.hpp"
 #include "tvid/batch/distributed_batch.hpp"
@@ -21,6 +23,7 @@
 #include "tvid/estimation/parallel_evaluator.hpp"
 #include "tvid/io/atomic_file.hpp"
 #include "tvid/io/output_directory.hpp"
+#include "tvid/model/parameter_units.hpp"
 #include "tvid/parallel/on_every_process.hpp"
 #include "tvid/util/input_error.hpp"
 #include "tvid/util/stop_request.hpp"
@@ -150,12 +153,40 @@ std::string batch_summary_text(const BatchSummary& s, const std::string& name, c
     return out + "  batch: " + (dir / "batch.csv").string() + "\n";
 }
 
+// The cross-cycle matrix in two lines: own fit against the fit on the others' data.
+std::string cross_summary_text(const nlohmann::json& cross, const std::filesystem::path& dir) {
+    const auto percent = [](const nlohmann::json& v) {
+        if (!v.is_number()) return std::string("-");
+        char buf[32];
+        std::snprintf(buf, sizeof buf, "%.2f %%", v.get<double>());
+        return std::string(buf);
+    };
+    std::string out = "  cross-validation over " + std::to_string(cross["jobs"].size()) +
+                      " jobs: fit on own data " + percent(cross["diagonal_mean_fit_percent"]) +
+                      " (mean), on the others' " + percent(cross["off_diagonal_median_fit_percent"]) +
+                      " (median), " + percent(cross["off_diagonal_mean_fit_percent"]) + " (mean), " +
+                      percent(cross["off_diagonal_min_fit_percent"]) + " (worst";
+    const std::string worst = cross["off_diagonal_min_cell"];
+    out += worst.empty() ? ")" : ": " + worst + ")";
+    if (cross["failed_cells"].get<std::size_t>() > 0)
+        out += ", " + std::to_string(cross["failed_cells"].get<std::size_t>()) + " simulation(s) failed";
+    return out + "\n  matrix: " + (dir / "matrix.csv").string() + "\n";
+}
+
+std::string outliers_text(const BatchStability& stability) {
+    if (stability.outliers.empty()) return "  outliers: none (robust z-score, |z| > 3.5)\n";
+    std::string out;
+    for (const OutlierJob& o : stability.outliers) out += "  outlier: " + o.id + ": " + o.reason + "\n";
+    return out;
+}
+
 // The batch as the root sets it up: jobs, columns, the output directory with the rows
 // kept by --resume, and the jobs still to run.
 struct PreparedBatch {
     std::vector<BatchJob> jobs;
     std::string name;                       ///< the experiment's
     std::vector<std::string> outputs;
+    std::vector<std::string> units;         ///< per free parameter
     BatchColumns columns;
     std::filesystem::path dir, table, summary_file;
     std::map<std::size_t, BatchRow> rows;   ///< kept by --resume
@@ -208,6 +239,11 @@ std::unique_ptr<PreparedBatch> prepare_batch(const BatchCommand& cmd, const Batc
                                                       : std::map<std::size_t, BatchRow>{};
     write_batch_identity(dir, identity);
     std::filesystem::remove(summary_file, ec);  // its presence marks a complete batch
+    for (const char* stale : {"matrix.csv", "matrix_long.csv", "parameter_stability.csv"})
+        std::filesystem::remove(dir / stale, ec);  // written again at the end, if asked for
+    std::vector<std::string> units;
+    const std::vector<std::string> model_units = parameter_units(ex.network);
+    for (std::size_t j : problem.free_indices()) units.push_back(j < model_units.size() ? model_units[j] : "");
     std::string kept = header_line(columns);
     for (const auto& [job, row] : rows) kept += batch_csv_line(row);
 
@@ -216,8 +252,8 @@ std::unique_ptr<PreparedBatch> prepare_batch(const BatchCommand& cmd, const Batc
         if (!rows.count(j)) pending.push_back(j);
     // Opened here, so that a file that cannot be written stops every process before any job.
     auto appender = std::make_unique<BatchAppender>(table, kept);
-    return std::make_unique<PreparedBatch>(PreparedBatch{std::move(jobs), ex.name, outputs, columns, dir, table,
-                                                         summary_file, std::move(rows), std::move(pending),
+    return std::make_unique<PreparedBatch>(PreparedBatch{std::move(jobs), ex.name, outputs, std::move(units), columns,
+                                                         dir, table, summary_file, std::move(rows), std::move(pending),
                                                          std::move(appender), std::move(lock)});
 }
 
@@ -290,18 +326,45 @@ int run_batch_command(const BatchCommand& cmd) {
                       << " jobs; batch.csv holds the finished ones: run again with --resume to complete it\n";
         return kInterruptedExit;
     }
-    const double seconds = std::chrono::duration<double>(clock::now() - start).count();
+    const double seconds = std::chrono::duration<double>(clock::now() - start).count();  // the fits
+    // --cross: every job's parameters on every job's estimation windows (on the root alone).
+    std::vector<BatchRow> by_job(jobs.size(), columns.row("", "", ""));
+    for (const auto& [job, row] : rows) by_job[job] = row;
+    std::optional<CrossMatrix> cross;
+    if (cmd.cross) {
+        if (!cmd.common.quiet)
+            std::cerr << "tvid batch: cross-validating the ok jobs on each other's data\n";
+        cross = compute_cross_matrix(settings, jobs, by_job, columns, cmd.common.threads);
+        if (!cross->complete || stop_requested()) {
+            if (!cmd.common.quiet)
+                std::cerr << "tvid batch: interrupted during the cross-validation; batch.csv is complete: run "
+                             "again with --resume to compute the matrix\n";
+            return kInterruptedExit;
+        }
+        write_file_atomically(dir / "matrix.csv", cross_matrix_csv(*cross));
+        write_file_atomically(dir / "matrix_long.csv", cross_matrix_long_csv(*cross));
+    }
+    const BatchStability stability = batch_stability(columns, ordered, prepared->units, cross ? &*cross : nullptr);
+    write_file_atomically(dir / "parameter_stability.csv", parameter_stability_csv(stability));
+
+    const double cross_seconds = std::chrono::duration<double>(clock::now() - start).count() - seconds;
     BatchSummary summary = summarize_batch(columns, ordered, pending.size(), seconds, threads);
     summary.processes = group.size();
     const BatchRunContext context{TVID_VERSION, cmd.common.command_line, cmd.common.experiment, prepared->name,
                                   dir.string()};
-    const nlohmann::json json = batch_summary_json(summary, context);
+    nlohmann::json json = batch_summary_json(summary, context);
+    json["parameter_stability"] = parameter_stability_json(stability);
+    json["outliers"] = outliers_json(stability);
+    json["cross"] = cross ? cross_matrix_json(*cross) : nlohmann::json(nullptr);
+    if (cross) json["cross"]["wall_time_s"] = cross_seconds;
     write_file_atomically(prepared->summary_file, json_text(json) + "\n");
 
     if (cmd.common.json) {
         std::cout << json_text(json) << std::endl;
     } else if (!cmd.common.quiet) {
-        std::cout << batch_summary_text(summary, prepared->name, dir) << std::flush;
+        std::cout << batch_summary_text(summary, prepared->name, dir);
+        if (cross) std::cout << cross_summary_text(json["cross"], dir);
+        std::cout << outliers_text(stability) << std::flush;
     }
     if (summary.failed + summary.bad_input > 0) return 1;
     if (cmd.strict) {

@@ -84,6 +84,7 @@ struct BatchCommand {
     bool resume = false;                    ///< --resume: skip jobs already in batch.csv
     bool force = false;                     ///< --force: replace an existing batch.csv
     bool strict = false;                    ///< --strict: exit 1 when a job's verdict has an error
+    bool cross = false;                     ///< --cross: each job's parameters validated on every job's data
     ProcessGroup* processes = nullptr;      ///< mpirun: every process runs the command (nullptr: this one)
 };
 int run_batch_command(const BatchCommand& cmd);

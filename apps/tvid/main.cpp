@@ -154,6 +154,7 @@ int main(int argc, char** argv) {
     auto* resume_flag = batch_cmd->add_flag("--resume", batch.resume, "continue an interrupted batch: skip the jobs in batch.csv");
     batch_cmd->add_flag("--force", batch.force, "replace an existing batch.csv")->excludes(resume_flag);
     batch_cmd->add_flag("--strict", batch.strict, "exit 1 when a job's verdict has an error (for CI)");
+    batch_cmd->add_flag("--cross", batch.cross, "validate each job's parameters on every job's data (matrix.csv)");
 
     bool models_json = false;
     auto* models_cmd = app.add_subcommand("models", "list the preset models with their parameters, inputs, outputs");
