@@ -2,6 +2,7 @@
 
 #include "tvid/analysis/identifiability.hpp"
 #include "tvid/fit/optimizer_table.hpp"
+#include "tvid/report/spectra_report.hpp"
 
 #include <unistd.h>
 
@@ -144,6 +145,10 @@ std::string fit_summary_text(const IdentificationProblem& problem, const FitResu
         out << line;
     }
     out << split_lines(ex, fit.evaluation.estimation) << split_lines(ex, fit.evaluation.validation);
+    // Where the estimation residual's variance lies: its dominant band, or order for an engine.
+    if (fit.success)
+        for (const ResidualSpectrumSummary& s : residual_spectrum_summary(ex, fit.evaluation.estimation))
+            if (const std::string text = residual_spectrum_line(s); !text.empty()) out << "  " << text << '\n';
     const IdentifiabilityReport identifiability =
         assess_identifiability(fit.uncertainty, problem.free_names(), fit.best_free);
     out << "  parameter        value            std error    relative\n";

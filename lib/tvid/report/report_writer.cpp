@@ -11,6 +11,7 @@
 #include "tvid/report/modes_report.hpp"
 #include "tvid/report/optimizer_report.hpp"
 #include "tvid/report/report_values.hpp"
+#include "tvid/report/spectra_report.hpp"
 #include "tvid/io/json_text.hpp"
 
 namespace tvid {
@@ -244,6 +245,7 @@ json fit_summary_json(const IdentificationProblem& problem, const FitResult& fit
            {"parameters", parameters_json(problem, fit)["parameters"]},
            {"residuals", {{"estimation", whiteness_json(ex, fit.whiteness_estimation)},
                           {"validation", whiteness_json(ex, fit.whiteness_validation)}}},
+           {"residual_spectrum", residual_spectrum_json(ex, fit.evaluation)},
            {"information_criteria", criteria_json(fit.criteria)},
            {"step_stability", stability_json(fit.stability)},
            {"verdict", verdict_json(fit.verdict)}};
@@ -303,6 +305,11 @@ void write_fit_report(const std::filesystem::path& dir, const IdentificationProb
 
     write_file_atomically(dir / "estimation.csv", trace_csv(ex, fit.evaluation.estimation));
     write_file_atomically(dir / "validation.csv", trace_csv(ex, fit.evaluation.validation));
+    write_file_atomically(dir / "spectra.csv", spectra_csv(ex, fit.evaluation));
+    if (const std::string orders = orders_csv(ex, fit.evaluation); !orders.empty())
+        write_file_atomically(dir / "orders.csv", orders);
+    else
+        std::filesystem::remove(dir / "orders.csv", ec);  // a replaced engine report's
 
     std::ostringstream hist;
     hist << "iteration,evaluations,best_cost\n";
