@@ -28,14 +28,16 @@ def draw(directory, out_dir, dpi):
     rigid = [m for m in modes if m.get("kind") == "rigid_body"]
     if not modes:
         return []
-    nodes = list(modes[0].get("shape", {}).keys())
+    lin = info.get("linearisation", {})
+    nodes = lin.get("nodes") or list(modes[0].get("shape", {}).keys())  # the model's order
+    held = set(lin.get("held_nodes", []))
     columns = 2 if len(shown) > 3 else 1
     rows = max(1, math.ceil(len(shown) / columns))
     fig, axes = plt.subplots(rows, columns, figsize=(6.5 * columns, 2.3 * rows + 0.9), squeeze=False,
                              layout="constrained")
     x = list(range(len(nodes)))
     width = 0.38
-    geared = any(abs(r - 1.0) > 1e-12 for r in info.get("linearisation", {}).get("ratios", {}).values())
+    geared = any(abs(r - 1.0) > 1e-12 for r in lin.get("ratios", {}).values())
     for ax, m in zip(axes.flat, shown):
         shape = [m["shape"].get(n) or 0.0 for n in nodes]
         ax.bar([i - width / 2 if geared else i for i in x], shape, width if geared else 0.6, color="tab:blue",
@@ -43,10 +45,10 @@ def draw(directory, out_dir, dpi):
         if geared:
             common = [m.get("shape_common_shaft", {}).get(n) or 0.0 for n in nodes]
             ax.bar([i + width / 2 for i in x], common, width, color="tab:orange",
-                   label=f"referred to {info['linearisation'].get('reference_node', 'node 0')}'s shaft")
+                   label=f"referred to {lin.get('reference_node', 'node 0')}'s shaft")
         ax.axhline(0.0, color="0.3", lw=0.8)
         ax.set_xticks(x)
-        ax.set_xticklabels(nodes, fontsize=8)
+        ax.set_xticklabels([f"{n}\n(held)" if n in held else n for n in nodes], fontsize=8)
         ax.set_ylim(-1.15, 1.15)
         ax.set_ylabel("shape (Re, largest = 1)  [1]", fontsize=8)
         ax.grid(axis="y", alpha=0.3)
@@ -62,6 +64,7 @@ def draw(directory, out_dir, dpi):
              f"({op.get('initial_state', '?')} start; angle-dependent elements: {op.get('angle_dependence', '?')})")
     if rigid:
         title += "\n" + ", ".join(f"mode {m['mode']} rigid body (|λ|/2π = {m['frequency_hz']:.3g} Hz)" for m in rigid)
+        title += ": the line turning as one body, not drawn"
     if not shown:
         title += "\n(no twisting mode)"
     fig.suptitle(title, fontsize=10)

@@ -4,23 +4,11 @@
 #include <span>
 #include <stdexcept>
 
-#if __has_include("tvid/analysis/welch_spectrum.hpp")
 #include "tvid/analysis/welch_spectrum.hpp"
-#define TVID_HAS_WELCH 1
-#endif
 
 namespace tvid {
 
 namespace {
-
-// Welch's default segment for n samples: the largest power of two ≤ n/8, at least 64
-// (n itself when shorter).
-std::size_t frf_segment_length(std::size_t n) {
-    if (n < 64) return n;
-    std::size_t l = 64;
-    while (2 * l <= n / 8) l *= 2;
-    return l;
-}
 
 const char* input_unit_of(const NetworkSpec& spec, std::size_t input) {
     for (const TorqueSpec& t : spec.torques)
@@ -70,10 +58,9 @@ FrfComparison compare_frf(const IdentificationProblem& problem, const std::vecto
     const std::vector<double>& time = d.inputs.time();
     const Window& w0 = d.estimation.front();
     r.sample_rate_hz = static_cast<double>(w0.last - w0.first) / (time[w0.last] - time[w0.first]);
-    r.segment_length = frf_segment_length(shortest);
+    r.segment_length = welch_segment_length(shortest);
     if (r.segment_length < 8) throw std::runtime_error("the estimation windows are too short for a spectrum (under 8 samples)");
 
-#ifdef TVID_HAS_WELCH
     // H1 over the windows: each window's estimate weighted by its segment count.
     const WelchSettings settings{r.segment_length, 0.5};
     const std::size_t bins = r.segment_length / 2;
@@ -94,11 +81,6 @@ FrfComparison compare_frf(const IdentificationProblem& problem, const std::vecto
         r.segments += e.segments;
     }
     r.measured = r.segments > 0;
-#else
-    const std::size_t bins = r.segment_length / 2;
-    std::vector<std::complex<double>> h_sum(bins + 1, 0.0);
-    std::vector<double> coherence_sum(bins + 1, 0.0);
-#endif
     for (std::size_t k = 1; k <= bins; ++k) {
         r.frequency_hz.push_back(static_cast<double>(k) * r.sample_rate_hz / static_cast<double>(r.segment_length));
         if (r.measured) {

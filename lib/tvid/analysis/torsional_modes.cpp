@@ -26,12 +26,14 @@ const char* initial_state_name(InitialStateKind k) {
 
 // v divided by its largest entry (that entry becomes 1 + 0i); the index of that entry.
 std::size_t normalise_to_largest(std::vector<std::complex<double>>& v) {
+    double largest = 0.0;
+    for (const auto& c : v) largest = std::max(largest, std::abs(c));
+    // The first node at the largest magnitude (to rounding: a rigid rotation is the first node's).
     std::size_t at = 0;
-    for (std::size_t i = 1; i < v.size(); ++i)
-        if (std::abs(v[i]) > std::abs(v[at])) at = i;
+    while (at + 1 < v.size() && std::abs(v[at]) < (1.0 - 1e-6) * largest) ++at;
     if (v.empty() || std::abs(v[at]) == 0.0) return at;
-    const std::complex<double> largest = v[at];
-    for (auto& c : v) c /= largest;
+    const std::complex<double> pivot = v[at];
+    for (auto& c : v) c /= pivot;
     v[at] = 1.0;
     // A node the mode leaves still (one held by a speed source) reads 0, not rounding noise.
     for (auto& c : v)

@@ -56,6 +56,9 @@ json modes_json(const ModesStudy& s, const ModesRunInfo& run) {
     json elements = json::array();
     for (const ElementLinearisation& e : s.linear.elements)
         elements.push_back({{"element", e.element}, {"kind", e.kind}, {"method", e.method}, {"note", e.note}});
+    json held = json::array();
+    for (std::size_t i = 0; i < m.node_names.size(); ++i)
+        if (s.linear.prescribed[i]) held.push_back(m.node_names[i]);
     json ratios = json::object();
     for (std::size_t i = 0; i < m.node_names.size(); ++i) ratios[m.node_names[i]] = json_number(m.ratio[i]);
     json modes = json::array();
@@ -86,6 +89,8 @@ json modes_json(const ModesStudy& s, const ModesRunInfo& run) {
             {"operating_point", operating_point_json(s)},
             {"linearisation",
              {{"angle_dependence", angle_dependence_name(s.linear.angle_dependence)},
+              {"nodes", m.node_names},
+              {"held_nodes", held},
               {"states", s.linear.state_names},
               {"reference_node", m.node_names.empty() ? std::string() : m.node_names[m.reference_node]},
               {"ratios", ratios},
