@@ -219,3 +219,44 @@ TEST_CASE("a prescribed speed's FRF includes its slope: H = (k + i w c) i w J / 
         CHECK(std::abs(h[i] - expected) <= 1e-7 * std::abs(expected));
     }
 }
+
+TEST_CASE("a cylinder's reciprocating mass enters at its mean over a revolution, m r^2/2 for a long rod", "[modes]") {
+    // With l >> r, s'(φ) = r sin φ, so mean(s'²) = r²/2: a throw J on a ground spring k with a
+    // reciprocating mass m turns at ω² = k / (J + m r²/2). The gas torque (constant pressure
+    // here) is an excitation and adds no stiffness.
+    const double j = 0.01, k = 5.0e4, m = 0.5, r = 0.04, l = 4.0e5;
+    NetworkSpec spec;
+    spec.nodes = {node("throw", j)};
+    spec.spring_dampers = {spring("shaft", 0, kGround, k, 0.0)};
+    spec.angle_input_names = {"p"};
+    CylinderSpec c;
+    c.name = "cylinder1";
+    c.node = 0;
+    c.pressure = 0;
+    c.bore = Field::value(0.08);
+    c.crank_radius = Field::value(r);
+    c.rod_length = Field::value(l);
+    c.mass = Field::value(m);
+    c.p_atm = Field::value(1.0e5);
+    spec.cylinders = {c};
+    const CrankAngleChannels pressure({-100.0, 100.0}, {{3.0e5, 3.0e5}});
+    const std::vector<double> x{0.3, 0.0};
+    const LinearNetwork mean = linearise_network(spec, {}, &pressure, x, {}, AngleDependence::revolution_mean);
+    const ModalAnalysis modes = torsional_modes(mean, {1.0}, 0);
+    REQUIRE(modes.modes.size() == 1);
+    CHECK(close(modes.modes[0].frequency_hz, std::sqrt(k / (j + m * r * r / 2)) / kTwoPi, 1e-8));
+    REQUIRE(mean.elements.size() == 2);
+    CHECK(mean.elements[1].method == "revolution_mean");
+    // At the operating point θ = 0.3 rad: T(θ) = −kθ + P·A·r sin θ (P = p − p_atm, the gas
+    // torque's lever r sin θ) over J(θ) = J + m (r sin θ)², so at ω = 0
+    // ∂θ''/∂θ = T'/J(θ) − T·J'(θ)/J(θ)², and the frequency is √(−∂θ''/∂θ)/2π.
+    const LinearNetwork at = linearise_network(spec, {}, &pressure, x, {}, AngleDependence::operating_point);
+    const double th = 0.3, p = 3.0e5 - 1.0e5, area = 0.25 * 3.14159265358979323846 * 0.08 * 0.08;
+    const double torque = -k * th + p * area * r * std::sin(th), torque_slope = -k + p * area * r * std::cos(th);
+    const double inertia = j + m * std::pow(r * std::sin(th), 2), inertia_slope = 2 * m * r * r * std::sin(th) * std::cos(th);
+    const double slope = torque_slope / inertia - torque * inertia_slope / (inertia * inertia);
+    const ModalAnalysis point = torsional_modes(at, {1.0}, 0);
+    REQUIRE(point.modes.size() == 1);
+    CHECK(close(point.modes[0].frequency_hz, std::sqrt(-slope) / kTwoPi, 1e-6));
+    CHECK(at.elements[1].method == "operating_point");
+}
