@@ -40,8 +40,13 @@ def draw(directory, out_dir, dpi):
     if measured:
         mag.loglog(freq, col["measured_magnitude"], color="0.55", lw=0.9, label="measured H1")
         phase.semilogx(freq, col["measured_phase_deg"], color="0.55", lw=0.9, ls="none", marker=".", ms=2)
-    mag.loglog(freq, col["model_magnitude"], color="tab:blue", lw=1.5, label="model (linearised)")
-    phase.semilogx(freq, col["model_phase_deg"], color="tab:blue", lw=1.2)
+    curve = info.get("model_curve") or {}
+    if curve.get("frequency_hz"):  # the model on its finer grid: peaks resolved
+        mf, mm, mp = curve["frequency_hz"], curve["magnitude"], curve["phase_deg"]
+    else:
+        mf, mm, mp = freq, col["model_magnitude"], col["model_phase_deg"]
+    mag.loglog(mf, mm, color="tab:blue", lw=1.5, label="model (linearised)")
+    phase.semilogx(mf, mp, color="tab:blue", lw=1.2)
     mag.set_ylabel(f"|H|  [{unit}]")
     mag.grid(which="both", alpha=0.3)
     mag.legend(fontsize=8, loc="best")

@@ -135,6 +135,12 @@ TEST_CASE("tvid frf on the bench: the model's response and the measured H1 on on
     // The load motor's torque (through its 1:8 gear, scale −8) reaches the stage-2 output
     // shaft: well below the first resonance the load shaft carries it statically, |H| → 8.
     CHECK(rows[0]["model_magnitude"].get<double>() == Approx(8.0).epsilon(0.05));
+    // The model's finer curve spans the same band, ascending, with more points than the grid.
+    const auto& curve = j["model_curve"]["frequency_hz"];
+    REQUIRE(curve.size() > rows.size());
+    CHECK(curve.front().get<double>() == Approx(fs / n).epsilon(1e-12));
+    CHECK(std::is_sorted(curve.begin(), curve.end()));
+    CHECK(j["model_curve"]["magnitude"].size() == curve.size());
     const std::string csv = read_text(tmp.path() / "frf" / "frf.csv");
     CHECK(csv.rfind("frequency_hz,model_magnitude,model_phase_deg,measured_magnitude,measured_phase_deg,coherence\n", 0) == 0);
     if (j["measured"]["available"].get<bool>()) {

@@ -1,6 +1,7 @@
 #include "tvid/analysis/frf_comparison.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <span>
 #include <stdexcept>
 
@@ -89,6 +90,25 @@ FrfComparison compare_frf(const IdentificationProblem& problem, const std::vecto
         }
     }
     r.model = frequency_response(sys, input, output, r.frequency_hz);
+
+    const double lo = r.frequency_hz.front(), hi = r.frequency_hz.back();
+    const auto points = static_cast<std::size_t>(std::ceil(100.0 * std::log10(hi / lo)));
+    for (std::size_t k = 0; k <= points; ++k)
+        r.curve_frequency_hz.push_back(lo * std::pow(hi / lo, static_cast<double>(k) / static_cast<double>(std::max<std::size_t>(points, 1))));
+    const ModalAnalysis modal = torsional_modes(sys, node_ratios(d.network, params, 0), 0);
+    // Each oscillating mode's half-power band, ±ζ·f_n around its damped frequency, in 8 steps.
+    for (const TorsionalMode& m : modal.modes) {
+        if (m.kind != ModeKind::oscillating) continue;
+        for (int step = -8; step <= 8; ++step) {
+            const double f = m.damped_frequency_hz + step * m.damping_ratio * m.frequency_hz / 8.0;
+            if (f > lo && f < hi) r.curve_frequency_hz.push_back(f);
+        }
+    }
+    r.curve_frequency_hz.insert(r.curve_frequency_hz.end(), r.frequency_hz.begin(), r.frequency_hz.end());
+    std::sort(r.curve_frequency_hz.begin(), r.curve_frequency_hz.end());
+    r.curve_frequency_hz.erase(std::unique(r.curve_frequency_hz.begin(), r.curve_frequency_hz.end()),
+                               r.curve_frequency_hz.end());
+    r.curve = frequency_response(sys, input, output, r.curve_frequency_hz);
     return r;
 }
 

@@ -28,6 +28,11 @@ struct FrfComparison {
     std::vector<std::complex<double>> model;
     std::vector<std::complex<double>> measured_h1;  ///< empty when !measured
     std::vector<double> coherence;                  ///< empty when !measured
+    /// The model alone on a finer grid over the same band: the measurement's, 100 points a
+    /// decade, and 17 points across each oscillating mode's half-power band, so that its
+    /// peaks are resolved (for a figure).
+    std::vector<double> curve_frequency_hz;
+    std::vector<std::complex<double>> curve;
 };
 
 /// The comparison for model input `input` (an index into the network's input_names) and

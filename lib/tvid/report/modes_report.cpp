@@ -189,6 +189,12 @@ json frf_json(const FrfComparison& f, const ModesRunInfo& run) {
         }
         rows.push_back(row);
     }
+    json curve{{"frequency_hz", json::array()}, {"magnitude", json::array()}, {"phase_deg", json::array()}};
+    for (std::size_t k = 0; k < f.curve.size(); ++k) {
+        curve["frequency_hz"].push_back(json_number(f.curve_frequency_hz[k]));
+        curve["magnitude"].push_back(json_number(std::abs(f.curve[k])));
+        curve["phase_deg"].push_back(json_number(phase_deg(f.curve[k])));
+    }
     const OperatingPoint& op = f.operating_point;
     return {{"tool", "tvid"},
             {"version", run.version},
@@ -212,7 +218,8 @@ json frf_json(const FrfComparison& f, const ModesRunInfo& run) {
               {"sample_rate_hz", json_number(f.sample_rate_hz)},
               {"segment_length", f.segment_length},
               {"segments", f.segments}}},
-            {"rows", rows}};
+            {"rows", rows},
+            {"model_curve", curve}};
 }
 
 std::string frf_csv(const FrfComparison& f) {
@@ -249,19 +256,26 @@ std::string frf_summary_text(const FrfComparison& f) {
             << " Hz resolution\n";
     else
         out << "no measured H1\n";
-    // The model's resonance peaks (local maxima of |H|), the largest first.
+    // The model's resonance peaks (local maxima of |H| on the fine curve), the largest
+    // first, each beside the measured H1 in the nearest bin of the measurement's grid.
+    const auto& c = f.curve;
     std::vector<std::size_t> peaks;
-    for (std::size_t k = 1; k + 1 < f.model.size(); ++k)
-        if (std::abs(f.model[k]) > std::abs(f.model[k - 1]) && std::abs(f.model[k]) >= std::abs(f.model[k + 1])) peaks.push_back(k);
-    std::sort(peaks.begin(), peaks.end(), [&](std::size_t a, std::size_t b) { return std::abs(f.model[a]) > std::abs(f.model[b]); });
+    for (std::size_t k = 1; k + 1 < c.size(); ++k)
+        if (std::abs(c[k]) > std::abs(c[k - 1]) && std::abs(c[k]) >= std::abs(c[k + 1])) peaks.push_back(k);
+    std::sort(peaks.begin(), peaks.end(), [&](std::size_t a, std::size_t b) { return std::abs(c[a]) > std::abs(c[b]); });
     if (peaks.size() > 5) peaks.resize(5);
     char line[200];
     for (std::size_t k : peaks) {
+        const double fk = f.curve_frequency_hz[k];
+        std::size_t bin = 0;
+        for (std::size_t i = 1; i < f.frequency_hz.size(); ++i)
+            if (std::abs(f.frequency_hz[i] - fk) < std::abs(f.frequency_hz[bin] - fk)) bin = i;
         if (f.measured)
-            std::snprintf(line, sizeof line, "  model peak %10.4g Hz  |H| %10.4g   measured |H1| %10.4g  coherence %.3f\n",
-                          f.frequency_hz[k], std::abs(f.model[k]), std::abs(f.measured_h1[k]), f.coherence[k]);
+            std::snprintf(line, sizeof line,
+                          "  model peak %10.4g Hz  |H| %10.4g   measured at %8.4g Hz: |H1| %10.4g  coherence %.3f\n", fk,
+                          std::abs(c[k]), f.frequency_hz[bin], std::abs(f.measured_h1[bin]), f.coherence[bin]);
         else
-            std::snprintf(line, sizeof line, "  model peak %10.4g Hz  |H| %10.4g\n", f.frequency_hz[k], std::abs(f.model[k]));
+            std::snprintf(line, sizeof line, "  model peak %10.4g Hz  |H| %10.4g\n", fk, std::abs(c[k]));
         out << line;
     }
     return out.str();
