@@ -31,6 +31,8 @@ MODULES = [
     "sensitivity",  # sensitivity_OUTPUT.png, sensitivity_ranking.png
     "profile",      # profile.png
     "spectra",      # spectra.png (Welch densities), orders.png (engine orders)
+    "modes",        # a tvid modes directory: modes.png, each mode's shape per node
+    "frf",          # a tvid frf directory: frf.png, model against the measured H1
     "batch",        # a batch directory: cross_matrix.png, parameter_spread.png
 ]
 

@@ -90,3 +90,24 @@ struct BatchCommand {
 int run_batch_command(const BatchCommand& cmd);
 
 }  // namespace tvid::cli
+
+namespace tvid::cli {
+
+// `tvid modes` and `tvid frf`: the model linearised at an estimation window's start.
+struct ModesCommand {
+    CommonOptions common;
+    std::string params_file;            ///< --params P.json (empty: the experiment's init values)
+    std::string output_dir;             ///< -o DIR (default: the report directory + /modes)
+    int window = 0;                     ///< --window N: the estimation window whose start is the operating point
+    std::string angle_dependence = "revolution_mean";  ///< --angles revolution_mean|operating_point
+};
+int run_modes_command(const ModesCommand& cmd);
+
+struct FrfCommand {
+    ModesCommand modes;                 ///< the same options; -o default: the report directory + /frf
+    std::string input;                  ///< --input NAME: a model input (or its CSV column)
+    std::string output;                 ///< --output NAME: a measured output (or its CSV column)
+};
+int run_frf_command(const FrfCommand& cmd);
+
+}  // namespace tvid::cli

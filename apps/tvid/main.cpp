@@ -156,6 +156,25 @@ int main(int argc, char** argv) {
     batch_cmd->add_flag("--strict", batch.strict, "exit 1 when a job's verdict has an error (for CI)");
     batch_cmd->add_flag("--cross", batch.cross, "validate each job's parameters on every job's data (matrix.csv)");
 
+    ModesCommand modes;
+    auto* modes_cmd = app.add_subcommand("modes", "torsional modes of the model linearised at an estimation window's start");
+    FrfCommand frf;
+    auto* frf_cmd = app.add_subcommand("frf", "the model's frequency response from an input to an output, beside the measured H1");
+    for (auto [sub, o] : {std::pair{modes_cmd, &modes}, std::pair{frf_cmd, &frf.modes}}) {
+        add_common(sub, o->common);
+        sub->add_option("--params", o->params_file, "parameter file (default: the experiment's init values)");
+        sub->add_option("-o,--output-dir", o->output_dir,
+                        std::string("output directory (default: report.dir or results/NAME, then /") +
+                            (sub == modes_cmd ? "modes)" : "frf)"))
+            ->check(kNonEmptyPath);
+        sub->add_option("--window", o->window, "the estimation window (0, 1, ...) whose start is the operating point");
+        sub->add_option("--angles", o->angle_dependence,
+                        "angle-dependent elements (cylinders, order torques): revolution_mean (default) or operating_point")
+            ->check(CLI::IsMember({"revolution_mean", "operating_point"}));
+    }
+    frf_cmd->add_option("--input", frf.input, "the model input (or its CSV column)")->required();
+    frf_cmd->add_option("--output", frf.output, "the measured output (or its CSV column)")->required();
+
     bool models_json = false;
     auto* models_cmd = app.add_subcommand("models", "list the preset models with their parameters, inputs, outputs");
     models_cmd->add_flag("--json", models_json, "as JSON");
@@ -172,6 +191,7 @@ int main(int argc, char** argv) {
     const std::string command_line = joined_command_line(argc, argv);
     fit.common.command_line = simulate.common.command_line = validate.common.command_line =
         sensitivity.common.command_line = profile.common.command_line = command_line;
+    modes.common.command_line = frf.modes.common.command_line = command_line;
 
     batch.common.command_line = command_line;
     fit.processes = batch.processes = &processes;
@@ -186,6 +206,8 @@ int main(int argc, char** argv) {
         if (*profile_cmd) return run_profile_command(profile);
         if (*models_cmd) return run_models_command(models_json);
         if (*check_cmd) return run_check_command(check);
+        if (*modes_cmd) return run_modes_command(modes);
+        if (*frf_cmd) return run_frf_command(frf);
     } catch (const tvid::InputError& e) {
         std::cerr << e.what() << '\n';
         return 2;

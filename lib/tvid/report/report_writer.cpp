@@ -8,6 +8,7 @@
 #include "tvid/analysis/identifiability.hpp"
 #include "tvid/io/atomic_file.hpp"
 #include "tvid/model/parameter_units.hpp"
+#include "tvid/report/modes_report.hpp"
 #include "tvid/report/optimizer_report.hpp"
 #include "tvid/report/report_values.hpp"
 #include "tvid/report/spectra_report.hpp"
@@ -248,6 +249,7 @@ json fit_summary_json(const IdentificationProblem& problem, const FitResult& fit
            {"information_criteria", criteria_json(fit.criteria)},
            {"step_stability", stability_json(fit.stability)},
            {"verdict", verdict_json(fit.verdict)}};
+    if (json modes = fit_modes_json(problem, fit.best_params); !modes.is_null()) s["modes"] = std::move(modes);
     return s;
 }
 

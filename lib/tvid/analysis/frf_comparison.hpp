@@ -1,0 +1,44 @@
+#pragma once
+// The model's frequency response from one input to one output, linearised at a window's
+// start, beside the measured H1 estimate (Welch, analysis/welch_spectrum.hpp) of the same
+// pair of channels over the estimation windows.
+
+#include <complex>
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "tvid/analysis/linear_network.hpp"
+#include "tvid/analysis/torsional_modes.hpp"
+#include "tvid/estimation/identification_problem.hpp"
+
+namespace tvid {
+
+struct FrfComparison {
+    std::string input, output;            ///< the model's input and output names
+    std::string input_unit, output_unit;  ///< SI, as the channels are read
+    OperatingPoint operating_point;
+    AngleDependence angle_dependence = AngleDependence::revolution_mean;
+    double sample_rate_hz = 0.0;
+    std::size_t segment_length = 0;       ///< Welch's segment (samples)
+    std::size_t segments = 0;             ///< Welch's segments over every window
+    bool measured = false;                ///< whether the measured H1 is there
+    std::vector<std::string> windows;     ///< the estimation windows' labels
+    std::vector<double> frequency_hz;     ///< k·fs/segment_length, k ≥ 1
+    std::vector<std::complex<double>> model;
+    std::vector<std::complex<double>> measured_h1;  ///< empty when !measured
+    std::vector<double> coherence;                  ///< empty when !measured
+    /// The model alone on a finer grid over the same band: the measurement's, 100 points a
+    /// decade, and 17 points across each oscillating mode's half-power band, so that its
+    /// peaks are resolved (for a figure).
+    std::vector<double> curve_frequency_hz;
+    std::vector<std::complex<double>> curve;
+};
+
+/// The comparison for model input `input` (an index into the network's input_names) and
+/// network output `output` (an index into the network's outputs, one that is measured),
+/// the model linearised at estimation window `window`'s start with parameters `params`.
+FrfComparison compare_frf(const IdentificationProblem& problem, const std::vector<double>& params, std::size_t input,
+                          std::size_t output, std::size_t window, AngleDependence angle_dependence);
+
+}  // namespace tvid

@@ -1,0 +1,257 @@
+#include "tvid/analysis/linear_network.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "tvid/model/dual.hpp"
+#include "tvid/model/network_model.hpp"
+#include "tvid/model/slider_crank.hpp"
+#include "tvid/model/state_jacobian.hpp"
+
+namespace tvid {
+
+namespace {
+
+double linear_field_value(const Field& f, const std::vector<double>& p) {
+    return f.is_parameter() ? p[static_cast<std::size_t>(f.parameter)] : f.constant;
+}
+
+std::string linear_number(double v) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.6g", v);
+    return text;
+}
+
+// mean over φ of s'(φ)² for crank radius r and rod length l: the reciprocating mass's
+// inertia per kg over a revolution (s' is 2π-periodic; the trapezoid rule on a periodic
+// smooth function converges spectrally).
+double mean_lever_squared(double r, double l) {
+    constexpr int kPoints = 3600;
+    constexpr double kTwoPi = 6.283185307179586;
+    double sum = 0.0;
+    for (int k = 0; k < kPoints; ++k) {
+        const double ds = slider_crank(kTwoPi * k / kPoints, r, l).ds;
+        sum += ds * ds;
+    }
+    return sum / kPoints;
+}
+
+// The spec the linearisation evaluates: in revolution_mean mode the angle-dependent
+// elements are replaced by their means over a revolution, and the notes say how each
+// element entered.
+NetworkSpec linearisation_spec(const NetworkSpec& spec, const std::vector<double>& p, AngleDependence mode,
+                               const std::vector<double>& x, std::vector<ElementLinearisation>& notes) {
+    NetworkSpec lin = spec;
+    const std::size_t n = spec.nodes.size();
+    const auto node_name = [&](int i) { return i == kGround ? std::string("ground") : spec.nodes[static_cast<std::size_t>(i)].name; };
+    const auto twist_at = [&](int a, int b, double ratio) {
+        return x[static_cast<std::size_t>(a)] - (b == kGround ? 0.0 : ratio * x[static_cast<std::size_t>(b)]);
+    };
+    std::vector<double> added_inertia(n, 0.0);
+    for (const auto& e : spec.spring_dampers)
+        notes.push_back({e.name, "spring_damper", "exact", "linear"});
+    for (const auto& e : spec.clearances)
+        notes.push_back({e.name, "clearance", "operating_point",
+                         std::string(e.smooth ? "smooth" : "non-smooth") + " clearance law linearised at the twist " +
+                             linear_number(twist_at(e.a, e.b, 1.0)) + " rad between " + node_name(e.a) + " and " +
+                             node_name(e.b)});
+    for (const auto& e : spec.frictions) notes.push_back({e.name, "friction", "exact", "linear"});
+    for (const auto& e : spec.gear_meshes) {
+        if (e.has_clearance)
+            notes.push_back({e.name, "gear_mesh", "operating_point",
+                             "backlash law linearised at the mesh twist " +
+                                 linear_number(twist_at(e.a, e.b, linear_field_value(e.ratio, p))) + " rad"});
+        else
+            notes.push_back({e.name, "gear_mesh", "exact", "linear (ratio " + linear_number(linear_field_value(e.ratio, p)) + ")"});
+    }
+    for (const auto& e : spec.torques) notes.push_back({e.name, "torque", "exact", "an input: B's column"});
+    for (std::size_t i = 0; i < spec.cylinders.size(); ++i) {
+        const CylinderSpec& c = spec.cylinders[i];
+        const double m = linear_field_value(c.mass, p);
+        if (mode == AngleDependence::revolution_mean) {
+            const double added = m * mean_lever_squared(linear_field_value(c.crank_radius, p), linear_field_value(c.rod_length, p));
+            added_inertia[static_cast<std::size_t>(c.node)] += added;
+            // No reciprocating mass, no gas torque: their angle-dependent parts average out.
+            lin.cylinders[i].mass = Field::value(0.0);
+            lin.cylinders[i].bore = Field::value(0.0);
+            notes.push_back({c.name, "cylinder", "revolution_mean",
+                             "reciprocating inertia at its mean over a revolution, m*mean(s'^2) = " + linear_number(added) +
+                                 " kg m^2 added to " + node_name(c.node) +
+                                 "; the gas torque is an excitation (its angle stiffness averages to zero over a cycle)"});
+        } else {
+            notes.push_back({c.name, "cylinder", "operating_point",
+                             "slider crank at the operating point's crank angle " +
+                                 linear_number(x[static_cast<std::size_t>(c.node)] + c.phase) +
+                                 " rad: inertia m*s'^2 there, and the gas pressure's slope there as a stiffness"});
+        }
+    }
+    for (std::size_t i = 0; i < spec.order_torques.size(); ++i) {
+        const OrderTorqueSpec& o = spec.order_torques[i];
+        if (mode == AngleDependence::revolution_mean) {
+            lin.order_torques[i].amplitude = Field::value(0.0);
+            notes.push_back({o.name, "order_torque", "excitation",
+                             "an excitation: its angle stiffness averages to zero over a revolution"});
+        } else {
+            notes.push_back({o.name, "order_torque", "operating_point",
+                             "its slope -A k sin(k theta + phi) at the operating point as a stiffness to ground"});
+        }
+    }
+    for (const auto& e : spec.speed_sources)
+        notes.push_back({e.name, "speed_source", "prescribed",
+                         "prescribes the speed of " + node_name(e.node) +
+                             ": that node is held to the input (no speed state), its angle follows it"});
+    for (std::size_t i = 0; i < n; ++i) {
+        if (added_inertia[i] == 0.0) continue;
+        const NodeSpec& s = spec.nodes[i];
+        const double v = linear_field_value(s.inertia, p);
+        lin.nodes[i].inertia = Field::value((s.inverse ? 1.0 / v : v) + added_inertia[i]);
+        lin.nodes[i].inverse = false;
+    }
+    return lin;
+}
+
+// The step of a central difference in input value v.
+double input_step(double v) { return 1e-6 * std::max(1.0, std::abs(v)); }
+
+}  // namespace
+
+const char* angle_dependence_name(AngleDependence a) {
+    return a == AngleDependence::revolution_mean ? "revolution_mean" : "operating_point";
+}
+
+std::size_t LinearNetwork::angle_state(std::size_t node) const {
+    for (std::size_t k = 0; k < states.size(); ++k)
+        if (states[k] == node) return k;
+    return states.size();
+}
+
+LinearNetwork linearise_network(const NetworkSpec& spec, const std::vector<double>& params,
+                                const CrankAngleChannels* angle_inputs, const std::vector<double>& x,
+                                const std::vector<double>& u, AngleDependence angle_dependence) {
+    LinearNetwork sys;
+    sys.x = x;
+    sys.u = u;
+    sys.angle_dependence = angle_dependence;
+    const std::size_t n = spec.nodes.size();
+    const std::size_t full = 2 * n;
+    const NetworkSpec lin = linearisation_spec(spec, params, angle_dependence, x, sys.elements);
+
+    NetworkModel<double> model(lin);
+    model.set_crank_angle_inputs(angle_inputs);
+    model.set_parameters(params.data());
+
+    for (const NodeSpec& s : spec.nodes) sys.node_names.push_back(s.name);
+    sys.prescribed.assign(n, 0);
+    for (const SpeedSourceSpec& s : spec.speed_sources) sys.prescribed[static_cast<std::size_t>(s.node)] = 1;
+    for (std::size_t i = 0; i < n; ++i) {
+        sys.states.push_back(i);
+        sys.state_names.push_back("theta:" + spec.nodes[i].name);
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+        if (sys.prescribed[i]) continue;  // its speed is the input's: the state is read by no equation
+        sys.states.push_back(n + i);
+        sys.state_names.push_back("omega:" + spec.nodes[i].name);
+    }
+    sys.input_names = spec.input_names;
+    sys.rate_of.assign(u.size(), -1);
+    for (std::size_t j = 0; j < spec.input_rates.size(); ++j) {
+        const auto of = static_cast<std::size_t>(spec.input_rates[j]);
+        sys.rate_of[of] = static_cast<int>(spec.input_names.size() + j);
+        sys.input_names.push_back("d(" + spec.input_names[of] + ")/dt");
+    }
+    sys.input_names.resize(u.size());
+    for (const OutputSpec& o : spec.outputs) sys.output_names.push_back(o.name);
+
+    // A = ∂f/∂x at the operating point, the kept rows and columns.
+    StateJacobian jacobian;
+    jacobian.bind(model);
+    std::vector<double> a_full(full * full), f0(full);
+    jacobian.evaluate(x.data(), u.data(), a_full.data(), f0.data());
+    const auto ns = static_cast<Eigen::Index>(sys.states.size());
+    sys.A.resize(ns, ns);
+    for (Eigen::Index r = 0; r < ns; ++r)
+        for (Eigen::Index c = 0; c < ns; ++c)
+            sys.A(r, c) = a_full[sys.states[static_cast<std::size_t>(r)] * full + sys.states[static_cast<std::size_t>(c)]];
+
+    // B = ∂f/∂u and D = ∂y/∂u by central differences (the inputs enter linearly).
+    const auto ni = static_cast<Eigen::Index>(u.size());
+    const auto no = static_cast<Eigen::Index>(spec.outputs.size());
+    sys.B = Eigen::MatrixXd::Zero(ns, ni);
+    sys.D = Eigen::MatrixXd::Zero(no, ni);
+    std::vector<double> up = u, fp(full), fm(full);
+    for (Eigen::Index j = 0; j < ni; ++j) {
+        const auto jj = static_cast<std::size_t>(j);
+        const double h = input_step(u[jj]);
+        up[jj] = u[jj] + h;
+        model.derivative(x.data(), up.data(), fp.data());
+        std::vector<double> yp(static_cast<std::size_t>(no)), ym(yp.size());
+        for (Eigen::Index k = 0; k < no; ++k) yp[static_cast<std::size_t>(k)] = model.output(static_cast<std::size_t>(k), x.data(), up.data());
+        up[jj] = u[jj] - h;
+        model.derivative(x.data(), up.data(), fm.data());
+        for (Eigen::Index k = 0; k < no; ++k) ym[static_cast<std::size_t>(k)] = model.output(static_cast<std::size_t>(k), x.data(), up.data());
+        up[jj] = u[jj];
+        for (Eigen::Index r = 0; r < ns; ++r) {
+            const std::size_t s = sys.states[static_cast<std::size_t>(r)];
+            sys.B(r, j) = (fp[s] - fm[s]) / (2 * h);
+        }
+        for (Eigen::Index k = 0; k < no; ++k)
+            sys.D(k, j) = (yp[static_cast<std::size_t>(k)] - ym[static_cast<std::size_t>(k)]) / (2 * h);
+    }
+
+    // C = ∂y/∂x by dual numbers, the states seeded in chunks.
+    sys.C = Eigen::MatrixXd::Zero(no, ns);
+    if (no > 0) {
+        NetworkModel<Dual> dual_model(lin);
+        dual_model.set_crank_angle_inputs(angle_inputs);
+        std::vector<Dual> dp(params.size()), xd(full);
+        for (std::size_t j = 0; j < params.size(); ++j) dp[j] = Dual(params[j]);
+        dual_model.set_parameters(dp.data());
+        std::vector<Dual> scratch(full);
+        for (std::size_t first = 0; first < full; first += kDualCapacity) {
+            const std::size_t width = std::min<std::size_t>(kDualCapacity, full - first);
+            for (std::size_t j = 0; j < full; ++j)
+                xd[j] = j >= first && j < first + width
+                            ? Dual::variable(x[j], static_cast<int>(j - first), static_cast<int>(width))
+                            : Dual(x[j]);
+            // The element torques an output reads are those of a derivative at the state.
+            dual_model.derivative(xd.data(), u.data(), scratch.data());
+            for (Eigen::Index k = 0; k < no; ++k) {
+                const Dual y = dual_model.output(static_cast<std::size_t>(k), xd.data(), u.data());
+                for (Eigen::Index c = 0; c < ns; ++c) {
+                    const std::size_t s = sys.states[static_cast<std::size_t>(c)];
+                    if (s >= first && s < first + width) sys.C(k, c) = y.derivative(static_cast<int>(s - first));
+                }
+            }
+        }
+    }
+    return sys;
+}
+
+std::vector<std::complex<double>> frequency_response(const LinearNetwork& system, std::size_t input,
+                                                     std::size_t output, const std::vector<double>& frequency_hz) {
+    using Complex = std::complex<double>;
+    constexpr double kTwoPi = 6.283185307179586;
+    const auto n = system.A.rows();
+    const auto j = static_cast<Eigen::Index>(input), k = static_cast<Eigen::Index>(output);
+    const int rate = input < system.rate_of.size() ? system.rate_of[input] : -1;
+    std::vector<Complex> h;
+    h.reserve(frequency_hz.size());
+    const Eigen::MatrixXcd a = system.A.cast<Complex>();
+    for (const double f : frequency_hz) {
+        const Complex s(0.0, kTwoPi * f);
+        // u_rate = s·u: a speed channel's slope enters with its speed.
+        Eigen::VectorXcd b = system.B.col(j).cast<Complex>();
+        Complex d = system.D(k, j);
+        if (rate >= 0) {
+            b += s * system.B.col(rate).cast<Complex>();
+            d += s * system.D(k, rate);
+        }
+        const Eigen::MatrixXcd m = s * Eigen::MatrixXcd::Identity(n, n) - a;
+        const Eigen::VectorXcd xs = m.fullPivLu().solve(b);
+        h.push_back((system.C.row(k).cast<Complex>() * xs)(0) + d);
+    }
+    return h;
+}
+
+}  // namespace tvid

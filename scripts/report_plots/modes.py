@@ -1,0 +1,74 @@
+"""modes.png, from a directory written by `tvid modes` (modes.json): each torsional mode's
+shape as bars per node (the node angles of its eigenvector, the largest = 1, and the same
+referred to the reference node's shaft through the gear ratios), its natural frequency and
+damping ratio in the panel's title. Rigid-body modes are listed in the figure's title only."""
+
+import json
+import math
+import os
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+
+def _fmt_zeta(z):
+    return "-" if z is None else f"{z:.3g}"
+
+
+def draw(directory, out_dir, dpi):
+    path = os.path.join(directory, "modes.json")
+    if not os.path.isfile(path):
+        return []
+    with open(path, encoding="utf-8") as f:
+        info = json.load(f)
+    modes = info.get("modes", [])
+    shown = [m for m in modes if m.get("kind") != "rigid_body"]
+    rigid = [m for m in modes if m.get("kind") == "rigid_body"]
+    if not modes:
+        return []
+    lin = info.get("linearisation", {})
+    nodes = lin.get("nodes") or list(modes[0].get("shape", {}).keys())  # the model's order
+    held = set(lin.get("held_nodes", []))
+    columns = 2 if len(shown) > 3 else 1
+    rows = max(1, math.ceil(len(shown) / columns))
+    fig, axes = plt.subplots(rows, columns, figsize=(6.5 * columns, 2.3 * rows + 0.9), squeeze=False,
+                             layout="constrained")
+    x = list(range(len(nodes)))
+    width = 0.38
+    geared = any(abs(r - 1.0) > 1e-12 for r in lin.get("ratios", {}).values())
+    for ax, m in zip(axes.flat, shown):
+        shape = [m["shape"].get(n) or 0.0 for n in nodes]
+        ax.bar([i - width / 2 if geared else i for i in x], shape, width if geared else 0.6, color="tab:blue",
+               label="node angle")
+        if geared:
+            common = [m.get("shape_common_shaft", {}).get(n) or 0.0 for n in nodes]
+            ax.bar([i + width / 2 for i in x], common, width, color="tab:orange",
+                   label=f"referred to {lin.get('reference_node', 'node 0')}'s shaft")
+        ax.axhline(0.0, color="0.3", lw=0.8)
+        ax.set_xticks(x)
+        ax.set_xticklabels([f"{n}\n(held)" if n in held else n for n in nodes], fontsize=8)
+        ax.set_ylim(-1.15, 1.15)
+        ax.set_ylabel("shape (Re, largest = 1)  [1]", fontsize=8)
+        ax.grid(axis="y", alpha=0.3)
+        kind = "" if m["kind"] == "oscillating" else f" ({m['kind']})"
+        ax.set_title(f"mode {m['mode']}{kind}: f_n = {m['frequency_hz']:.4g} Hz, f_d = "
+                     f"{m['damped_frequency_hz']:.4g} Hz, ζ = {_fmt_zeta(m.get('damping_ratio'))}", fontsize=9)
+        if geared and m is shown[0]:
+            ax.legend(fontsize=7, loc="best")
+    for ax in list(axes.flat)[len(shown):]:
+        ax.axis("off")
+    op = info.get("operating_point", {})
+    title = (f"{info.get('experiment', '?')}: torsional modes at the start of window {op.get('window', '?')} "
+             f"({op.get('initial_state', '?')} start; angle-dependent elements: {op.get('angle_dependence', '?')})")
+    if rigid:
+        title += "\n" + ", ".join(f"mode {m['mode']} rigid body (|λ|/2π = {m['frequency_hz']:.3g} Hz)" for m in rigid)
+        title += ": the line turning as one body, not drawn"
+    if not shown:
+        title += "\n(no twisting mode)"
+    fig.suptitle(title, fontsize=10)
+    os.makedirs(out_dir, exist_ok=True)
+    fig.savefig(os.path.join(out_dir, "modes.png"), dpi=dpi)
+    plt.close(fig)
+    return ["modes.png"]
