@@ -6,7 +6,7 @@ Usage:
 
 Every figure module below is run on DIR (and on SENS_DIR); each draws what the directory
 holds for it and nothing otherwise, so DIR may be written by `tvid fit`, `tvid
-sensitivity`, `tvid profile` or `tvid batch`. The modules live in scripts/report_plots/
+sensitivity`, `tvid profile`, `tvid batch`, `tvid modes` or `tvid frf`. The modules live in scripts/report_plots/
 (one figure kind each, `draw(directory, out_dir, dpi) -> [PNG names]`); docs/gallery.md
 shows every figure with the command that produced it. A fit report's sensitivity run in
 DIR/sensitivity (the default of `tvid sensitivity`) is drawn too.
@@ -44,7 +44,7 @@ def fail(message, status=2):
 
 def main():
     parser = argparse.ArgumentParser(description="Draw the figures of a tvid output directory as PNG files.")
-    parser.add_argument("report_dir", help="directory written by tvid fit, sensitivity, profile or batch")
+    parser.add_argument("report_dir", help="directory written by tvid fit, sensitivity, profile, batch, modes or frf")
     parser.add_argument("-o", "--output", help="output directory (default: REPORT_DIR/plots)")
     parser.add_argument("--sensitivity", metavar="SENS_DIR", help="output directory of tvid sensitivity")
     parser.add_argument("--dpi", type=int, default=100, help="resolution (default 100)")
