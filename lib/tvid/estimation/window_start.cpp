@@ -206,9 +206,9 @@ SimulationStatus WindowStarts::shoot_warmup_newton(const Window& w, ProblemWorks
             if (it > 0) {  // Broyden's update: the Jacobian takes the secant of the last step
                 const double de[2] = {e[0] - last_e[0], e[1] - last_e[1]};
                 const double norm2 = step[0] * step[0] + step[1] * step[1];
-                for (int r = 0; r < 2 && norm2 > 0; ++r) {
-                    const double f = (de[r] - jac[r][0] * step[0] - jac[r][1] * step[1]) / norm2;
-                    jac[r][0] += f * step[0], jac[r][1] += f * step[1];
+                for (int row = 0; row < 2 && norm2 > 0; ++row) {
+                    const double f = (de[row] - jac[row][0] * step[0] - jac[row][1] * step[1]) / norm2;
+                    jac[row][0] += f * step[0], jac[row][1] += f * step[1];
                 }
             }
             if (below(tolerance)) {
