@@ -1,6 +1,6 @@
 #!/bin/sh
 # Draws the images of docs/gallery.md into docs/images/gallery/ (run from the repository
-# root after building tvid; about a minute, most of it the engine fit). The runs go to
+# root after building tvid; a few minutes, most of it the engine fits of the batch). The runs go to
 # results/gallery (or $R); the PNGs are reduced to a 64-colour palette to keep them small.
 set -e
 T=${TVID:-build/release/apps/tvid/tvid}
@@ -20,6 +20,14 @@ $P "$R/multistart" --dpi 70 >/dev/null
 $T profile configs/cvt_tipin_clean.yaml --param d_ds --points 9 --params "$R/cvt/params.json" -o "$R/profile" \
    --set estimation.cost=l2 --quiet
 $P "$R/profile" --dpi 70 >/dev/null
+$T fit configs/aalto_bench.yaml -o "$R/bench" --quiet
+$T modes configs/aalto_bench.yaml --params "$R/bench/params.json" -o "$R/bench-modes" --quiet
+$T frf configs/aalto_bench.yaml --params "$R/bench/params.json" --input T_prop --output torque_lower \
+   -o "$R/bench-frf" --quiet
+for d in bench bench-modes bench-frf; do $P "$R/$d" --dpi 70 >/dev/null; done
+$T batch configs/engine_idle.yaml --cycles 2-7 --cross -o "$R/engine-batch" \
+   --set estimation.lm.max_iterations=30 --quiet
+$P "$R/engine-batch" --dpi 70 >/dev/null
 for f in fit residual residual_ratio cost_history sensitivity_Tds sensitivity_ranking; do
   cp "$R/cvt/plots/$f.png" "$G/cvt_$f.png"
 done
@@ -28,6 +36,12 @@ for f in fit residual residual_ratio sensitivity_omega_dw sensitivity_ranking; d
 done
 cp "$R/multistart/plots/multistart.png" "$G/cvt_multistart.png"
 cp "$R/profile/plots/profile.png" "$G/cvt_profile.png"
+cp "$R/engine/plots/orders.png" "$G/engine_orders.png"
+cp "$R/bench/plots/spectra.png" "$G/bench_spectra.png"
+cp "$R/bench-modes/plots/modes.png" "$G/bench_modes.png"
+cp "$R/bench-frf/plots/frf.png" "$G/bench_frf.png"
+cp "$R/engine-batch/plots/cross_matrix.png" "$G/engine_cross_matrix.png"
+cp "$R/engine-batch/plots/parameter_spread.png" "$G/engine_parameter_spread.png"
 /usr/bin/python3 - "$G" <<'PY'
 import os, sys
 from PIL import Image  # Debian python3-pil, which matplotlib needs anyway
