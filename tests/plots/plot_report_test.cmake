@@ -1,5 +1,6 @@
 # scripts/plot_report.py on real output directories of every kind it draws: a fast fit
-# (least squares on the noise-free CVT recording, < 1 s), its sensitivity run, a profile,
+# (least squares on the noise-free CVT recording, < 1 s), its sensitivity run, its modes
+# and frequency response, a profile,
 # a short engine fit (2 LM steps; drawn against the crank angle), a multistart fit of
 # 4 short starts and a batch. Every file the script names must be a PNG, and the figures
 # of each kind must be among them.
@@ -52,11 +53,18 @@ function(plot what dir expected)
   set(plot_output "${run_output}" PARENT_SCOPE)
 endfunction()
 
-# A fit report and its sensitivity run.
+# A fit report (its spectra too) and its sensitivity run.
 run("tvid fit" ${TVID} fit ${cvt} -o ${report} --optimizer lm --set estimation.cost=l2 --quiet)
 run("tvid sensitivity" ${TVID} sensitivity ${cvt} --params ${report}/params.json -o ${WORK_DIR}/sens --quiet)
-plot("fit" ${report} "fit;residual;residual_ratio;cost_history;sensitivity_Tds;sensitivity_ranking"
+plot("fit" ${report} "fit;residual;residual_ratio;cost_history;spectra;sensitivity_Tds;sensitivity_ranking"
      -o ${WORK_DIR}/plots --sensitivity ${WORK_DIR}/sens --dpi 50)
+
+# The fitted model's modes and its frequency response from the input torque to the
+# driveshaft torque, beside the measured H1.
+run("tvid modes" ${TVID} modes ${cvt} --params ${report}/params.json -o ${WORK_DIR}/modes --quiet)
+plot("modes" ${WORK_DIR}/modes "modes" -o ${WORK_DIR}/modes-plots --dpi 50)
+run("tvid frf" ${TVID} frf ${cvt} --params ${report}/params.json --input Ttm --output Tds -o ${WORK_DIR}/frf --quiet)
+plot("frf" ${WORK_DIR}/frf "frf" -o ${WORK_DIR}/frf-plots --dpi 50)
 
 # A profile.
 run("tvid profile" ${TVID} profile ${cvt} --param d_ds --points 5 -o ${WORK_DIR}/profile
