@@ -33,7 +33,7 @@ def draw(directory, out_dir, dpi):
     held = set(lin.get("held_nodes", []))
     columns = 2 if len(shown) > 3 else 1
     rows = max(1, math.ceil(len(shown) / columns))
-    fig, axes = plt.subplots(rows, columns, figsize=(6.5 * columns, 2.3 * rows + 0.9), squeeze=False,
+    fig, axes = plt.subplots(rows, columns, figsize=(max(6.5 * columns, 8.0), 2.3 * rows + 1.2), squeeze=False,
                              layout="constrained")
     x = list(range(len(nodes)))
     width = 0.38
@@ -60,7 +60,7 @@ def draw(directory, out_dir, dpi):
     for ax in list(axes.flat)[len(shown):]:
         ax.axis("off")
     op = info.get("operating_point", {})
-    title = (f"{info.get('experiment', '?')}: torsional modes at the start of window {op.get('window', '?')} "
+    title = (f"{info.get('experiment', '?')}: torsional modes at the start of window {op.get('window', '?')}\n"
              f"({op.get('initial_state', '?')} start; angle-dependent elements: {op.get('angle_dependence', '?')})")
     if rigid:
         title += "\n" + ", ".join(f"mode {m['mode']} rigid body (|λ|/2π = {m['frequency_hz']:.3g} Hz)" for m in rigid)
