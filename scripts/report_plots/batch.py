@@ -16,16 +16,14 @@ directory without batch.csv gives no figure. Standard library, numpy and matplot
 """
 
 import csv
-import json
 import math
 import os
 
-import matplotlib
+import numpy as np
+from matplotlib import ticker
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-from matplotlib import ticker  # noqa: E402
-import numpy as np  # noqa: E402
+from . import common
+from .common import plt
 
 
 def _number(cell):
@@ -45,10 +43,7 @@ def _read_rows(path):
 
 
 def _read_json(path):
-    if not os.path.isfile(path):
-        return {}
-    with open(path) as f:
-        return json.load(f)
+    return common.read_json(path) if os.path.isfile(path) else {}
 
 
 def _labelled(name, unit):
@@ -145,9 +140,7 @@ def _draw_cross(batch_dir, out_dir, dpi, summary):
             title += "\nred: outlier by mean cross-validation fit"
         ax.set_title(title, fontsize=10)
         name = "cross_matrix.png" if len(outputs) == 1 else f"cross_matrix_{output}.png"
-        fig.savefig(os.path.join(out_dir, name), dpi=dpi)
-        plt.close(fig)
-        written.append(name)
+        written.append(common.save(fig, out_dir, name, dpi))
     return written
 
 
@@ -217,10 +210,7 @@ def _draw_spread(batch_dir, out_dir, dpi, summary):
     if any_outlier:
         title += "; red: outlier by robust z-score (|z| > 3.5)"
     fig.suptitle(title, fontsize=11)
-    name = "parameter_spread.png"
-    fig.savefig(os.path.join(out_dir, name), dpi=dpi)
-    plt.close(fig)
-    return [name]
+    return [common.save(fig, out_dir, "parameter_spread.png", dpi)]
 
 
 def draw(batch_dir, out_dir, dpi):

@@ -318,8 +318,19 @@ def split_has_windows(summary, split, count):
 
 # ---- saving ----------------------------------------------------------------------------
 
+def fit_traces(directory):
+    """(summary.json, the trace panels, the outputs) of a fit report, or None when the
+    directory is not one or holds no traces."""
+    if not exists(directory, "summary.json"):
+        return None
+    summary = read_json(os.path.join(directory, "summary.json"))
+    panels, outputs = traces(directory)
+    return (summary, panels, outputs) if panels and outputs else None
+
+
 def save(fig, out_dir, name, dpi):
     """Write the figure as out_dir/name and return name."""
+    os.makedirs(out_dir, exist_ok=True)
     fig.savefig(os.path.join(out_dir, name), dpi=dpi)
     plt.close(fig)
     return name

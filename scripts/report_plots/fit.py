@@ -4,7 +4,6 @@ the crank angle with the cycle boundaries marked and consecutive cycles side by 
 methodology paper Figs. 2a/3a, Yoshida & Takamatsu Fig. 7). The titles give each window's
 (or the split's pooled) Q-index, fit % and RMSE; the figure's title gives the verdict."""
 
-import os
 
 from . import common
 
@@ -40,12 +39,10 @@ def row_metrics(summary, split, windows, out):
 
 
 def draw(directory, out_dir, dpi):
-    if not common.exists(directory, "summary.json"):
+    report = common.fit_traces(directory)
+    if not report:
         return []
-    summary = common.read_json(os.path.join(directory, "summary.json"))
-    panels, outputs = common.traces(directory)
-    if not panels or not outputs:
-        return []
+    summary, panels, outputs = report
     fig, axes, rows, by_angle, cycle = common.figure_rows(panels, outputs, 2.3)
     for r, (split, windows) in enumerate(rows):
         for c, out in enumerate(outputs):

@@ -3,14 +3,11 @@ frequency response (linearised at a window's start) against the measured H1 esti
 magnitude on a log scale, phase, and the measurement's coherence."""
 
 import csv
-import json
 import math
 import os
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+from . import common
+from .common import plt
 
 
 def _number(text):
@@ -24,8 +21,7 @@ def draw(directory, out_dir, dpi):
     csv_path, json_path = os.path.join(directory, "frf.csv"), os.path.join(directory, "frf.json")
     if not (os.path.isfile(csv_path) and os.path.isfile(json_path)):
         return []
-    with open(json_path, encoding="utf-8") as f:
-        info = json.load(f)
+    info = common.read_json(json_path)
     with open(csv_path, newline="", encoding="utf-8") as f:
         rows = list(csv.DictReader(f))
     if not rows:
@@ -71,7 +67,4 @@ def draw(directory, out_dir, dpi):
     else:
         title += "\n(no measured H1)"
     fig.suptitle(title, fontsize=10)
-    os.makedirs(out_dir, exist_ok=True)
-    fig.savefig(os.path.join(out_dir, "frf.png"), dpi=dpi)
-    plt.close(fig)
-    return ["frf.png"]
+    return [common.save(fig, out_dir, "frf.png", dpi)]

@@ -3,14 +3,11 @@ shape as bars per node (the node angles of its eigenvector, the largest = 1, and
 referred to the reference node's shaft through the gear ratios), its natural frequency and
 damping ratio in the panel's title. Rigid-body modes are listed in the figure's title only."""
 
-import json
 import math
 import os
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+from . import common
+from .common import plt
 
 
 def _fmt_zeta(z):
@@ -21,8 +18,7 @@ def draw(directory, out_dir, dpi):
     path = os.path.join(directory, "modes.json")
     if not os.path.isfile(path):
         return []
-    with open(path, encoding="utf-8") as f:
-        info = json.load(f)
+    info = common.read_json(path)
     modes = info.get("modes", [])
     shown = [m for m in modes if m.get("kind") != "rigid_body"]
     rigid = [m for m in modes if m.get("kind") == "rigid_body"]
@@ -43,8 +39,8 @@ def draw(directory, out_dir, dpi):
         ax.bar([i - width / 2 if geared else i for i in x], shape, width if geared else 0.6, color="tab:blue",
                label="node angle")
         if geared:
-            common = [m.get("shape_common_shaft", {}).get(n) or 0.0 for n in nodes]
-            ax.bar([i + width / 2 for i in x], common, width, color="tab:orange",
+            on_common_shaft = [m.get("shape_common_shaft", {}).get(n) or 0.0 for n in nodes]
+            ax.bar([i + width / 2 for i in x], on_common_shaft, width, color="tab:orange",
                    label=f"referred to {lin.get('reference_node', 'node 0')}'s shaft")
         ax.axhline(0.0, color="0.3", lw=0.8)
         ax.set_xticks(x)
@@ -68,7 +64,4 @@ def draw(directory, out_dir, dpi):
     if not shown:
         title += "\n(no twisting mode)"
     fig.suptitle(title, fontsize=10)
-    os.makedirs(out_dir, exist_ok=True)
-    fig.savefig(os.path.join(out_dir, "modes.png"), dpi=dpi)
-    plt.close(fig)
-    return ["modes.png"]
+    return [common.save(fig, out_dir, "modes.png", dpi)]

@@ -7,7 +7,6 @@ a signal crosses zero (a torque) the ratio has a pole, so samples with |y| below
 the window's largest |y| are left out, and the title says how many."""
 
 import math
-import os
 
 from . import common
 
@@ -102,10 +101,8 @@ def draw_ratio(summary, panels, outputs, out_dir, dpi):
 
 
 def draw(directory, out_dir, dpi):
-    if not common.exists(directory, "summary.json"):
+    report = common.fit_traces(directory)
+    if not report:
         return []
-    summary = common.read_json(os.path.join(directory, "summary.json"))
-    panels, outputs = common.traces(directory)
-    if not panels or not outputs:
-        return []
+    summary, panels, outputs = report
     return [draw_residual(summary, panels, outputs, out_dir, dpi), draw_ratio(summary, panels, outputs, out_dir, dpi)]

@@ -18,16 +18,14 @@ matplotlib (Agg backend) only.
 """
 
 import csv
-import json
 import math
 import os
 import re
 
-import matplotlib
+import numpy as np
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
+from . import common
+from .common import plt
 
 _COLUMN = re.compile(r"^(?P<output>.+)_(?P<kind>measured|simulated|residual)_psd \[(?P<unit>[^\]]*)\]$")
 _STYLE = {
@@ -58,10 +56,7 @@ def _hz(value):
 
 def _summary(directory):
     path = os.path.join(directory, "summary.json")
-    if not os.path.isfile(path):
-        return {}
-    with open(path) as f:
-        return json.load(f)
+    return common.read_json(path) if os.path.isfile(path) else {}
 
 
 def _eigenfrequencies(summary):
@@ -141,9 +136,7 @@ def _draw_spectra(directory, out_dir, dpi, summary):
     fig.suptitle(f"{summary.get('experiment', '')}: power spectral densities (Welch, Hann segments)".strip(": "),
                  fontsize=11)
     fig.tight_layout(rect=(0, 0, 1, 1 - 0.35 / fig.get_figheight()))
-    fig.savefig(os.path.join(out_dir, "spectra.png"), dpi=dpi)
-    plt.close(fig)
-    return ["spectra.png"]
+    return [common.save(fig, out_dir, "spectra.png", dpi)]
 
 
 def _draw_orders(directory, out_dir, dpi, summary):
@@ -192,9 +185,7 @@ def _draw_orders(directory, out_dir, dpi, summary):
     fig.suptitle(f"{summary.get('experiment', '')}: order spectrum, cycle by cycle of the crank angle".strip(": "),
                  fontsize=11)
     fig.tight_layout(rect=(0, 0, 1, 1 - 0.35 / fig.get_figheight()))
-    fig.savefig(os.path.join(out_dir, "orders.png"), dpi=dpi)
-    plt.close(fig)
-    return ["orders.png"]
+    return [common.save(fig, out_dir, "orders.png", dpi)]
 
 
 def draw(directory, out_dir, dpi):

@@ -95,6 +95,15 @@ run("tvid batch" ${TVID} batch ${cvt} --data ${SOURCE_DIR}/data/cvt/tipin_clean.
     --set estimation.optimizer=lm --set estimation.cost=l2 --quiet)
 plot("batch" ${WORK_DIR}/batch "cross_matrix;parameter_spread" -o ${WORK_DIR}/batch-plots --dpi 50)
 
+# A cut-off modes.json: one error line naming the file and line, exit 2, never a traceback.
+file(MAKE_DIRECTORY ${WORK_DIR}/broken-modes)
+file(WRITE ${WORK_DIR}/broken-modes/modes.json "{\"modes\": [\n")
+execute_process(COMMAND ${PYTHON} ${script} ${WORK_DIR}/broken-modes
+  RESULT_VARIABLE status ERROR_VARIABLE err OUTPUT_QUIET)
+if(NOT status EQUAL 2 OR NOT err MATCHES "broken-modes/modes.json:2: not valid JSON" OR err MATCHES "Traceback")
+  message(FATAL_ERROR "plot_report.py on a cut-off modes.json: exit ${status}, '${err}'")
+endif()
+
 # Not an output directory: one error line naming the missing file, exit 2, no figure.
 file(MAKE_DIRECTORY ${WORK_DIR}/empty)
 execute_process(COMMAND ${PYTHON} ${script} ${WORK_DIR}/empty

@@ -13,8 +13,8 @@ import shutil
 import sys
 
 source_dir, work_dir = sys.argv[1], sys.argv[2]
-sys.path.insert(0, os.path.join(source_dir, "scripts", "report_plots"))
-import batch  # noqa: E402
+sys.path.insert(0, os.path.join(source_dir, "scripts"))
+from report_plots import batch  # noqa: E402
 import matplotlib.pyplot as plt  # noqa: E402
 
 shutil.rmtree(work_dir, ignore_errors=True)

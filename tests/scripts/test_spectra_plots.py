@@ -11,8 +11,8 @@ import os
 import sys
 
 source_dir, work_dir = sys.argv[1], sys.argv[2]
-sys.path.insert(0, os.path.join(source_dir, "scripts", "report_plots"))
-import spectra  # noqa: E402
+sys.path.insert(0, os.path.join(source_dir, "scripts"))
+from report_plots import spectra  # noqa: E402
 
 report = os.path.join(work_dir, "report")
 os.makedirs(report, exist_ok=True)
