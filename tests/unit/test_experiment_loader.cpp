@@ -1060,8 +1060,8 @@ TEST_CASE("a channel's delay shifts it onto the model's time, interpolated, held
     std::vector<std::string> lines = with(kCustom, 15, "inputs: { T_in: { column: u, delay: 0.0025 } }");
     lines = with(lines, 19, "  T_shaft: { column: T, torque: shaft, offset: d_T, delay: -0.002 }");
     const Experiment ex = s.load(lines);
-    CHECK(ex.inputs[0].delay == 0.0025);
-    CHECK(ex.outputs[2].delay == -0.002);
+    CHECK(ex.inputs[0].delay.constant == 0.0025);
+    CHECK(ex.outputs[2].delay.constant == -0.002);
     const tvid::ProblemDefinition d = tvid::problem_definition(ex);
     const std::vector<double>& t = ex.data.column("t");
     std::vector<double> u(1);

@@ -7,10 +7,15 @@ namespace tvid {
 InputChannels::InputChannels(std::vector<double> time, std::vector<std::vector<double>> values)
     : time_(std::move(time)), values_(std::move(values)) {
     midpoints_.resize(values_.size());
-    for (std::size_t k = 0; k < values_.size(); ++k) {
-        const std::vector<double>& v = values_[k];
-        for (std::size_t i = 0; i + 1 < v.size(); ++i) midpoints_[k].push_back(v[i] + 0.5 * (v[i + 1] - v[i]));
-    }
+    for (std::size_t k = 0; k < values_.size(); ++k) set_channel(k, values_[k]);
+}
+
+void InputChannels::set_channel(std::size_t input, const std::vector<double>& values) {
+    std::vector<double>& v = values_[input];
+    if (&v != &values) v.assign(values.begin(), values.end());
+    std::vector<double>& mid = midpoints_[input];
+    mid.resize(v.empty() ? 0 : v.size() - 1);
+    for (std::size_t i = 0; i + 1 < v.size(); ++i) mid[i] = v[i] + 0.5 * (v[i + 1] - v[i]);
 }
 
 void InputChannels::at(double t, std::size_t& hint, double* u) const {

@@ -27,6 +27,10 @@ public:
     /// Outside the recording the end values are held.
     void at(double t, std::size_t& hint, double* u) const;
 
+    /// Replaces input k's values (as many as there are samples) and its midpoints, in
+    /// place: a workspace's copy shifted by a candidate's delay (channel_delay.hpp).
+    void set_channel(std::size_t input, const std::vector<double>& values);
+
 private:
     std::vector<double> time_;
     std::vector<std::vector<double>> values_;

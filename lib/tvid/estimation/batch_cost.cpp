@@ -336,8 +336,9 @@ BatchWorkspace::BatchWorkspace(const IdentificationProblem& problem)
 bool batch_supported(const IdentificationProblem& problem) {
     const ProblemDefinition& d = problem.definition();
     // A filtered output is scored once its window is complete: the scalar cost does that.
+    // A channel delayed by a parameter differs from lane to lane: the scalar cost shifts it per candidate.
     return d.simulation.method == IntegrationMethod::rk4 && has_fixed_state_size(d.network.state_size()) &&
-           !d.filtered;
+           !d.filtered && !problem.has_delay_parameters();
 }
 
 bool batch_costs(const IdentificationProblem& problem, const double* candidates, std::size_t count,

@@ -51,6 +51,12 @@ ExperimentLeastSquares::ExperimentLeastSquares(const IdentificationProblem& prob
     minus_.assign(m, std::vector<double>(residual_count_));
     start_slopes_ = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(2 * problem.definition().estimation.size()),
                                           static_cast<Eigen::Index>(m));
+    for (std::size_t j = 0; j < m; ++j) all_columns_.push_back(j);
+    for (const ProblemDefinition::DelayedChannel& c : problem.definition().delayed_inputs)
+        for (std::size_t j = 0; j < m; ++j)
+            if (problem.free_indices()[j] == static_cast<std::size_t>(c.parameter) &&
+                std::find(input_delay_columns_.begin(), input_delay_columns_.end(), j) == input_delay_columns_.end())
+                input_delay_columns_.push_back(j);
     evaluated_.resize(static_cast<std::size_t>(threads_));
     for (EvaluatedPoint& e : evaluated_) e.residuals.reserve(residual_count_);
 }
@@ -128,8 +134,8 @@ bool ExperimentLeastSquares::jacobian(const double* x, double* r, Eigen::MatrixX
         known = &evaluated_[0];
     }
     keep_guesses(x, known->starts);
-    const bool ok = kind_ == JacobianKind::sensitivity ? sensitivity_jacobian(x, known->starts, J)
-                                                       : finite_difference_jacobian(x, r, J);
+    const bool ok = kind_ == JacobianKind::sensitivity ? sensitivity_jacobian(x, r, known->starts, J)
+                                                       : finite_difference_columns(x, r, all_columns_, J);
     stopped_ = !ok && stop_requested();
     return ok;
 }
@@ -163,8 +169,8 @@ void ExperimentLeastSquares::predict_guesses(const double* x, std::vector<Shooti
     }
 }
 
-bool ExperimentLeastSquares::sensitivity_jacobian(const double* x, const std::vector<SolvedStart>& starts,
-                                                  Eigen::MatrixXd& J) {
+bool ExperimentLeastSquares::sensitivity_jacobian(const double* x, const double* r,
+                                                  const std::vector<SolvedStart>& starts, Eigen::MatrixXd& J) {
     // Column blocks: one per thread with fixed-step RK4 (a column does not depend on its
     // block), otherwise blocks as large as the dual numbers carry.
     const std::size_t m = problem_->dimension();
@@ -187,19 +193,21 @@ bool ExperimentLeastSquares::sensitivity_jacobian(const double* x, const std::ve
     }
     simulations_ += count;
     slopes_valid_ = std::all_of(ok.begin(), ok.end(), [](char c) { return c != 0; });
-    return slopes_valid_;
+    if (!slopes_valid_ || input_delay_columns_.empty()) return slopes_valid_;
+    return finite_difference_columns(x, r, input_delay_columns_, J);
 }
 
-bool ExperimentLeastSquares::finite_difference_jacobian(const double* x, const double* r, Eigen::MatrixXd& J) {
+bool ExperimentLeastSquares::finite_difference_columns(const double* x, const double* r,
+                                                       const std::vector<std::size_t>& which, Eigen::MatrixXd& J) {
     const std::size_t m = problem_->dimension();
     const std::vector<double>& lower = problem_->lower();
     const std::vector<double>& upper = problem_->upper();
     std::vector<double> step(m);
     std::vector<char> ok(m, 1);
-    const auto columns = static_cast<long long>(m);
+    const auto columns = static_cast<long long>(which.size());
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads_)
     for (long long jj = 0; jj < columns; ++jj) {
-        const auto j = static_cast<std::size_t>(jj);
+        const std::size_t j = which[static_cast<std::size_t>(jj)];
         if (stop_requested()) {
             ok[j] = 0;
             continue;
@@ -226,7 +234,7 @@ bool ExperimentLeastSquares::finite_difference_jacobian(const double* x, const d
         ok[j] = good ? 1 : 0;
     }
     simulations_ += 2 * columns;
-    for (std::size_t j = 0; j < m; ++j) {
+    for (std::size_t j : which) {
         if (!ok[j] || !(step[j] > 0)) return false;
         for (std::size_t i = 0; i < residual_count_; ++i)
             J(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = (plus_[j][i] - minus_[j][i]) / step[j];

@@ -42,8 +42,13 @@ public:
     long long right_hand_sides() const override;
 
 private:
-    bool finite_difference_jacobian(const double* x, const double* r, Eigen::MatrixXd& J);
-    bool sensitivity_jacobian(const double* x, const std::vector<SolvedStart>& starts, Eigen::MatrixXd& J);
+    // Columns `columns` of J by central differences (one-sided on a bound); r: the residuals at x.
+    bool finite_difference_columns(const double* x, const double* r, const std::vector<std::size_t>& columns,
+                                   Eigen::MatrixXd& J);
+    // J from the forward sensitivities; an input's delay column, which the model's inputs
+    // carry no derivative for, by central differences.
+    bool sensitivity_jacobian(const double* x, const double* r, const std::vector<SolvedStart>& starts,
+                              Eigen::MatrixXd& J);
 
     const IdentificationProblem* problem_;
     JacobianKind kind_;
@@ -53,6 +58,8 @@ private:
     std::size_t residual_count_ = 0;
     std::vector<std::unique_ptr<ProblemWorkspace>> workspaces_;
     std::vector<std::vector<double>> plus_, minus_;  ///< residuals at x ± h e_j, per column
+    std::vector<std::size_t> all_columns_;          ///< 0 … m − 1
+    std::vector<std::size_t> input_delay_columns_;  ///< the free parameters that delay an input
     // The last residuals computed and where, one record per thread for the evaluations side
     // by side: a Jacobian asked for at one of these points (LM asks for it after accepting
     // the trial point just evaluated) reuses its residuals and the windows' solved starts

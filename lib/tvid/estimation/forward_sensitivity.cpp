@@ -5,6 +5,7 @@
 #include <cmath>
 #include <type_traits>
 
+#include "tvid/channels/channel_delay.hpp"
 #include "tvid/model/steady_motion.hpp"
 #include "tvid/sim/fixed_state_rk4.hpp"
 #include "tvid/sim/sensitivity_system.hpp"
@@ -31,6 +32,7 @@ void ForwardSensitivity::set_parameters(const double* free, std::size_t j0, std:
     const std::vector<std::size_t>& index = problem_->free_indices();
     problem_->full_parameters(free, ws.plain->params);
     ws.plain->model.set_parameters(ws.plain->params.data());
+    problem_->apply_channel_delays(*ws.plain);
     for (std::size_t i = 0; i < ws.params.size(); ++i) ws.params[i] = Dual(ws.plain->params[i]);
     for (std::size_t j = j0; j < j1; ++j)
         ws.params[index[j]] = Dual::variable(free[j], static_cast<int>(j - j0), d);
@@ -177,7 +179,7 @@ SimulationStatus ForwardSensitivity::simulate_augmented(const double* free, cons
     std::size_t from = w.start;
     if (problem_->warms_up(w)) {
         // The warm-up, watching the encoder node's sensitivity row at the shooting's samples.
-        SensitivitySystem warm(ws.model, problem_->inputs(), ws.buffers.u, ws.x, ws.dxdt, static_cast<int>(d));
+        SensitivitySystem warm(ws.model, *ws.plain->inputs, ws.buffers.u, ws.x, ws.dxdt, static_cast<int>(d));
         const std::size_t node = start.node;
         const auto watch = [&](std::size_t i, const std::vector<double>& z, const std::vector<double>&) {
             if (i == start.mid) ws.row_mid.assign(z.begin() + static_cast<std::ptrdiff_t>(state + node * d),
@@ -185,7 +187,7 @@ SimulationStatus ForwardSensitivity::simulate_augmented(const double* free, cons
             return !ws.plain->stop_requested();
         };
         const SimulationStatus status =
-            march_samples(warm, problem_->inputs(), w.start, w.first, ws.z, state, def.simulation, ws.buffers, watch);
+            march_samples(warm, *ws.plain->inputs, w.start, w.first, ws.z, state, def.simulation, ws.buffers, watch);
         if (status != SimulationStatus::ok) {
             if (problem) *problem = std::string("warm-up simulation ") + to_string(status);
             return status;
@@ -218,17 +220,17 @@ SimulationStatus ForwardSensitivity::simulate_augmented(const double* free, cons
         }
         // After a warm-up the first sample is a prediction too: score it.
         std::size_t hint = w.first;
-        problem_->inputs().at(problem_->inputs().time()[w.first], hint, ws.buffers.u.data());
+        ws.plain->inputs->at(problem_->inputs().time()[w.first], hint, ws.buffers.u.data());
         if (!outputs(w.first, ws.z, ws.buffers.u)) return SimulationStatus::stopped_by_observer;
         from = w.first;
     }
-    SensitivitySystem system(ws.model, problem_->inputs(), ws.buffers.u, ws.x, ws.dxdt, static_cast<int>(d));
+    SensitivitySystem system(ws.model, *ws.plain->inputs, ws.buffers.u, ws.x, ws.dxdt, static_cast<int>(d));
     const auto scored = [&](std::size_t i, const std::vector<double>& z, const std::vector<double>& u) {
         if (ws.plain->stop_requested()) return false;
         return i < w.first ? true : outputs(i, z, u);
     };
     const SimulationStatus status =
-        march_samples(system, problem_->inputs(), from, w.last, ws.z, state, def.simulation, ws.buffers, scored);
+        march_samples(system, *ws.plain->inputs, from, w.last, ws.z, state, def.simulation, ws.buffers, scored);
     if (status != SimulationStatus::ok && problem) *problem = std::string("simulation ") + to_string(status);
     return status;
 }
@@ -258,16 +260,34 @@ bool ForwardSensitivity::jacobian_columns(const double* free, std::size_t j0, st
     for (std::size_t j = 0; j < m; ++j)
         if (!std::isfinite(free[j])) return false;
     const ProblemDefinition& def = problem_->definition();
+    const std::vector<double>& time = problem_->inputs().time();
     Eigen::Index row = 0;
     if (starts && starts->size() != def.estimation.size()) starts = nullptr;
+    // The block's columns that are an output's delay: the model does not see them, the
+    // measurement moves (channel_delay.hpp).
+    struct OutputDelayColumn {
+        std::size_t column, output;
+        const std::vector<double>* recorded;
+        double delay;
+        std::size_t hint;
+    };
+    std::vector<OutputDelayColumn> delay_columns;
+    for (const ProblemDefinition::DelayedChannel& c : def.delayed_outputs)
+        for (std::size_t j = j0; j < j1; ++j)
+            if (problem_->free_indices()[j] == static_cast<std::size_t>(c.parameter))
+                delay_columns.push_back({j, c.channel, &c.recorded, free[j], 0});
     for (std::size_t wi = 0; wi < def.estimation.size(); ++wi) {
         const Window& w = def.estimation[wi];
-        const auto record = [&](std::size_t, const auto* outputs) {
+        const auto record = [&](std::size_t i, const auto* outputs) {
             for (std::size_t k = 0; k < def.measured.size(); ++k) {
                 const auto& y = outputs[k];
                 if (row >= J.rows()) return false;
                 for (std::size_t j = j0; j < j1; ++j)
                     J(row, static_cast<Eigen::Index>(j)) = def.output_scale[k] * y.derivative(static_cast<int>(j - j0));
+                for (OutputDelayColumn& c : delay_columns)  // r = scale·(y − y*(t + d)): −scale·y*'(t + d)
+                    if (c.output == k)
+                        J(row, static_cast<Eigen::Index>(c.column)) -=
+                            def.output_scale[k] * delayed_slope(*c.recorded, time, time[i] + c.delay, c.hint);
                 ++row;
             }
             return true;

@@ -20,11 +20,11 @@ SimulationStatus ForwardSensitivity::simulate_packed(const double* free, const W
     using T = PackedDual<D>;
     PackedSensitivityModel<D>& dual = ws.packed<D>();
     const ProblemDefinition& def = problem_->definition();
-    const InputChannels& inputs = problem_->inputs();
     const std::size_t cols = j1 - j0, n = N / 2;
     // The plain start (equilibrium, or the warm-up shooting) and the Dual model for the
     // equilibrium's sensitivity, as the augmented path sets them.
     set_parameters(free, j0, j1, static_cast<int>(cols), ws);
+    const InputChannels& inputs = *ws.plain->inputs;  // shifted by the candidate's delays
     const WindowStart start = window_start(w, ws, problem, solved);
     if (start.status != SimulationStatus::ok) return start.status;
 

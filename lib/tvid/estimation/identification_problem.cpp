@@ -1,6 +1,7 @@
 #include "tvid/estimation/identification_problem.hpp"
 
 #include "tvid/estimation/residual_filter.hpp"
+#include "tvid/channels/channel_delay.hpp"
 
 #include <cmath>
 #include <limits>
@@ -38,7 +39,46 @@ std::unique_ptr<ProblemWorkspace> IdentificationProblem::make_workspace() const 
     ws->x.resize(ws->model.state_size());
     ws->u0.resize(inputs().count());
     ws->buffers.u.resize(inputs().count());
+    ws->inputs = &definition_.inputs;
+    for (const std::vector<double>& m : definition_.measured) ws->measured.push_back(&m);
+    if (!has_delay_parameters()) return ws;
+    // Copies of the delayed channels, shifted as the definition holds them: by the inits.
+    if (!definition_.delayed_inputs.empty()) {
+        ws->shifted_inputs = definition_.inputs;
+        ws->inputs = &ws->shifted_inputs;
+    }
+    ws->shifted_measured.resize(definition_.measured.size());
+    for (const ProblemDefinition::DelayedChannel& c : definition_.delayed_inputs)
+        ws->applied_delays.push_back(definition_.parameters[static_cast<std::size_t>(c.parameter)].init);
+    for (const ProblemDefinition::DelayedChannel& c : definition_.delayed_outputs) {
+        ws->shifted_measured[c.channel] = definition_.measured[c.channel];
+        ws->measured[c.channel] = &ws->shifted_measured[c.channel];
+        ws->applied_delays.push_back(definition_.parameters[static_cast<std::size_t>(c.parameter)].init);
+    }
     return ws;
+}
+
+void IdentificationProblem::apply_channel_delays(ProblemWorkspace& ws) const {
+    if (!has_delay_parameters()) return;
+    const std::vector<double>& time = inputs().time();
+    std::size_t q = 0;
+    for (const ProblemDefinition::DelayedChannel& c : definition_.delayed_inputs) {
+        const double delay = ws.params[static_cast<std::size_t>(c.parameter)];
+        if (ws.applied_delays[q] != delay) {
+            delay_channel(c.recorded, time, delay, ws.shift_scratch);
+            ws.shifted_inputs.set_channel(c.channel, ws.shift_scratch);
+            ws.applied_delays[q] = delay;
+        }
+        ++q;
+    }
+    for (const ProblemDefinition::DelayedChannel& c : definition_.delayed_outputs) {
+        const double delay = ws.params[static_cast<std::size_t>(c.parameter)];
+        if (ws.applied_delays[q] != delay) {
+            delay_channel(c.recorded, time, delay, ws.shifted_measured[c.channel]);
+            ws.applied_delays[q] = delay;
+        }
+        ++q;
+    }
 }
 
 void IdentificationProblem::full_parameters(const double* free, std::vector<double>& out) const {
@@ -58,6 +98,7 @@ bool IdentificationProblem::set_free_parameters(const double* free, ProblemWorks
         ws.params[free_[j]] = free[j];
     }
     ws.model.set_parameters(ws.params.data());
+    apply_channel_delays(ws);
     return true;
 }
 
@@ -77,7 +118,7 @@ SimulationStatus IdentificationProblem::simulate_window(const Window& w, Problem
         from = w.first;
         // After a warm-up the first sample is a prediction too: score it.
         std::size_t hint = w.first;
-        inputs().at(inputs().time()[w.first], hint, ws.buffers.u.data());
+        ws.inputs->at(inputs().time()[w.first], hint, ws.buffers.u.data());
         if (!on_scored(w.first, ws.x, ws.buffers.u)) return SimulationStatus::stopped_by_observer;
     }
     std::size_t reached = from;  // the last sample the simulation reached sane
@@ -95,7 +136,7 @@ SimulationStatus IdentificationProblem::simulate_window(const Window& w, Problem
         return i < w.first ? true : on_scored(i, x, u);  // warm-up: simulated, not scored
     };
     SimulationStatus status =
-        simulate_samples(ws.model, inputs(), from, w.last, ws.x, definition_.simulation, ws.buffers, scored);
+        simulate_samples(ws.model, *ws.inputs, from, w.last, ws.x, definition_.simulation, ws.buffers, scored);
     if (beyond >= 0) {
         status = SimulationStatus::diverged;
         if (problem) *problem = speed_account(static_cast<std::size_t>(beyond), reached, ws.x);
@@ -177,7 +218,7 @@ double IdentificationProblem::cost(const double* free, ProblemWorkspace& ws, dou
         auto add_sample = [&](std::size_t i, const std::vector<double>& x, const std::vector<double>& u) {
             for (std::size_t k = 0; k < n_out; ++k) {
                 const double e = definition_.output_scale[k] * (ws.model.output(definition_.output_indices[k], x.data(),
-                                                                                u.data()) - definition_.measured[k][i]);
+                                                                                u.data()) - (*ws.measured[k])[i]);
                 if (definition_.filtered)
                     ws.window_residuals.push_back(e);  // scored once the window is complete
                 else
@@ -211,7 +252,7 @@ bool IdentificationProblem::residuals(const double* free, ProblemWorkspace& ws, 
             for (std::size_t k = 0; k < n_out; ++k)
                 out.push_back(definition_.output_scale[k] *
                               (ws.model.output(definition_.output_indices[k], x.data(), u.data()) -
-                               definition_.measured[k][i]));
+                               (*ws.measured[k])[i]));
             return true;
         };
         const std::size_t at = out.size();
@@ -242,11 +283,12 @@ WindowTrace IdentificationProblem::trace(const std::vector<double>& params, cons
     tr.simulated.assign(n_out, {});
     ws.params = params;
     ws.model.set_parameters(ws.params.data());
+    apply_channel_delays(ws);
     auto record = [&](std::size_t i, const std::vector<double>& x, const std::vector<double>& u) {
         tr.samples.push_back(i);
         tr.time.push_back(inputs().time()[i]);
         for (std::size_t k = 0; k < n_out; ++k) {
-            tr.measured[k].push_back(definition_.measured[k][i]);
+            tr.measured[k].push_back((*ws.measured[k])[i]);
             tr.simulated[k].push_back(ws.model.output(definition_.output_indices[k], x.data(), u.data()));
         }
         return true;

@@ -57,8 +57,16 @@ public:
     const std::vector<ParameterScale>& scales() const { return scales_; }
     const InputChannels& inputs() const { return definition_.inputs; }
     const CrankAngleChannels& crank_angle_inputs() const { return definition_.angle_inputs; }
-    /// Measured output k (unit-scaled) at every sample.
+    /// Measured output k (unit-scaled) at every sample, shifted by its delay's init.
     const std::vector<double>& measured(std::size_t k) const { return definition_.measured[k]; }
+    /// Whether a channel's delay is a parameter (ProblemDefinition::delayed_inputs, _outputs).
+    bool has_delay_parameters() const {
+        return !definition_.delayed_inputs.empty() || !definition_.delayed_outputs.empty();
+    }
+    /// Shifts ws's copies of the channels whose delay is a parameter to ws.params' delays
+    /// (only those whose delay changed): every simulation and score on ws then reads
+    /// ws.inputs and ws.measured.
+    void apply_channel_delays(ProblemWorkspace& ws) const;
 
     std::unique_ptr<ProblemWorkspace> make_workspace() const;
 

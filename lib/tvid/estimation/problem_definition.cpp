@@ -1,5 +1,7 @@
 #include "tvid/estimation/problem_definition.hpp"
 
+#include "tvid/channels/channel_delay.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <utility>
@@ -14,41 +16,16 @@ std::vector<double> scaled(const std::vector<double>& v, double scale) {
     return out;
 }
 
-// A channel recorded `delay` seconds late, on the model's time: sample i takes the value
-// at time[i] + delay, interpolated linearly between samples and held at the recording's
-// ends (a channel logged by another device, with its own latency).
-std::vector<double> undelayed(const std::vector<double>& v, const std::vector<double>& time, double delay) {
-    if (delay == 0.0) return v;
-    std::vector<double> out(v.size());
-    std::size_t j = 0;  // time[j] <= t < time[j + 1] (time is strictly increasing)
-    for (std::size_t i = 0; i < v.size(); ++i) {
-        const double t = time[i] + delay;
-        if (t <= time.front()) { out[i] = v.front(); continue; }
-        if (t >= time.back()) { out[i] = v.back(); continue; }
-        while (time[j + 1] <= t) ++j;  // t grows with i: j only moves on
-        const double a = (t - time[j]) / (time[j + 1] - time[j]);
-        out[i] = v[j] + a * (v[j + 1] - v[j]);
-    }
-    return out;
+// A channel's delay: its number, or its parameter's init.
+double delay_value(const ChannelBinding& b, const Experiment& experiment) {
+    return b.delay.is_parameter() ? experiment.parameters[static_cast<std::size_t>(b.delay.parameter)].init
+                                  : b.delay.constant;
 }
 
-// The time derivative of a channel at its samples: central differences inside (second
-// order on a non-uniform grid), one-sided at the ends.
-std::vector<double> slope(const std::vector<double>& v, const std::vector<double>& time) {
-    const std::size_t n = v.size();
-    std::vector<double> out(n, 0.0);
-    if (n < 2) return out;
-    out.front() = (v[1] - v[0]) / (time[1] - time[0]);
-    out.back() = (v[n - 1] - v[n - 2]) / (time[n - 1] - time[n - 2]);
-    for (std::size_t i = 1; i + 1 < n; ++i) {
-        const double h0 = time[i] - time[i - 1], h1 = time[i + 1] - time[i];
-        out[i] = (h0 * h0 * (v[i + 1] - v[i]) + h1 * h1 * (v[i] - v[i - 1])) / (h0 * h1 * (h0 + h1));
-    }
+std::vector<double> shifted(const std::vector<double>& v, const std::vector<double>& time, double delay) {
+    std::vector<double> out;
+    delay_channel(v, time, delay, out);
     return out;
-}
-
-std::vector<double> channel_values(const CsvTable& data, const std::vector<double>& time, const ChannelBinding& b) {
-    return undelayed(scaled(data.column(b.column), b.scale), time, b.delay);
 }
 }  // namespace
 
@@ -107,19 +84,51 @@ void set_output_scales(ProblemDefinition& d, const Experiment& experiment) {
     }
 }
 
+// The time inputs, shifted by their delays, then the rates of those the model
+// differentiates (a rate of a delay parameter's input is the recording's rate, shifted).
+static void read_time_inputs(ProblemDefinition& d, const Experiment& experiment, const std::vector<double>& time) {
+    std::vector<std::vector<double>> values, recorded;
+    std::vector<int> delay_parameter;
+    for (const ChannelBinding& in : experiment.inputs) {
+        if (in.by_angle) continue;
+        recorded.push_back(scaled(experiment.data.column(in.column), in.scale));
+        values.push_back(shifted(recorded.back(), time, delay_value(in, experiment)));
+        delay_parameter.push_back(in.delay.parameter);
+    }
+    for (int k : experiment.network.input_rates) {  // after the inputs, as NetworkSpec::input_rates places them
+        const auto from = static_cast<std::size_t>(k);
+        const int p = delay_parameter[from];
+        if (p < 0) {
+            values.push_back(sample_slopes(values[from], time));
+        } else {
+            recorded.push_back(sample_slopes(recorded[from], time));
+            values.push_back(shifted(recorded.back(), time, experiment.parameters[static_cast<std::size_t>(p)].init));
+        }
+        delay_parameter.push_back(p);
+    }
+    for (std::size_t k = 0; k < values.size(); ++k)
+        if (delay_parameter[k] >= 0) d.delayed_inputs.push_back({k, delay_parameter[k], std::move(recorded[k])});
+    d.inputs = InputChannels(time, std::move(values));
+}
+
 ProblemDefinition problem_definition(const Experiment& experiment) {
     ProblemDefinition d;
     d.network = experiment.network;
     const CsvTable& data = experiment.data;
-    std::vector<std::vector<double>> input_values, angle_values;
     const std::vector<double>& time = data.column(experiment.time_column);
+    read_time_inputs(d, experiment, time);
+    std::vector<std::vector<double>> angle_values;
     for (const ChannelBinding& in : experiment.inputs)
-        (in.by_angle ? angle_values : input_values).push_back(channel_values(data, time, in));
-    for (int k : experiment.network.input_rates)  // after the inputs, as NetworkSpec::input_rates places them
-        input_values.push_back(slope(input_values[static_cast<std::size_t>(k)], time));
-    d.inputs = InputChannels(time, std::move(input_values));
+        if (in.by_angle)
+            angle_values.push_back(shifted(scaled(data.column(in.column), in.scale), time, delay_value(in, experiment)));
     if (!angle_values.empty()) d.angle_inputs = CrankAngleChannels(experiment.crank_angle, std::move(angle_values));
-    for (const ChannelBinding& out : experiment.outputs) d.measured.push_back(channel_values(data, time, out));
+    for (const ChannelBinding& out : experiment.outputs) {
+        std::vector<double> recorded = scaled(data.column(out.column), out.scale);
+        d.measured.push_back(shifted(recorded, time, delay_value(out, experiment)));
+        d.output_delay.push_back(out.delay.parameter);
+        if (out.delay.is_parameter())
+            d.delayed_outputs.push_back({d.measured.size() - 1, out.delay.parameter, std::move(recorded)});
+    }
     d.output_indices = experiment.output_indices;
     d.parameters = experiment.parameters;
     d.estimation = experiment.estimation;

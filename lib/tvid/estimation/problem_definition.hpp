@@ -1,11 +1,11 @@
 #pragma once
-#include <limits>
 // What an identification problem needs of an experiment, and nothing else: the network,
 // its measured channels (unit-scaled), the free parameters and their bounds, the
 // estimation windows, how windows start and are simulated, and how they are scored.
 // Built from an Experiment by problem_definition(); IdentificationProblem and the
 // estimation code around it (batch costs, sensitivities, least squares) compute from it.
 
+#include <limits>
 #include <vector>
 
 #include "tvid/channels/crank_angle_channels.hpp"
@@ -46,6 +46,17 @@ struct ProblemDefinition {
     std::vector<ScoringFilter> output_filter;
     bool filtered = false;
     JacobianKind jacobian = JacobianKind::sensitivity;
+    /// A channel whose delay is a parameter (channel_delay.hpp): `inputs` and `measured`
+    /// hold it shifted by the parameter's init, and a workspace shifts `recorded` again at
+    /// each candidate's value (IdentificationProblem::apply_channel_delays).
+    struct DelayedChannel {
+        std::size_t channel = 0;        ///< its index in inputs (a rate follows its input) or in measured
+        int parameter = -1;             ///< the delay's index in the model parameter vector
+        std::vector<double> recorded;   ///< unit-scaled, not shifted
+    };
+    std::vector<DelayedChannel> delayed_inputs, delayed_outputs;
+    /// Per measured output: its delay parameter, or -1 (a number or none).
+    std::vector<int> output_delay;
 };
 
 /// How far beyond the largest measured speed a simulated speed may go.

@@ -7,6 +7,7 @@
 #include <cstddef>
 #include <vector>
 
+#include "tvid/channels/input_channels.hpp"
 #include "tvid/model/network_model.hpp"
 #include "tvid/model/packed_dual.hpp"
 #include "tvid/sim/simulate.hpp"
@@ -45,6 +46,16 @@ struct ProblemWorkspace {
     /// Set by a least-squares solver between its evaluations: the shootings of the point it
     /// last took a Jacobian at, where the next trial point is near (empty: none).
     std::vector<ShootingGuess> shooting_guesses;
+
+    /// The channels as this workspace's parameters read them: the problem's own, or, for
+    /// a channel whose delay is a parameter, a copy shifted by the candidate's delay
+    /// (IdentificationProblem::apply_channel_delays). Set by make_workspace.
+    const InputChannels* inputs = nullptr;
+    std::vector<const std::vector<double>*> measured;  ///< [output] → its samples
+    InputChannels shifted_inputs;
+    std::vector<std::vector<double>> shifted_measured;  ///< [output]; empty unless delayed by a parameter
+    std::vector<double> applied_delays;  ///< per delayed channel (inputs, then outputs): its copy's delay
+    std::vector<double> shift_scratch;   ///< one shifted input channel
 };
 
 }  // namespace tvid

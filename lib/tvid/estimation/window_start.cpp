@@ -24,7 +24,7 @@ bool WindowStarts::initial_state(const Window& w, ProblemWorkspace& ws, std::str
     const std::size_t n = ws.model.node_count();
     const std::size_t start = w.start;
     std::size_t hint = start;
-    d_->inputs.at(d_->inputs.time()[start], hint, ws.u0.data());
+    ws.inputs->at(d_->inputs.time()[start], hint, ws.u0.data());
     std::fill(ws.x.begin(), ws.x.end(), 0.0);
     switch (d_->initial_state) {
         case InitialStateKind::rest: return true;
@@ -32,7 +32,7 @@ bool WindowStarts::initial_state(const Window& w, ProblemWorkspace& ws, std::str
             // Every node untwisted at the measured crank angle, turning at the measured
             // speed, both through the gear ratios (nodes no element joins keep them as they are).
             const auto out = static_cast<std::size_t>(d_->initial_speed_output);
-            const double speed = d_->measured[out][start];
+            const double speed = (*ws.measured[out])[start];
             const int speed_node = d_->network.outputs[static_cast<std::size_t>(d_->output_indices[out])].node;
             const RigidMotion rigid = rigid_motion(d_->network, ws.model.parameters(), speed_node);
             if (!rigid.problem.empty()) {
@@ -56,9 +56,9 @@ bool WindowStarts::initial_state(const Window& w, ProblemWorkspace& ws, std::str
             std::size_t end = s.samples > 0 ? start + s.samples : w.first > start ? w.first : start + 50;
             end = std::min(std::max(end, start + 1), count);
             const double m = static_cast<double>(end - start);
-            for (std::size_t k = 0; k < d_->inputs.count(); ++k) {
+            for (std::size_t k = 0; k < ws.inputs->count(); ++k) {
                 double sum = 0.0;
-                for (std::size_t i = start; i < end; ++i) sum += d_->inputs.value(k, i);
+                for (std::size_t i = start; i < end; ++i) sum += ws.inputs->value(k, i);
                 ws.u0[k] = sum / m;
             }
             double speed = s.speed;
@@ -135,7 +135,7 @@ SimulationStatus WindowStarts::shoot_warmup_newton(const Window& w, ProblemWorks
             if (i == mid) at_mid = state[node];
             return !ws.stop_requested();
         };
-        status = march_fixed_rk4<N>(ws.tangent_model, d_->inputs, w.start, w.first, x, max_step, ws.buffers.u,
+        status = march_fixed_rk4<N>(ws.tangent_model, *ws.inputs, w.start, w.first, x, max_step, ws.buffers.u,
                                     ws.buffers.u_stages, ws.buffers.rhs_evaluations, watch);
         for (std::size_t i = 0; i < N; ++i) ws.x[i] = x[i].value();
         e[0] = at_mid.value() - angle[mid];
@@ -154,7 +154,7 @@ SimulationStatus WindowStarts::shoot_warmup_newton(const Window& w, ProblemWorks
             if (i == mid) at_mid = state[node];
             return !ws.stop_requested();
         };
-        status = march_fixed_rk4<N>(ws.model, d_->inputs, w.start, w.first, x, d_->simulation.max_step,
+        status = march_fixed_rk4<N>(ws.model, *ws.inputs, w.start, w.first, x, d_->simulation.max_step,
                                     ws.buffers.u, ws.buffers.u_stages, ws.buffers.rhs_evaluations, watch);
         for (std::size_t i = 0; i < N; ++i) ws.x[i] = x[i];
         e[0] = at_mid - angle[mid];
@@ -286,7 +286,7 @@ SimulationStatus WindowStarts::shoot_warmup_by_differences(const Window& w, Prob
             if (i == mid) at_mid = x[node];
             return !ws.stop_requested();
         };
-        status = simulate_samples(ws.model, d_->inputs, w.start, w.first, ws.x, d_->simulation, ws.buffers, watch);
+        status = simulate_samples(ws.model, *ws.inputs, w.start, w.first, ws.x, d_->simulation, ws.buffers, watch);
         e[0] = at_mid - angle[mid];
         e[1] = ws.x[node] - angle[w.first];
         return status == SimulationStatus::ok && std::isfinite(e[0]) && std::isfinite(e[1]);
@@ -298,7 +298,7 @@ SimulationStatus WindowStarts::shoot_warmup_by_differences(const Window& w, Prob
         const auto plain = [&](std::size_t, const std::vector<double>&, const std::vector<double>&) {
             return !ws.stop_requested();
         };
-        return simulate_samples(ws.model, d_->inputs, w.start, w.first, ws.x, d_->simulation, ws.buffers, plain);
+        return simulate_samples(ws.model, *ws.inputs, w.start, w.first, ws.x, d_->simulation, ws.buffers, plain);
     }
     if (!miss(a, s, e)) return status;
     // The Jacobian by differences, once: the map is close to linear.

@@ -34,8 +34,23 @@ std::string unit_list() {
 
 // A column name, or { column: NAME, unit: U | scale: S, ... }. `extra` are further keys
 // the mapping may hold (read by the caller).
+// A channel's `delay:`: a number, or a parameter declared under `parameters:`. A delay
+// moves the data, not the model, so a preset's network takes it on as one more parameter.
+Field read_delay(const YamlMap& m, NetworkSpec& network, const std::vector<std::string>& declared) {
+    const YAML::Node node = m.get("delay");
+    if (node.IsScalar() && network.parameter_index(node.Scalar()) < 0 &&
+        std::find(declared.begin(), declared.end(), node.Scalar()) != declared.end())
+        network.parameter_names.push_back(node.Scalar());
+    const Field delay = read_field(m.source(), node, m.key_path("delay"), network.parameter_names);
+    if (delay.is_parameter() && std::find(network.delay_parameters.begin(), network.delay_parameters.end(),
+                                          delay.parameter) == network.delay_parameters.end())
+        network.delay_parameters.push_back(delay.parameter);
+    return delay;
+}
+
 ChannelBinding read_binding(const YamlMap& section, const std::string& name, const CsvTable& data,
-                            double recording_seconds, std::initializer_list<std::string_view> extra) {
+                            double recording_seconds, NetworkSpec& network, const std::vector<std::string>& declared,
+                            std::initializer_list<std::string_view> extra) {
     const YamlSource& src = section.source();
     const YAML::Node value = section.get(name);
     ChannelBinding b;
@@ -60,11 +75,12 @@ ChannelBinding read_binding(const YamlMap& section, const std::string& name, con
             b.scale = m.number("scale");
             if (b.scale == 0.0) m.fail("scale", "a scale of 0 removes the channel");
         }
-        if (m.has("delay")) {
-            b.delay = m.number("delay");
-            if (!(std::abs(b.delay) < recording_seconds))
-                m.fail("delay", "a delay of " + number_text(b.delay) + " s shifts the channel past the recording (" +
-                                    number_text(recording_seconds) + " s long)");
+        if (m.has("delay")) {  // a parameter's bounds are checked with the parameters
+            b.delay = read_delay(m, network, declared);
+            if (!b.delay.is_parameter() && !(std::abs(b.delay.constant) < recording_seconds))
+                m.fail("delay", "a delay of " + number_text(b.delay.constant) +
+                                    " s shifts the channel past the recording (" + number_text(recording_seconds) +
+                                    " s long)");
         }
     } else if (!value.IsScalar()) {
         src.fail(value, column_path, "expected a CSV column name or { column: NAME, unit: U }");
@@ -157,8 +173,8 @@ double unit_to_si(const std::string& unit) {
     return 0.0;
 }
 
-std::vector<ChannelBinding> read_inputs(const YamlMap& inputs, const NetworkSpec& network, const CsvTable& data,
-                                        double recording_seconds) {
+std::vector<ChannelBinding> read_inputs(const YamlMap& inputs, NetworkSpec& network, const CsvTable& data,
+                                        double recording_seconds, const std::vector<std::string>& declared) {
     std::vector<std::string> names = network.input_names;
     names.insert(names.end(), network.angle_input_names.begin(), network.angle_input_names.end());
     inputs.allow_only(names);
@@ -166,8 +182,11 @@ std::vector<ChannelBinding> read_inputs(const YamlMap& inputs, const NetworkSpec
     for (std::size_t i = 0; i < names.size(); ++i) {
         const std::string& name = names[i];
         if (!inputs.has(name)) inputs.fail_missing(name, "(the CSV column of model input " + name + ")");
-        out.push_back(read_binding(inputs, name, data, recording_seconds, {}));
+        out.push_back(read_binding(inputs, name, data, recording_seconds, network, declared, {}));
         out.back().by_angle = i >= network.input_names.size();
+        if (out.back().by_angle && out.back().delay.is_parameter())
+            YamlMap(inputs.source(), inputs.get(name), inputs.key_path(name))
+                .fail("delay", "a cylinder pressure is read by crank angle: its delay must be a number");
     }
     return out;
 }
@@ -186,7 +205,7 @@ static void check_output_magnitude(const ChannelBinding& b, const CsvTable& data
 }
 
 OutputBindings read_outputs(const YamlMap& outputs, NetworkSpec& network, const CsvTable& data,
-                            double recording_seconds) {
+                            double recording_seconds, const std::vector<std::string>& declared) {
     const bool custom = network.preset == "custom";
     OutputBindings out;
     if (!custom) {
@@ -199,10 +218,11 @@ OutputBindings read_outputs(const YamlMap& outputs, NetworkSpec& network, const 
             if (network.output_index(name) >= 0) outputs.fail(name, "output defined twice");
             network.outputs.push_back(read_custom_output(outputs, name, network));
             out.channels.push_back(
-                read_binding(outputs, name, data, recording_seconds,
+                read_binding(outputs, name, data, recording_seconds, network, declared,
                              {"speed", "angle", "torque", "side", "offset", "gain", "weight", "detrend", "highpass"}));
         } else {
-            out.channels.push_back(read_binding(outputs, name, data, recording_seconds, {"weight", "detrend", "highpass"}));
+            out.channels.push_back(read_binding(outputs, name, data, recording_seconds, network, declared,
+                                               {"weight", "detrend", "highpass"}));
         }
         if (const YAML::Node v = outputs.get(name); v.IsMap()) {
             const YamlMap m(outputs.source(), v, outputs.key_path(name));

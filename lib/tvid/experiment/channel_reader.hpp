@@ -12,8 +12,10 @@
 namespace tvid {
 
 /// One binding per network input, in network order; every input must be bound.
-std::vector<ChannelBinding> read_inputs(const YamlMap& inputs, const NetworkSpec& network, const CsvTable& data,
-                                        double recording_seconds);
+/// `declared`: the names under `parameters:`. A channel's `delay:` may name one; it is
+/// recorded in network.delay_parameters (and added to a preset's parameter names).
+std::vector<ChannelBinding> read_inputs(const YamlMap& inputs, NetworkSpec& network, const CsvTable& data,
+                                        double recording_seconds, const std::vector<std::string>& declared);
 
 struct OutputBindings {
     std::vector<ChannelBinding> channels;
@@ -24,7 +26,7 @@ struct OutputBindings {
 /// defines an output (`speed: NODE`, `angle: NODE` or `torque: ELEMENT`, optional
 /// `offset`) and is appended to `network.outputs`.
 OutputBindings read_outputs(const YamlMap& outputs, NetworkSpec& network, const CsvTable& data,
-                            double recording_seconds);
+                            double recording_seconds, const std::vector<std::string>& declared);
 
 /// Refuses a cylinder pressure channel (an input read by crank angle) whose values, in Pa
 /// after the unit conversion, cannot be an absolute cylinder pressure: negative, a peak

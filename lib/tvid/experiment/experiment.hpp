@@ -67,7 +67,9 @@ struct ChannelBinding {
     std::string model_name;  ///< e.g. "Ttm"
     std::string column;      ///< CSV column
     double scale = 1.0;      ///< unit conversion applied when reading (e.g. bar -> Pa)
-    double delay = 0.0;      ///< [s] how late the channel was recorded: at model time t it reads t + delay
+    /// [s] how late the channel was recorded: at model time t it reads t + delay
+    /// (channels/channel_delay.hpp). A number, or a parameter (NetworkSpec::delay_parameters).
+    Field delay;
     double weight = 1.0;     ///< an output's weight in the cost (its residuals are multiplied by it)
     ScoringFilter scoring;   ///< an output's detrend and high-pass in the cost
     bool by_angle = false;   ///< a crank-angle channel (cylinder pressure), read against data.angle

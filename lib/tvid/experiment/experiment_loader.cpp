@@ -27,6 +27,26 @@ namespace tvid {
 
 namespace {
 
+// A delay parameter moves a channel by interpolation within the recording: its bounds (or
+// its fixed value) must keep it shorter than the recording, and it needs both.
+void check_delay_parameters(const YamlMap& section, const NetworkSpec& network,
+                            const std::vector<ParameterSetting>& parameters, double recording_seconds) {
+    for (int index : network.delay_parameters) {
+        const ParameterSetting& p = parameters[static_cast<std::size_t>(index)];
+        const std::string span = " s; the recording is " + number_text(recording_seconds) + " s long";
+        if (p.fixed) {
+            if (!(std::abs(p.init) < recording_seconds))
+                section.fail(p.name, "the delay " + p.name + " = " + number_text(p.init) + span);
+            continue;
+        }
+        if (!p.has_min || !p.has_max)
+            section.fail(p.name, "the delay " + p.name + " needs min and max (in seconds, within the recording)");
+        if (!(std::abs(p.min) < recording_seconds && std::abs(p.max) < recording_seconds))
+            section.fail(p.name, "the delay " + p.name + "'s bounds [" + number_text(p.min) + ", " + number_text(p.max) +
+                                     "]" + span);
+    }
+}
+
 // The largest swarm a grid start may ask for (grid^M particles).
 constexpr double kMaxParticles = 1e6;
 
@@ -287,7 +307,7 @@ Experiment load_experiment(const std::filesystem::path& file, const std::vector<
     ex.network = read_model(top.map("model"), parameters.keys(), ex.model_constants);
     const std::vector<double>& time = ex.data.column(ex.time_column);
     const double recording_seconds = time.back() - time.front();
-    ex.inputs = read_inputs(top.map("inputs"), ex.network, ex.data, recording_seconds);
+    ex.inputs = read_inputs(top.map("inputs"), ex.network, ex.data, recording_seconds, parameters.keys());
     if (data.has("angle_node")) {
         if (ex.angle_column.empty()) data.fail("angle_node", "names the node of the crank-angle channel: give data.angle too");
         const std::string node = data.text("angle_node");
@@ -299,13 +319,14 @@ Experiment load_experiment(const std::filesystem::path& file, const std::vector<
     if (!ex.network.angle_input_names.empty() && ex.angle_column.empty())
         data.fail_missing("angle", "(the model reads cylinder pressures by crank angle: name the crank-angle column)");
     check_cylinder_pressures(top.map("inputs"), ex.inputs, ex.data);
-    OutputBindings outputs = read_outputs(top.map("outputs"), ex.network, ex.data, recording_seconds);
+    OutputBindings outputs = read_outputs(top.map("outputs"), ex.network, ex.data, recording_seconds, parameters.keys());
     ex.outputs = std::move(outputs.channels);
     ex.output_indices = std::move(outputs.indices);
     if (top.has("estimation")) ex.estimation_settings = read_estimation(top.map("estimation"));
     const bool swarm = ex.estimation_settings.optimizer == OptimizerKind::pso ||
                        ex.estimation_settings.optimizer == OptimizerKind::pso_lm;
     ex.parameters = read_parameters(parameters, ex.network, swarm);
+    check_delay_parameters(parameters, ex.network, ex.parameters, recording_seconds);
     check_search_box(parameters, ex.parameters, ex.estimation_settings);
 
     // A grid start places grid^M particles: refuse swarms that could never be evaluated.

@@ -393,6 +393,7 @@ std::vector<bool> parameters_in_use(const NetworkSpec& n) {
     std::vector<bool> used(n.parameter_names.size(), false);
     for (const auto& e : n.nodes) mark(e.inertia, used);
     for_each_element_field(n, [&](const FieldInfo&, const Field& f) { mark(f, used); });
+    for (int p : n.delay_parameters) mark(Field::param(p), used);
     for (const auto& o : n.outputs) {
         mark(o.offset, used);
         mark(o.gain, used);

@@ -78,6 +78,9 @@ struct NetworkSpec {
     TVID_ELEMENT_KINDS(TVID_ELEMENT_LIST)
 #undef TVID_ELEMENT_LIST
     std::vector<OutputSpec> outputs;          ///< every output the model offers
+    /// Parameters that are a measured channel's delay [s] (ChannelBinding::delay): they move
+    /// the recording against the model's time and enter no element.
+    std::vector<int> delay_parameters;
 
     int parameter_index(const std::string& name) const;  ///< -1 if absent
     int input_index(const std::string& name) const;

@@ -1,5 +1,6 @@
 #include "tvid/model/parameter_units.hpp"
 
+#include <algorithm>
 #include <cstring>
 
 #include "tvid/model/presets.hpp"
@@ -44,10 +45,13 @@ const char* output_unit(const OutputSpec& output) {
 }
 
 std::vector<std::string> parameter_units(const NetworkSpec& network) {
-    if (const PresetInfo* preset = find_preset(network.preset);
-        preset && preset->parameter_units.size() == network.parameter_names.size())
-        return preset->parameter_units;
     std::vector<std::string> units(network.parameter_names.size());
+    for (int p : network.delay_parameters) assign(units, Field::param(p), "s");
+    if (const PresetInfo* preset = find_preset(network.preset);
+        preset && preset->parameter_units.size() <= network.parameter_names.size()) {
+        std::copy(preset->parameter_units.begin(), preset->parameter_units.end(), units.begin());  // then the delays
+        return units;
+    }
     for (const NodeSpec& node : network.nodes) assign(units, node.inertia, node.inverse ? "1/(kg m^2)" : "kg m^2");
     for_each_element_field(network, [&](const FieldInfo& info, const Field& field) { assign(units, field, field_unit(info)); });
     for (const OutputSpec& output : network.outputs) {

@@ -1,0 +1,215 @@
+// A channel's delay as a parameter (`delay: NAME`): the same reading as the fixed delay
+// of that value, a Jacobian column that matches differences, and a fit that finds a delay
+// written into noise-free data: a whole number of samples on an output, a fraction of a
+// sample on an input.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <numbers>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "support/test_files.hpp"
+#include "tvid/estimation/experiment_least_squares.hpp"
+#include "tvid/estimation/identification_problem.hpp"
+#include "tvid/experiment/experiment.hpp"
+#include "tvid/fit/fit_run.hpp"
+#include "tvid/model/parameter_units.hpp"
+#include "tvid/util/input_error.hpp"
+
+using namespace tvid;
+
+namespace {
+
+// Two inertias on a shaft, driven by a measured torque; the load's speed and the shaft's
+// torque are measured. INPUT and OUTPUTS are filled in per test.
+std::string experiment_text(const std::string& input, const std::string& speed_output, const std::string& parameters) {
+    return R"(tvid: 1
+name: delays
+data: { file: rec.csv, time: t }
+model:
+  nodes: [ { name: motor, J: 0.01 }, { name: load, J: 0.02 } ]
+  elements:
+    - { type: torque, name: drive, node: motor, input: T_in }
+    - { type: spring_damper, name: shaft, between: [motor, load], k: k_s, c: 0.05 }
+    - { type: friction, name: bearing, node: load, c: 0.02 }
+inputs: { T_in: )" + input + R"( }
+outputs:
+  w_load:  )" + speed_output + R"(
+  T_shaft: { column: T, torque: shaft }
+parameters:
+  k_s: { init: 40, min: 1, max: 1000 }
+)" + parameters + R"(
+windows: { estimation: [ { samples: [0, 1999] } ] }
+initial_state: rest
+simulation: { method: rk4, step: 1.0e-3 }
+estimation: { cost: l2, optimizer: lm, lm: { max_iterations: 60 } }
+)";
+}
+
+// The drive torque: two sines, 3 and 11 Hz.
+double drive(double t) {
+    return std::sin(2 * std::numbers::pi * 3 * t) + 0.5 * std::sin(2 * std::numbers::pi * 11 * t + 0.3);
+}
+
+struct Recording {
+    std::vector<double> t, u, w, T;
+    std::string csv() const {
+        std::ostringstream out;
+        out.precision(17);
+        out << "t,u,w,T\n";
+        for (std::size_t i = 0; i < t.size(); ++i) out << t[i] << ',' << u[i] << ',' << w[i] << ',' << T[i] << '\n';
+        return out.str();
+    }
+};
+
+// The model's outputs at k_s = 40 when the torque u is applied, at 1 kHz for 2 s.
+Recording simulated(const test::TempDir& dir, const std::vector<double>& u) {
+    Recording r;
+    for (int i = 0; i < 2000; ++i) r.t.push_back(i * 1e-3);
+    r.u = u;
+    r.w.assign(r.t.size(), 0.0);
+    r.T.assign(r.t.size(), 0.0);
+    dir.write("rec.csv", r.csv());
+    const Experiment ex = load_experiment(dir.write("truth.yaml", experiment_text("u", "{ column: w, speed: load }", "")));
+    const IdentificationProblem problem(ex);
+    auto ws = problem.make_workspace();
+    const WindowTrace tr = problem.trace(problem.full_parameters(std::vector<double>{40.0}), ex.estimation[0], *ws);
+    REQUIRE(tr.status == SimulationStatus::ok);
+    for (std::size_t s = 0; s < tr.samples.size(); ++s) {
+        r.w[tr.samples[s]] = tr.simulated[0][s];
+        r.T[tr.samples[s]] = tr.simulated[1][s];
+    }
+    dir.write("rec.csv", r.csv());
+    return r;
+}
+
+// The experiment scored short of the recording's end, where a delayed channel is held.
+std::string scored_inside(std::string text) {
+    const std::string all = "[0, 1999]";
+    return text.replace(text.find(all), all.size(), "[0, 1989]");
+}
+
+std::vector<double> drive_samples(double late) {
+    std::vector<double> u;
+    for (int i = 0; i < 2000; ++i) u.push_back(drive(i * 1e-3 - late));
+    return u;
+}
+
+}  // namespace
+
+TEST_CASE("a delay parameter reads the channel as the fixed delay of its value does", "[delay]") {
+    test::TempDir dir;
+    simulated(dir, drive_samples(0.0));
+    const auto cost_of = [&](const std::string& input, const std::string& output, const std::string& parameters) {
+        const Experiment ex = load_experiment(dir.write("e.yaml", experiment_text(input, output, parameters)));
+        const IdentificationProblem problem(ex);
+        auto ws = problem.make_workspace();
+        std::vector<double> out;
+        REQUIRE(problem.residuals(problem.initial().data(), *ws, out));
+        return out;
+    };
+    const std::string speed = "{ column: w, speed: load }";
+    SECTION("on an input") {
+        const std::vector<double> fixed = cost_of("{ column: u, delay: 0.0037 }", speed, "");
+        const std::vector<double> free =
+            cost_of("{ column: u, delay: d_u }", speed, "  d_u: { init: 0.0037, min: -0.01, max: 0.01 }");
+        REQUIRE(free.size() == fixed.size());
+        for (std::size_t i = 0; i < free.size(); ++i) REQUIRE(free[i] == fixed[i]);
+        const std::vector<double> none = cost_of("u", speed, "");
+        CHECK(none != fixed);  // the delay changed the residuals
+    }
+    SECTION("on an output") {
+        const std::vector<double> fixed = cost_of("u", "{ column: w, speed: load, delay: -0.0021 }", "");
+        const std::vector<double> free = cost_of("u", "{ column: w, speed: load, delay: d_w }",
+                                                 "  d_w: { init: -0.0021, min: -0.01, max: 0.01 }");
+        REQUIRE(free.size() == fixed.size());
+        for (std::size_t i = 0; i < free.size(); ++i) REQUIRE(free[i] == fixed[i]);
+    }
+}
+
+TEST_CASE("a delay parameter's Jacobian column matches central differences", "[delay][jacobian]") {
+    test::TempDir dir;
+    simulated(dir, drive_samples(0.0));
+    const std::string text = experiment_text("{ column: u, delay: d_u }", "{ column: w, speed: load, delay: d_w }",
+                                             "  d_u: { init: 0.0013, min: -0.01, max: 0.01 }\n"
+                                             "  d_w: { init: 0.0024, min: -0.01, max: 0.01 }");
+    const Experiment ex = load_experiment(dir.write("e.yaml", text));
+    const IdentificationProblem problem(ex);
+    REQUIRE(problem.dimension() == 3);
+    const std::vector<double> x{55.0, 0.0013, 0.0024};  // a k_s off the truth: the residuals are not small
+    const auto jacobian = [&](JacobianKind kind) {
+        ExperimentLeastSquares ls(problem, 1, kind);
+        Eigen::MatrixXd J(static_cast<Eigen::Index>(ls.residual_count()), 3);
+        std::vector<double> r(ls.residual_count());
+        REQUIRE(ls.jacobian(x.data(), r.data(), J));
+        return J;
+    };
+    const Eigen::MatrixXd sens = jacobian(JacobianKind::sensitivity), fd = jacobian(JacobianKind::fd);
+    for (Eigen::Index j = 0; j < 3; ++j) {
+        INFO("column " << j);
+        CHECK(sens.col(j).norm() > 0);
+        CHECK((sens.col(j) - fd.col(j)).norm() <= 1e-4 * fd.col(j).norm());
+    }
+}
+
+TEST_CASE("a fit finds a delay written into noise-free data", "[delay][fit]") {
+    test::TempDir dir;
+    SECTION("an output recorded two samples late") {
+        Recording r = simulated(dir, drive_samples(0.0));
+        std::vector<double> late(r.w.size(), 0.0);
+        for (std::size_t i = 2; i < r.w.size(); ++i) late[i] = r.w[i - 2];  // w(t) recorded at t + 2 ms
+        r.w = late;
+        dir.write("rec.csv", r.csv());
+        const Experiment ex = load_experiment(dir.write(
+            "e.yaml", scored_inside(experiment_text("u", "{ column: w, speed: load, delay: d_w }",
+                                                    "  d_w: { init: 0.0005, min: -0.01, max: 0.01 }"))));
+        FitOptions options;
+        options.threads = 2;
+        const FitResult fit = run_fit(IdentificationProblem(ex), options);
+        REQUIRE(fit.success);
+        CHECK(fit.best_free[0] == Approx(40.0).epsilon(1e-6));
+        CHECK(fit.best_free[1] == Approx(0.002).margin(1e-8));
+    }
+    SECTION("an input recorded 3.3 ms late, a third of a sample past three") {
+        Recording r = simulated(dir, drive_samples(0.0));
+        r.u = drive_samples(0.0033);  // the torque as a logger 3.3 ms behind recorded it
+        dir.write("rec.csv", r.csv());
+        const Experiment ex = load_experiment(dir.write(
+            "e.yaml", scored_inside(experiment_text("{ column: u, delay: d_u }", "{ column: w, speed: load }",
+                                                    "  d_u: { init: 0.001, min: -0.01, max: 0.01 }"))));
+        FitOptions options;
+        options.threads = 2;
+        const FitResult fit = run_fit(IdentificationProblem(ex), options);
+        REQUIRE(fit.success);
+        // Interpolating the late recording linearly is the only error: 1 kHz samples of 3 and 11 Hz.
+        CHECK(fit.best_free[0] == Approx(40.0).epsilon(1e-3));
+        CHECK(fit.best_free[1] == Approx(0.0033).margin(2e-5));
+        REQUIRE(fit.uncertainty.available);
+        CHECK(fit.uncertainty.std_error[1] < 1e-5);  // a delay the data pin down
+    }
+}
+
+TEST_CASE("a delay parameter is in seconds and needs bounds within the recording", "[delay][experiment]") {
+    test::TempDir dir;
+    simulated(dir, drive_samples(0.0));
+    const std::string input = "{ column: u, delay: d_u }", speed = "{ column: w, speed: load }";
+    const Experiment ex =
+        load_experiment(dir.write("ok.yaml", experiment_text(input, speed, "  d_u: { init: 0, min: -0.01, max: 0.01 }")));
+    const int d = ex.network.parameter_index("d_u");
+    REQUIRE(d >= 0);
+    CHECK(parameter_units(ex.network)[static_cast<std::size_t>(d)] == "s");
+    const auto error_of = [&](const std::string& parameters) {
+        try {
+            load_experiment(dir.write("bad.yaml", experiment_text(input, speed, parameters)));
+        } catch (const InputError& e) {
+            return std::string(e.what());
+        }
+        return std::string("no error");
+    };
+    CHECK_THAT(error_of("  d_u: { init: 0, min: -0.01 }"), Catch::Contains("needs min and max"));
+    CHECK_THAT(error_of("  d_u: { init: 0, min: -0.01, max: 5 }"), Catch::Contains("the recording is"));
+    CHECK_THAT(error_of("  d_u: 3"), Catch::Contains("the recording is"));
+    CHECK_THAT(error_of(""), Catch::Contains("neither a number nor a parameter"));
+}
