@@ -12,6 +12,7 @@
 
 #include "support/test_files.hpp"
 #include "tvid/estimation/experiment_least_squares.hpp"
+#include "tvid/estimation/forward_sensitivity.hpp"
 #include "tvid/estimation/identification_problem.hpp"
 #include "tvid/experiment/experiment.hpp"
 #include "tvid/fit/fit_run.hpp"
@@ -152,6 +153,24 @@ TEST_CASE("a delay parameter's Jacobian column matches central differences", "[d
         CHECK(sens.col(j).norm() > 0);
         CHECK((sens.col(j) - fd.col(j)).norm() <= 1e-4 * fd.col(j).norm());
     }
+    // tvid sensitivity's columns are the residuals' too: row s·2 + k of J is output k's
+    // derivative at scored sample s, times the output's factor.
+    const ForwardSensitivity forward(problem);
+    auto ws = forward.make_workspace();
+    const WindowSensitivity ranked = forward.window_sensitivity(x.data(), ex.estimation[0], *ws);
+    REQUIRE(ranked.status == SimulationStatus::ok);
+    const std::vector<double>& factor = problem.definition().output_scale;
+    for (std::size_t j = 0; j < 3; ++j)
+        for (std::size_t k = 0; k < 2; ++k) {
+            INFO("column " << j << ", output " << k);
+            Eigen::VectorXd column(static_cast<Eigen::Index>(ranked.time.size()));
+            Eigen::VectorXd reference(column.size());
+            for (std::size_t s = 0; s < ranked.time.size(); ++s) {
+                column(static_cast<Eigen::Index>(s)) = factor[k] * ranked.dydp[k][j][s];
+                reference(static_cast<Eigen::Index>(s)) = fd(static_cast<Eigen::Index>(2 * s + k), static_cast<Eigen::Index>(j));
+            }
+            CHECK((column - reference).norm() <= 1e-4 * reference.norm() + 1e-12);
+        }
 }
 
 TEST_CASE("a fit finds a delay written into noise-free data", "[delay][fit]") {

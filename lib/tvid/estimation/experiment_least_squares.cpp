@@ -6,22 +6,11 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "tvid/estimation/difference_step.hpp"
 #include "tvid/estimation/parallel_evaluator.hpp"
 #include "tvid/estimation/window_score.hpp"
 
 namespace tvid {
-
-namespace {
-
-// The central-difference step for parameter j: ε^(1/3) of its magnitude (of the bound
-// width, or 1, when it is zero), which balances truncation against rounding error.
-double difference_step(double x, double lower, double upper) {
-    double scale = std::abs(x);
-    if (scale == 0.0) scale = std::isfinite(upper - lower) && upper - lower < 1e100 ? 1e-3 * (upper - lower) : 1.0;
-    return 6e-6 * scale;
-}
-
-}  // namespace
 
 std::size_t estimation_residual_count(const std::vector<Window>& windows, std::size_t outputs) {
     std::size_t n = 0;

@@ -6,6 +6,7 @@
 #include <type_traits>
 
 #include "tvid/channels/channel_delay.hpp"
+#include "tvid/estimation/difference_step.hpp"
 #include "tvid/model/steady_motion.hpp"
 #include "tvid/sim/fixed_state_rk4.hpp"
 #include "tvid/sim/sensitivity_system.hpp"
@@ -331,9 +332,56 @@ WindowSensitivity ForwardSensitivity::window_sensitivity(const double* free, con
             return true;
         };
         out.status = simulate(free, w, j0, j1, ws, &out.problem, record);
-        if (out.status != SimulationStatus::ok) break;
+        if (out.status != SimulationStatus::ok) return out;
     }
+    delay_sensitivities(free, w, ws, out);
     return out;
+}
+
+void ForwardSensitivity::delay_sensitivities(const double* free, const Window& w, SensitivityWorkspace& ws,
+                                             WindowSensitivity& out) const {
+    const ProblemDefinition& def = problem_->definition();
+    const std::vector<std::size_t>& index = problem_->free_indices();
+    const std::vector<double>& time = problem_->inputs().time();
+    const auto column = [&](int parameter) {
+        for (std::size_t j = 0; j < index.size(); ++j)
+            if (index[j] == static_cast<std::size_t>(parameter)) return static_cast<long>(j);
+        return -1L;
+    };
+    // An output's delay moves the recording: the residual y − y*(t + d) changes by −y*'(t + d).
+    for (const ProblemDefinition::DelayedChannel& c : def.delayed_outputs) {
+        const long j = column(c.parameter);
+        if (j < 0) continue;
+        std::vector<double>& d = out.dydp[c.channel][static_cast<std::size_t>(j)];
+        std::size_t hint = 0;
+        for (std::size_t s = 0; s < out.time.size(); ++s)
+            d[s] -= delayed_slope(c.recorded, time, out.time[s] + free[j], hint);
+    }
+    // An input's delay moves what drives the model, which carries no derivative of its
+    // inputs: central differences of the outputs.
+    std::vector<double> point(free, free + index.size());
+    for (const ProblemDefinition::DelayedChannel& c : def.delayed_inputs) {
+        const long jj = column(c.parameter);
+        if (jj < 0) continue;
+        const auto j = static_cast<std::size_t>(jj);
+        const double h = difference_step(free[j], problem_->lower()[j], problem_->upper()[j]);
+        const double up = std::min(free[j] + h, problem_->upper()[j]), down = std::max(free[j] - h, problem_->lower()[j]);
+        point[j] = up;
+        const WindowTrace plus = problem_->trace(problem_->full_parameters(point), w, *ws.plain);
+        point[j] = down;
+        const WindowTrace minus = problem_->trace(problem_->full_parameters(point), w, *ws.plain);
+        point[j] = free[j];
+        if (plus.status != SimulationStatus::ok || minus.status != SimulationStatus::ok ||
+            plus.time.size() != out.time.size() || minus.time.size() != out.time.size()) {
+            out.status = plus.status != SimulationStatus::ok ? plus.status : minus.status;
+            out.problem = "the difference of input delay " + def.network.parameter_names[static_cast<std::size_t>(c.parameter)] +
+                          " did not simulate";
+            return;
+        }
+        for (std::size_t k = 0; k < out.output.size(); ++k)
+            for (std::size_t s = 0; s < out.time.size(); ++s)
+                out.dydp[k][j][s] = (plus.simulated[k][s] - minus.simulated[k][s]) / (up - down);
+    }
 }
 
 }  // namespace tvid

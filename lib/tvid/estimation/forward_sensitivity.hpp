@@ -96,10 +96,14 @@ public:
                           Eigen::MatrixXd& J, const std::vector<SolvedStart>* starts = nullptr,
                           Eigen::MatrixXd* start_slopes = nullptr) const;
 
-    /// Window w's outputs and their derivatives for every free parameter.
+    /// Window w's outputs and their derivatives for every free parameter. A delay's column
+    /// is that of the residual: for an input's delay the outputs' central difference, for
+    /// an output's delay −(the recording's slope at t + d) (channel_delay.hpp).
     WindowSensitivity window_sensitivity(const double* free, const Window& w, SensitivityWorkspace& ws) const;
 
 private:
+    // window_sensitivity's columns of the delay parameters (the duals leave them zero).
+    void delay_sensitivities(const double* free, const Window& w, SensitivityWorkspace& ws, WindowSensitivity& out) const;
     // Sets the plain and dual parameters, the block's columns [j0, j1) seeded among d directions.
     void set_parameters(const double* free, std::size_t j0, std::size_t j1, int d, SensitivityWorkspace& ws) const;
 
