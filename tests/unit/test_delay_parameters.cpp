@@ -208,6 +208,21 @@ TEST_CASE("a fit finds a delay written into noise-free data", "[delay][fit]") {
         REQUIRE(fit.uncertainty.available);
         CHECK(fit.uncertainty.std_error[1] < 1e-5);  // a delay the data pin down
     }
+    SECTION("an input recorded 2.5 ms late: half way between samples, and not taken for smoothing") {
+        Recording r = simulated(dir, drive_samples(0.0));
+        r.u = drive_samples(0.0025);
+        dir.write("rec.csv", r.csv());
+        const Experiment ex = load_experiment(dir.write(
+            "e.yaml", scored_inside(experiment_text("{ column: u, delay: d_u }", "{ column: w, speed: load }",
+                                                    "  d_u: { init: 0.001, min: -0.01, max: 0.01 }"))));
+        FitOptions options;
+        options.threads = 2;
+        const FitResult fit = run_fit(IdentificationProblem(ex), options);
+        REQUIRE(fit.success);
+        CHECK(fit.best_free[1] == Approx(0.0025).margin(2e-5));
+        // The cost one sample on is far above: a delay, which delay_smoothing must not flag.
+        for (const Finding& f : fit.verdict.findings) CHECK(f.code != "delay_smoothing");
+    }
 }
 
 TEST_CASE("a delay parameter is in seconds and needs bounds within the recording", "[delay][experiment]") {

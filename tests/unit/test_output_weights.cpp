@@ -112,7 +112,8 @@ TEST_CASE("the normalized cost is the sum of the scaled residuals, and its gradi
         std::vector<double> up = x, down = x;
         // Steps of 1e-4: the angles are thousands of radians (the encoder's cumulative
         // angle), so a twist is known to about 1e-12 rad.
-        const double h = x[j] != 0 ? 1e-4 * std::abs(x[j]) : 1e-4;  // a phase may start at 0
+        // A phase may start at 0; a delay (d_T, from 0) steps by a thousandth of a sample.
+        const double h = problem.free_names()[j] == "d_T" ? 1e-6 : x[j] != 0 ? 1e-4 * std::abs(x[j]) : 1e-4;
         up[j] += h;
         down[j] -= h;
         const double fd = (cost.value(up.data()) - cost.value(down.data())) / (2 * h);
@@ -155,7 +156,7 @@ TEST_CASE("a detrended and high-passed output is scored filtered, in the cost an
     for (double v : g) largest = std::max(largest, std::abs(v));
     for (std::size_t j = 0; j < x.size(); ++j) {
         std::vector<double> up = x, down = x;
-        const double h = x[j] != 0 ? 1e-4 * std::abs(x[j]) : 1e-4;
+        const double h = problem.free_names()[j] == "d_T" ? 1e-6 : x[j] != 0 ? 1e-4 * std::abs(x[j]) : 1e-4;
         up[j] += h;
         down[j] -= h;
         const double fd = (cost.value(up.data()) - cost.value(down.data())) / (2 * h);

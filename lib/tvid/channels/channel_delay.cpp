@@ -22,33 +22,50 @@ std::size_t interval(const std::vector<double>& time, double t, std::size_t& hin
 }
 
 bool held(const std::vector<double>& time, double t) {
-    return time.size() < 2 || t <= time.front() || t >= time.back();
+    return time.size() < 2 || !(t > time.front() && t < time.back());
 }
 
 }  // namespace
 
-double delayed_value(const std::vector<double>& v, const std::vector<double>& time, double t, std::size_t& hint) {
+double delayed_value(const SampledSignal& s, double t, std::size_t& hint) {
+    const std::vector<double>& v = s.value;
     if (v.empty()) return 0.0;
-    if (held(time, t)) return t >= time.back() ? v.back() : v.front();
-    const std::size_t j = interval(time, t, hint);
-    const double a = (t - time[j]) / (time[j + 1] - time[j]);
-    return v[j] + a * (v[j + 1] - v[j]);
+    if (held(s.time, t)) return t >= s.time.back() ? v.back() : v.front();
+    const std::size_t j = interval(s.time, t, hint);
+    const double h = s.time[j + 1] - s.time[j], a = (t - s.time[j]) / h;
+    if (a == 0.0) return v[j];  // on a sample: the sample itself
+    // Cubic Hermite on [t_j, t_j+1]: the values and the slopes at both ends.
+    const double a2 = a * a, a3 = a2 * a;
+    const double h00 = 2 * a3 - 3 * a2 + 1, h10 = a3 - 2 * a2 + a, h01 = -2 * a3 + 3 * a2, h11 = a3 - a2;
+    return h00 * v[j] + h10 * h * s.slope[j] + h01 * v[j + 1] + h11 * h * s.slope[j + 1];
 }
 
-double delayed_slope(const std::vector<double>& v, const std::vector<double>& time, double t, std::size_t& hint) {
-    if (v.empty() || held(time, t)) return 0.0;
-    const std::size_t j = interval(time, t, hint);
-    return (v[j + 1] - v[j]) / (time[j + 1] - time[j]);
+double delayed_slope(const SampledSignal& s, double t, std::size_t& hint) {
+    if (s.value.empty() || held(s.time, t)) return 0.0;
+    const std::size_t j = interval(s.time, t, hint);
+    const double h = s.time[j + 1] - s.time[j], a = (t - s.time[j]) / h;
+    const double a2 = a * a;
+    const double d00 = 6 * a2 - 6 * a, d10 = 3 * a2 - 4 * a + 1, d01 = -6 * a2 + 6 * a, d11 = 3 * a2 - 2 * a;
+    return (d00 * s.value[j] + d01 * s.value[j + 1]) / h + d10 * s.slope[j] + d11 * s.slope[j + 1];
 }
 
-void delay_channel(const std::vector<double>& v, const std::vector<double>& time, double delay, std::vector<double>& out) {
-    out.resize(v.size());
+void delay_channel(const SampledSignal& s, double delay, std::vector<double>& out) {
+    out.resize(s.value.size());
     if (delay == 0.0) {
-        std::copy(v.begin(), v.end(), out.begin());
+        std::copy(s.value.begin(), s.value.end(), out.begin());
         return;
     }
     std::size_t hint = 0;
-    for (std::size_t i = 0; i < v.size(); ++i) out[i] = delayed_value(v, time, time[i] + delay, hint);
+    for (std::size_t i = 0; i < out.size(); ++i) out[i] = delayed_value(s, s.time[i] + delay, hint);
+}
+
+void delay_channel(const std::vector<double>& v, const std::vector<double>& time, double delay, std::vector<double>& out) {
+    if (delay == 0.0) {
+        out = v;
+        return;
+    }
+    const std::vector<double> slope = sample_slopes(v, time);
+    delay_channel(SampledSignal{v, slope, time}, delay, out);
 }
 
 std::vector<double> sample_slopes(const std::vector<double>& v, const std::vector<double>& time) {

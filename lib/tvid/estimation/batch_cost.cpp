@@ -10,6 +10,7 @@
 #include <mutex>
 #include <type_traits>
 
+#include "tvid/channels/channel_delay.hpp"
 #include "tvid/estimation/window_score.hpp"
 #include "tvid/sim/batch_rk4.hpp"
 #include "tvid/sim/state_size_dispatch.hpp"
@@ -136,6 +137,9 @@ public:
     RegroupedScoring(const IdentificationProblem& problem, std::span<BatchWorkspace* const> workspaces,
                      const std::atomic<bool>* stop)
         : problem_(problem), d_(problem.definition()), workspaces_(workspaces), stop_(stop) {
+        delayed_output_.assign(d_.measured.size(), -1);
+        for (std::size_t q = 0; q < d_.delayed_outputs.size(); ++q)
+            delayed_output_[d_.delayed_outputs[q].channel] = static_cast<int>(q);
         // Each window in pieces of kRegroupMinSamples samples or more, at most kRegroupPieces.
         for (std::size_t wi = 0; wi < d_.estimation.size(); ++wi) {
             const Window& w = d_.estimation[wi];
@@ -209,6 +213,7 @@ private:
         ws.params.assign(s.parameters.begin() + static_cast<std::ptrdiff_t>(c * s.parameter_count),
                          s.parameters.begin() + static_cast<std::ptrdiff_t>((c + 1) * s.parameter_count));
         ws.model.set_parameters(ws.params.data());
+        problem_.apply_channel_delays(ws);  // a measured start reads the shifted speed
         s.window_sum[c] = 0.0;
         if (problem_.start_window(d_.estimation[wi], ws, nullptr).status != SimulationStatus::ok) {
             s.finish(c, std::numeric_limits<double>::infinity());
@@ -269,6 +274,21 @@ private:
         };
 
         WindowScore<P> window(d_.cost, scored_sample_count(w), window_sum);
+        const std::vector<double>& time = problem_.inputs().time();
+        // Output k at sample i: the recording, or, delayed by a parameter, each lane's own
+        // reading of it (the bits of the scalar cost's shifted copy: channel_delay.hpp).
+        const auto measured = [&](std::size_t k, std::size_t i) {
+            const int delayed = delayed_output_[k];
+            if (delayed < 0) return P(problem_.measured(k)[i]);
+            const ProblemDefinition::DelayedChannel& c = d_.delayed_outputs[static_cast<std::size_t>(delayed)];
+            const P& delay = ws.params[static_cast<std::size_t>(c.parameter)];
+            std::array<std::size_t, W>& hints = ws.delay_hints[static_cast<std::size_t>(delayed)];
+            const SampledSignal recorded = c.signal(time);
+            P y;
+            for (int l = 0; l < W; ++l)
+                y.set(l, delayed_value(recorded, time[i] + delay[l], hints[static_cast<std::size_t>(l)]));
+            return y;
+        };
         // Adds sample i's terms and stops the lanes whose partial cost reaches their bound.
         // `after_derivative`: the model's last derivative() was at this sample (the march's).
         auto score = [&](std::size_t i, const std::array<P, N>& xs, const double* u, bool after_derivative) {
@@ -276,7 +296,7 @@ private:
                 const auto output = static_cast<std::size_t>(d_.output_indices[k]);
                 const P y = after_derivative ? ws.model.output_after_derivative(output, xs.data())
                                              : ws.model.output(output, xs.data(), u);
-                window.add(P(d_.output_scale[k]) * (y - P(problem_.measured(k)[i])));
+                window.add(P(d_.output_scale[k]) * (y - measured(k, i)));
             }
             const Lanes watched = bounded & live;
             if (!watched.any()) return;
@@ -322,6 +342,7 @@ private:
     const std::atomic<bool>* stop_;
     CandidateScores scores_;
     std::vector<Stage> stages_;
+    std::vector<int> delayed_output_;  ///< per output: its index in d_.delayed_outputs, or -1
 };
 
 }  // namespace
@@ -331,14 +352,15 @@ BatchWorkspace::BatchWorkspace(const IdentificationProblem& problem)
     model.set_crank_angle_inputs(&problem.crank_angle_inputs());
     params.resize(problem.definition().network.parameter_names.size());
     u.resize(problem.inputs().count());
+    delay_hints.assign(problem.definition().delayed_outputs.size(), {});
 }
 
 bool batch_supported(const IdentificationProblem& problem) {
     const ProblemDefinition& d = problem.definition();
     // A filtered output is scored once its window is complete: the scalar cost does that.
-    // A channel delayed by a parameter differs from lane to lane: the scalar cost shifts it per candidate.
+    // An input delayed by a parameter differs from lane to lane, and the lanes share their inputs.
     return d.simulation.method == IntegrationMethod::rk4 && has_fixed_state_size(d.network.state_size()) &&
-           !d.filtered && !problem.has_delay_parameters();
+           !d.filtered && d.delayed_inputs.empty();
 }
 
 bool batch_costs(const IdentificationProblem& problem, const double* candidates, std::size_t count,

@@ -11,6 +11,7 @@
 // Used for fixed-step RK4 over a small state (every preset); other integrators adapt
 // their steps to each candidate and run one candidate at a time.
 
+#include <array>
 #include <atomic>
 #include <cstddef>
 #include <memory>
@@ -34,12 +35,17 @@ struct BatchWorkspace {
     NetworkModel<BatchScalar> model;
     std::vector<BatchScalar> params;           ///< full model parameter vector, lane by lane
     std::vector<double> u, u_stage;            ///< inputs at the sample and the RK4 stages
+    /// Per output whose delay is a parameter, per lane: the interval its reading found last
+    /// (channel_delay.hpp), so that each lane reads its own shifted recording in O(1).
+    std::vector<std::array<std::size_t, kBatchLanes>> delay_hints;
     std::size_t rhs_evaluations = 0;           ///< right-hand sides the scored lanes needed
     std::size_t pack_rhs_evaluations = 0;      ///< right-hand sides of packs (kBatchLanes lanes each)
 };
 
 /// Whether `problem`'s simulations can be batched: fixed-step RK4 over a state the
-/// fixed-size RK4 takes (simulate_samples' own choice of that path).
+/// fixed-size RK4 takes (simulate_samples' own choice of that path), no filtered output,
+/// and no input delayed by a parameter (the lanes share their inputs; an output's delay
+/// parameter is read lane by lane).
 bool batch_supported(const IdentificationProblem& problem);
 
 /// Samples a window is marched at most before the groups are formed anew (and at least

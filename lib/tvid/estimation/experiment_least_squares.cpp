@@ -6,7 +6,6 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "tvid/estimation/difference_step.hpp"
 #include "tvid/estimation/parallel_evaluator.hpp"
 #include "tvid/estimation/window_score.hpp"
 
@@ -203,7 +202,7 @@ bool ExperimentLeastSquares::finite_difference_columns(const double* x, const do
         }
         ProblemWorkspace& ws = *workspaces_[static_cast<std::size_t>(omp_get_thread_num())];
         std::vector<double> point(x, x + m);
-        const double h = difference_step(x[j], lower[j], upper[j]);
+        const double h = problem_->difference_step(j, x[j]);
         // Stay inside the bounds: a one-sided difference when x sits on (or near) one.
         const double up = std::min(x[j] + h, upper[j]), down = std::max(x[j] - h, lower[j]);
         step[j] = up - down;

@@ -6,7 +6,6 @@
 #include <type_traits>
 
 #include "tvid/channels/channel_delay.hpp"
-#include "tvid/estimation/difference_step.hpp"
 #include "tvid/model/steady_motion.hpp"
 #include "tvid/sim/fixed_state_rk4.hpp"
 #include "tvid/sim/sensitivity_system.hpp"
@@ -268,7 +267,7 @@ bool ForwardSensitivity::jacobian_columns(const double* free, std::size_t j0, st
     // measurement moves (channel_delay.hpp).
     struct OutputDelayColumn {
         std::size_t column, output;
-        const std::vector<double>* recorded;
+        SampledSignal recorded;
         double delay;
         std::size_t hint;
     };
@@ -276,7 +275,7 @@ bool ForwardSensitivity::jacobian_columns(const double* free, std::size_t j0, st
     for (const ProblemDefinition::DelayedChannel& c : def.delayed_outputs)
         for (std::size_t j = j0; j < j1; ++j)
             if (problem_->free_indices()[j] == static_cast<std::size_t>(c.parameter))
-                delay_columns.push_back({j, c.channel, &c.recorded, free[j], 0});
+                delay_columns.push_back({j, c.channel, c.signal(time), free[j], 0});
     for (std::size_t wi = 0; wi < def.estimation.size(); ++wi) {
         const Window& w = def.estimation[wi];
         const auto record = [&](std::size_t i, const auto* outputs) {
@@ -288,7 +287,7 @@ bool ForwardSensitivity::jacobian_columns(const double* free, std::size_t j0, st
                 for (OutputDelayColumn& c : delay_columns)  // r = scale·(y − y*(t + d)): −scale·y*'(t + d)
                     if (c.output == k)
                         J(row, static_cast<Eigen::Index>(c.column)) -=
-                            def.output_scale[k] * delayed_slope(*c.recorded, time, time[i] + c.delay, c.hint);
+                            def.output_scale[k] * delayed_slope(c.recorded, time[i] + c.delay, c.hint);
                 ++row;
             }
             return true;
@@ -355,7 +354,7 @@ void ForwardSensitivity::delay_sensitivities(const double* free, const Window& w
         std::vector<double>& d = out.dydp[c.channel][static_cast<std::size_t>(j)];
         std::size_t hint = 0;
         for (std::size_t s = 0; s < out.time.size(); ++s)
-            d[s] -= delayed_slope(c.recorded, time, out.time[s] + free[j], hint);
+            d[s] -= delayed_slope(c.signal(time), out.time[s] + free[j], hint);
     }
     // An input's delay moves what drives the model, which carries no derivative of its
     // inputs: central differences of the outputs.
@@ -364,7 +363,7 @@ void ForwardSensitivity::delay_sensitivities(const double* free, const Window& w
         const long jj = column(c.parameter);
         if (jj < 0) continue;
         const auto j = static_cast<std::size_t>(jj);
-        const double h = difference_step(free[j], problem_->lower()[j], problem_->upper()[j]);
+        const double h = problem_->difference_step(j, free[j]);
         const double up = std::min(free[j] + h, problem_->upper()[j]), down = std::max(free[j] - h, problem_->lower()[j]);
         point[j] = up;
         const WindowTrace plus = problem_->trace(problem_->full_parameters(point), w, *ws.plain);

@@ -2,7 +2,9 @@
 
 #include "tvid/estimation/residual_filter.hpp"
 #include "tvid/channels/channel_delay.hpp"
+#include "tvid/estimation/difference_step.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -58,6 +60,14 @@ std::unique_ptr<ProblemWorkspace> IdentificationProblem::make_workspace() const 
     return ws;
 }
 
+double IdentificationProblem::difference_step(std::size_t j, double x) const {
+    const std::vector<int>& delays = definition_.network.delay_parameters;
+    const std::vector<double>& time = inputs().time();
+    if (time.size() > 1 && std::find(delays.begin(), delays.end(), static_cast<int>(free_[j])) != delays.end())
+        return 1e-3 * (time.back() - time.front()) / static_cast<double>(time.size() - 1);
+    return tvid::difference_step(x, lower_[j], upper_[j]);
+}
+
 void IdentificationProblem::apply_channel_delays(ProblemWorkspace& ws) const {
     if (!has_delay_parameters()) return;
     const std::vector<double>& time = inputs().time();
@@ -65,7 +75,7 @@ void IdentificationProblem::apply_channel_delays(ProblemWorkspace& ws) const {
     for (const ProblemDefinition::DelayedChannel& c : definition_.delayed_inputs) {
         const double delay = ws.params[static_cast<std::size_t>(c.parameter)];
         if (ws.applied_delays[q] != delay) {
-            delay_channel(c.recorded, time, delay, ws.shift_scratch);
+            delay_channel(c.signal(time), delay, ws.shift_scratch);
             ws.shifted_inputs.set_channel(c.channel, ws.shift_scratch);
             ws.applied_delays[q] = delay;
         }
@@ -74,7 +84,7 @@ void IdentificationProblem::apply_channel_delays(ProblemWorkspace& ws) const {
     for (const ProblemDefinition::DelayedChannel& c : definition_.delayed_outputs) {
         const double delay = ws.params[static_cast<std::size_t>(c.parameter)];
         if (ws.applied_delays[q] != delay) {
-            delay_channel(c.recorded, time, delay, ws.shifted_measured[c.channel]);
+            delay_channel(c.signal(time), delay, ws.shifted_measured[c.channel]);
             ws.applied_delays[q] = delay;
         }
         ++q;

@@ -63,6 +63,10 @@ public:
     bool has_delay_parameters() const {
         return !definition_.delayed_inputs.empty() || !definition_.delayed_outputs.empty();
     }
+    /// The central-difference step of free parameter j at value x (difference_step.hpp);
+    /// for a delay, a thousandth of the mean sample interval, whatever its value (a step
+    /// relative to a delay near 0 would vanish).
+    double difference_step(std::size_t j, double x) const;
     /// Shifts ws's copies of the channels whose delay is a parameter to ws.params' delays
     /// (only those whose delay changed): every simulation and score on ws then reads
     /// ws.inputs and ws.measured.

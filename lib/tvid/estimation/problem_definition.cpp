@@ -107,7 +107,10 @@ static void read_time_inputs(ProblemDefinition& d, const Experiment& experiment,
         delay_parameter.push_back(p);
     }
     for (std::size_t k = 0; k < values.size(); ++k)
-        if (delay_parameter[k] >= 0) d.delayed_inputs.push_back({k, delay_parameter[k], std::move(recorded[k])});
+        if (delay_parameter[k] >= 0) {
+            std::vector<double> slope = sample_slopes(recorded[k], time);
+            d.delayed_inputs.push_back({k, delay_parameter[k], std::move(recorded[k]), std::move(slope)});
+        }
     d.inputs = InputChannels(time, std::move(values));
 }
 
@@ -126,8 +129,10 @@ ProblemDefinition problem_definition(const Experiment& experiment) {
         std::vector<double> recorded = scaled(data.column(out.column), out.scale);
         d.measured.push_back(shifted(recorded, time, delay_value(out, experiment)));
         d.output_delay.push_back(out.delay.parameter);
-        if (out.delay.is_parameter())
-            d.delayed_outputs.push_back({d.measured.size() - 1, out.delay.parameter, std::move(recorded)});
+        if (out.delay.is_parameter()) {
+            std::vector<double> slope = sample_slopes(recorded, time);
+            d.delayed_outputs.push_back({d.measured.size() - 1, out.delay.parameter, std::move(recorded), std::move(slope)});
+        }
     }
     d.output_indices = experiment.output_indices;
     d.parameters = experiment.parameters;

@@ -8,6 +8,7 @@
 #include <limits>
 #include <vector>
 
+#include "tvid/channels/channel_delay.hpp"
 #include "tvid/channels/crank_angle_channels.hpp"
 #include "tvid/channels/input_channels.hpp"
 #include "tvid/experiment/experiment.hpp"
@@ -53,6 +54,8 @@ struct ProblemDefinition {
         std::size_t channel = 0;        ///< its index in inputs (a rate follows its input) or in measured
         int parameter = -1;             ///< the delay's index in the model parameter vector
         std::vector<double> recorded;   ///< unit-scaled, not shifted
+        std::vector<double> slope;      ///< its slopes at the samples (channel_delay.hpp)
+        SampledSignal signal(const std::vector<double>& time) const { return {recorded, slope, time}; }
     };
     std::vector<DelayedChannel> delayed_inputs, delayed_outputs;
     /// Per measured output: its delay parameter, or -1 (a number or none).

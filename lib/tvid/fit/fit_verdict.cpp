@@ -1,5 +1,7 @@
 #include "tvid/fit/fit_verdict.hpp"
 
+#include <memory>
+
 #include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
@@ -275,6 +277,40 @@ void judge_stability(const StepStability& s, Verdict& v) {
 
 }  // namespace
 
+// A delay parameter that ended near half way between samples: there the delayed channel
+// is read between two samples, which damps its content near the Nyquist frequency. If the
+// cost one sample on is as low again (the gain recurs every sample) while the nearest
+// whole-sample delay is worse, the fit was buying that smoothing, not a delay.
+void judge_delays(const IdentificationProblem& problem, const FitResult& fit, Verdict& v) {
+    const std::vector<double>& time = problem.inputs().time();
+    const std::vector<int>& delays = problem.definition().network.delay_parameters;
+    if (time.size() < 2 || delays.empty()) return;
+    const double dt = (time.back() - time.front()) / static_cast<double>(time.size() - 1);
+    std::unique_ptr<ProblemWorkspace> ws;
+    for (std::size_t j = 0; j < problem.dimension(); ++j) {
+        if (std::find(delays.begin(), delays.end(), static_cast<int>(problem.free_indices()[j])) == delays.end()) continue;
+        const double d = fit.best_free[j], samples = d / dt, past = samples - std::floor(samples);
+        if (std::abs(past - 0.5) > kHalfSampleBand) continue;
+        if (!ws) ws = problem.make_workspace();
+        const auto cost_at = [&](double delay) {
+            std::vector<double> x = fit.best_free;
+            x[j] = std::clamp(delay, problem.lower()[j], problem.upper()[j]);
+            return problem.cost(x.data(), *ws);
+        };
+        const double best = cost_at(d), whole = cost_at((std::floor(samples) + (past < 0.5 ? 0.0 : 1.0)) * dt);
+        const double on = std::min(cost_at(d + dt), cost_at(d - dt));
+        if (!(whole > best) || !(on - best < kHalfSampleRecurrence * (whole - best))) continue;
+        const std::string& name = problem.free_names()[j];
+        v.add({"delay_smoothing", Severity::warning, name,
+               name + " = " + num(d) + " s ends " + num(samples) + " samples on, half way between samples, "
+                   "where the channel is interpolated and its content near the Nyquist frequency damped; the cost "
+                   "there is " + num(best) + ", " + num(on) + " one sample on, and " + num(whole) +
+                   " at the nearest whole sample: the gain recurs every sample, as smoothing does and a delay does not",
+               "fix " + name + " at a whole number of samples, or low-pass the data; a real delay keeps its gain off "
+               "the half sample"});
+    }
+}
+
 void judge_fit(const IdentificationProblem& problem, FitResult& fit) {
     const Experiment& ex = problem.experiment();
     const std::size_t outputs = ex.outputs.size();
@@ -292,6 +328,7 @@ void judge_fit(const IdentificationProblem& problem, FitResult& fit) {
         judge_starts(problem, fit, v);
         judge_stability(fit.stability, v);
         judge_search_boxes(ex, v);
+        if (!fit.interrupted) judge_delays(problem, fit, v);
     }
     fit.verdict = std::move(v);
 }

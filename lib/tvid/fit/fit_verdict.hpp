@@ -38,6 +38,12 @@ constexpr double kWideBoxDecades = 2.0;
 /// a systematic residual.
 constexpr double kPoorWindowPoints = 30.0;
 
+/// A delay parameter within this many samples of half way between two samples, whose cost
+/// one sample on comes within this fraction of its rise to the nearest whole sample, is
+/// judged to buy the interpolation's smoothing (delay_smoothing).
+constexpr double kHalfSampleBand = 0.15;
+constexpr double kHalfSampleRecurrence = 0.5;
+
 /// Fills fit's whiteness, criteria, stability, interval kinds and verdict.
 void judge_fit(const IdentificationProblem& problem, FitResult& fit);
 
