@@ -246,4 +246,10 @@ TEST_CASE("a delay parameter is in seconds and needs bounds within the recording
     CHECK_THAT(error_of("  d_u: { init: 0, min: -0.01, max: 5 }"), Catch::Contains("the recording is"));
     CHECK_THAT(error_of("  d_u: 3"), Catch::Contains("the recording is"));
     CHECK_THAT(error_of(""), Catch::Contains("neither a number nor a parameter"));
+    try {  // a stiffness named as a delay
+        load_experiment(dir.write("both.yaml", experiment_text("{ column: u, delay: k_s }", speed, "")));
+        FAIL("no error");
+    } catch (const InputError& e) {
+        CHECK_THAT(std::string(e.what()), Catch::Contains("also a quantity of the model"));
+    }
 }

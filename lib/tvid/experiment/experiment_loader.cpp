@@ -31,8 +31,14 @@ namespace {
 // its fixed value) must keep it shorter than the recording, and it needs both.
 void check_delay_parameters(const YamlMap& section, const NetworkSpec& network,
                             const std::vector<ParameterSetting>& parameters, double recording_seconds) {
+    NetworkSpec model_only = network;  // which parameters the model itself uses
+    model_only.delay_parameters.clear();
+    const std::vector<bool> in_model = parameters_in_use(model_only);
     for (int index : network.delay_parameters) {
         const ParameterSetting& p = parameters[static_cast<std::size_t>(index)];
+        if (in_model[static_cast<std::size_t>(index)])
+            section.fail(p.name, p.name + " is a channel's delay [s] and also a quantity of the model: give the delay "
+                                          "a parameter of its own");
         const std::string span = " s; the recording is " + number_text(recording_seconds) + " s long";
         if (p.fixed) {
             if (!(std::abs(p.init) < recording_seconds))
