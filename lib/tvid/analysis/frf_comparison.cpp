@@ -67,11 +67,13 @@ FrfComparison compare_frf(const IdentificationProblem& problem, const std::vecto
     const std::size_t bins = r.segment_length / 2;
     std::vector<std::complex<double>> h_sum(bins + 1, 0.0);
     std::vector<double> coherence_sum(bins + 1, 0.0);
+    auto ws = problem.make_workspace();  // the channels as `params` delay them
+    problem.use_parameters(params, *ws);
     for (const Window& w : d.estimation) {
         std::vector<double> in(w.last + 1 - w.first), out(in.size());
         for (std::size_t i = w.first; i <= w.last; ++i) {
-            in[i - w.first] = d.inputs.value(input, i);
-            out[i - w.first] = d.measured[measured_index][i];
+            in[i - w.first] = ws->inputs->value(input, i);
+            out[i - w.first] = (*ws->measured[measured_index])[i];
         }
         const FrfEstimate e = estimate_frf_h1(std::span<const double>(in), std::span<const double>(out), r.sample_rate_hz, settings);
         const auto weight = static_cast<double>(e.segments);

@@ -45,8 +45,7 @@ StepStability assess_step_stability(const IdentificationProblem& problem, const 
     StateJacobian jacobian;
     std::vector<double> u(problem.inputs().count()), a;
     for (const Window& w : def.estimation) {
-        ws->params = params;
-        ws->model.set_parameters(ws->params.data());
+        problem.use_parameters(params, *ws);
         std::string why;
         if (problem.start_window(w, *ws, &why).status != SimulationStatus::ok) continue;
         const std::size_t at = problem.warms_up(w) ? w.first : w.start;
@@ -54,7 +53,7 @@ StepStability assess_step_stability(const IdentificationProblem& problem, const 
         const double interval = time[at + 1] - time[at];
         const double h = def.simulation.max_step > 0 ? std::min(def.simulation.max_step, interval) : interval;
         std::size_t hint = at;
-        problem.inputs().at(time[at], hint, u.data());
+        ws->inputs->at(time[at], hint, u.data());
         jacobian.bind(ws->model);
         const auto n = static_cast<Eigen::Index>(jacobian.state_size());
         a.assign(static_cast<std::size_t>(n * n), 0.0);

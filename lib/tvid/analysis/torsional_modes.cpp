@@ -138,8 +138,7 @@ OperatingPoint window_operating_point(const IdentificationProblem& problem, cons
     if (window >= d.estimation.size()) throw std::runtime_error("there is no estimation window " + std::to_string(window));
     const Window& w = d.estimation[window];
     auto ws = problem.make_workspace();
-    ws->params = params;
-    ws->model.set_parameters(ws->params.data());
+    problem.use_parameters(params, *ws);
     std::string why;
     const WindowStart start = problem.start_window(w, *ws, &why);
     if (start.status != SimulationStatus::ok || !why.empty())

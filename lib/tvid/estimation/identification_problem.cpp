@@ -68,6 +68,12 @@ double IdentificationProblem::difference_step(std::size_t j, double x) const {
     return tvid::difference_step(x, lower_[j], upper_[j]);
 }
 
+void IdentificationProblem::use_parameters(const std::vector<double>& params, ProblemWorkspace& ws) const {
+    ws.params = params;
+    ws.model.set_parameters(ws.params.data());
+    apply_channel_delays(ws);
+}
+
 void IdentificationProblem::apply_channel_delays(ProblemWorkspace& ws) const {
     if (!has_delay_parameters()) return;
     const std::vector<double>& time = inputs().time();
@@ -291,9 +297,7 @@ WindowTrace IdentificationProblem::trace(const std::vector<double>& params, cons
     const std::size_t n_out = definition_.measured.size();
     tr.measured.assign(n_out, {});
     tr.simulated.assign(n_out, {});
-    ws.params = params;
-    ws.model.set_parameters(ws.params.data());
-    apply_channel_delays(ws);
+    use_parameters(params, ws);
     auto record = [&](std::size_t i, const std::vector<double>& x, const std::vector<double>& u) {
         tr.samples.push_back(i);
         tr.time.push_back(inputs().time()[i]);

@@ -67,6 +67,8 @@ public:
     /// for a delay, a thousandth of the mean sample interval, whatever its value (a step
     /// relative to a delay near 0 would vanish).
     double difference_step(std::size_t j, double x) const;
+    /// Sets the full parameter vector `params` in ws: its model and its delayed channels.
+    void use_parameters(const std::vector<double>& params, ProblemWorkspace& ws) const;
     /// Shifts ws's copies of the channels whose delay is a parameter to ws.params' delays
     /// (only those whose delay changed): every simulation and score on ws then reads
     /// ws.inputs and ws.measured.
