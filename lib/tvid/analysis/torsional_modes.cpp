@@ -103,6 +103,9 @@ ModalAnalysis torsional_modes(const LinearNetwork& system, const std::vector<dou
         m.frequency_hz = std::abs(l) / kModesTwoPi;
         m.damped_frequency_hz = l.imag() / kModesTwoPi;
         m.damping_ratio = std::abs(l) > 0.0 ? -l.real() / std::abs(l) : std::numeric_limits<double>::quiet_NaN();
+        // An undamped mode's real part is the eigensolver's rounding (about ε·‖A‖, of either
+        // sign): reported as ζ = 0, not as ±1e-11.
+        if (std::abs(l.real()) <= 1e-12 * scale && l.imag() > 0.0) m.damping_ratio = 0.0;
         m.shape.resize(nodes);
         for (std::size_t i = 0; i < nodes; ++i) m.shape[i] = vectors(static_cast<Eigen::Index>(system.angle_state(i)), k);
         // Turning as one body: on a line free to rotate, the eigenvalue ~0 or real (the
