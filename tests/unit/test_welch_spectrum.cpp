@@ -7,6 +7,7 @@
 #include <complex>
 #include <numbers>
 #include <random>
+#include <span>
 #include <vector>
 
 #include "tvid/analysis/welch_spectrum.hpp"
@@ -140,4 +141,36 @@ TEST_CASE("a segment longer than the signal is the signal; mismatched lengths ar
     CHECK(welch_psd(std::vector<double>{1.0}, 10.0).segments == 0);
     CHECK(welch_psd(x, 0.0).segments == 0);
     CHECK_THROWS_AS(estimate_frf_h1(x, y, 10.0), std::invalid_argument);
+}
+
+TEST_CASE("H1 over several records pools their segments: each record weighs by its input power", "[spectra]") {
+    // Record 1: y = 2x; record 2: y = 4x with an input three times as large. Pooled,
+    // H1 = (2·P + 4·9P) / (P + 9P) = 3.8 at every frequency, where averaging the two
+    // records' own H1 (2 and 4) would give 3.
+    std::mt19937 rng(7);
+    std::normal_distribution<double> noise(0.0, 1.0);
+    std::vector<double> x1(1024), x2(1024), y1(1024), y2(1024);
+    for (std::size_t i = 0; i < x1.size(); ++i) {
+        x1[i] = noise(rng);
+        x2[i] = 3.0 * x1[i];  // the same spectrum shape, nine times the power
+        y1[i] = 2.0 * x1[i];
+        y2[i] = 4.0 * x2[i];
+    }
+    const std::span<const double> in[] = {x1, x2}, out[] = {y1, y2};
+    const WelchSettings settings{128, 0.5};
+    const FrfEstimate pooled = estimate_frf_h1(std::span<const std::span<const double>>(in),
+                                               std::span<const std::span<const double>>(out), 1000.0, settings);
+    REQUIRE(pooled.segments == 2 * estimate_frf_h1(x1, y1, 1000.0, settings).segments);
+    for (std::size_t k = 1; k < pooled.h1.size(); ++k) {
+        CHECK(pooled.h1[k].real() == Approx(3.8).epsilon(1e-9));
+        CHECK(pooled.h1[k].imag() == Approx(0.0).margin(1e-9));
+        CHECK(pooled.coherence[k] == Approx(1444.0 / 1480.0).epsilon(1e-9));  // |Σ S_xy|² / (Σ S_xx Σ S_yy): 38² / (10 · 148)
+    }
+    // A record shorter than the segment is left out, not allowed to change the grid.
+    const std::vector<double> short_x(100, 1.0), short_y(100, 2.0);
+    const std::span<const double> in3[] = {x1, short_x}, out3[] = {y1, short_y};
+    const FrfEstimate with_short = estimate_frf_h1(std::span<const std::span<const double>>(in3),
+                                                   std::span<const std::span<const double>>(out3), 1000.0, settings);
+    CHECK(with_short.segments == estimate_frf_h1(x1, y1, 1000.0, settings).segments);
+    CHECK(with_short.frequency_hz.size() == 65);
 }

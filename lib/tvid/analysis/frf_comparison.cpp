@@ -62,33 +62,28 @@ FrfComparison compare_frf(const IdentificationProblem& problem, const std::vecto
     r.segment_length = welch_segment_length(shortest);
     if (r.segment_length < 8) throw std::runtime_error("the estimation windows are too short for a spectrum (under 8 samples)");
 
-    // H1 over the windows: each window's estimate weighted by its segment count.
+    // H1 over the windows, their segments pooled (no segment crosses a window gap).
     const WelchSettings settings{r.segment_length, 0.5};
-    const std::size_t bins = r.segment_length / 2;
-    std::vector<std::complex<double>> h_sum(bins + 1, 0.0);
-    std::vector<double> coherence_sum(bins + 1, 0.0);
     auto ws = problem.make_workspace();  // the channels as `params` delay them
     problem.use_parameters(params, *ws);
+    std::vector<std::vector<double>> in, out;
     for (const Window& w : d.estimation) {
-        std::vector<double> in(w.last + 1 - w.first), out(in.size());
+        in.emplace_back();
+        out.emplace_back();
         for (std::size_t i = w.first; i <= w.last; ++i) {
-            in[i - w.first] = ws->inputs->value(input, i);
-            out[i - w.first] = (*ws->measured[measured_index])[i];
+            in.back().push_back(ws->inputs->value(input, i));
+            out.back().push_back((*ws->measured[measured_index])[i]);
         }
-        const FrfEstimate e = estimate_frf_h1(std::span<const double>(in), std::span<const double>(out), r.sample_rate_hz, settings);
-        const auto weight = static_cast<double>(e.segments);
-        for (std::size_t k = 0; k <= bins && k < e.h1.size(); ++k) {
-            h_sum[k] += weight * e.h1[k];
-            coherence_sum[k] += weight * e.coherence[k];
-        }
-        r.segments += e.segments;
     }
+    const std::vector<std::span<const double>> in_records(in.begin(), in.end()), out_records(out.begin(), out.end());
+    const FrfEstimate e = estimate_frf_h1(in_records, out_records, r.sample_rate_hz, settings);
+    r.segments = e.segments;
     r.measured = r.segments > 0;
-    for (std::size_t k = 1; k <= bins; ++k) {
+    for (std::size_t k = 1; k <= settings.segment_length / 2; ++k) {
         r.frequency_hz.push_back(static_cast<double>(k) * r.sample_rate_hz / static_cast<double>(r.segment_length));
         if (r.measured) {
-            r.measured_h1.push_back(h_sum[k] / static_cast<double>(r.segments));
-            r.coherence.push_back(coherence_sum[k] / static_cast<double>(r.segments));
+            r.measured_h1.push_back(e.h1[k]);
+            r.coherence.push_back(e.coherence[k]);
         }
     }
     r.model = frequency_response(sys, input, output, r.frequency_hz);

@@ -101,25 +101,42 @@ Spectrum welch_psd(std::span<const double> x, double sample_rate_hz, const Welch
 
 FrfEstimate estimate_frf_h1(std::span<const double> input, std::span<const double> output, double sample_rate_hz,
                             const WelchSettings& settings) {
-    if (input.size() != output.size())
-        throw std::invalid_argument("estimate_frf_h1: input and output differ in length");
+    const std::span<const double> inputs[] = {input}, outputs[] = {output};
+    WelchSettings one = settings;
+    one.segment_length = welch_segment_length(input.size(), settings);
+    return estimate_frf_h1(std::span<const std::span<const double>>(inputs),
+                           std::span<const std::span<const double>>(outputs), sample_rate_hz, one);
+}
+
+FrfEstimate estimate_frf_h1(std::span<const std::span<const double>> inputs,
+                            std::span<const std::span<const double>> outputs, double sample_rate_hz,
+                            const WelchSettings& settings) {
+    if (inputs.size() != outputs.size())
+        throw std::invalid_argument("estimate_frf_h1: as many input records as output records");
+    for (std::size_t r = 0; r < inputs.size(); ++r)
+        if (inputs[r].size() != outputs[r].size())
+            throw std::invalid_argument("estimate_frf_h1: input and output differ in length");
     FrfEstimate result;
-    if (input.size() < 2 || !valid_rate(sample_rate_hz)) return result;
-    WelchSegmenter segmenter(input.size(), settings);
-    if (segmenter.length() < 2) return result;
-    const std::size_t bins = segmenter.bins();
+    if (!valid_rate(sample_rate_hz) || settings.segment_length < 2) return result;
+    const std::size_t length = settings.segment_length, bins = length / 2 + 1;
     std::vector<double> sxx(bins, 0.0), syy(bins, 0.0);
     std::vector<std::complex<double>> sxy(bins, 0.0), x_k, y_k;
-    for (std::size_t s = 0; s < segmenter.count(); ++s) {
-        segmenter.transform(input, s, x_k);
-        segmenter.transform(output, s, y_k);
-        for (std::size_t k = 0; k < bins; ++k) {
-            sxx[k] += std::norm(x_k[k]);
-            syy[k] += std::norm(y_k[k]);
-            sxy[k] += std::conj(x_k[k]) * y_k[k];
+    for (std::size_t r = 0; r < inputs.size(); ++r) {
+        if (inputs[r].size() < length) continue;  // no segment fits: it would change the grid
+        WelchSegmenter segmenter(inputs[r].size(), settings);
+        for (std::size_t s = 0; s < segmenter.count(); ++s) {
+            segmenter.transform(inputs[r], s, x_k);
+            segmenter.transform(outputs[r], s, y_k);
+            for (std::size_t k = 0; k < bins; ++k) {
+                sxx[k] += std::norm(x_k[k]);
+                syy[k] += std::norm(y_k[k]);
+                sxy[k] += std::conj(x_k[k]) * y_k[k];
+            }
         }
+        result.segments += segmenter.count();
+        if (result.frequency_hz.empty()) result.frequency_hz = segmenter.frequencies(sample_rate_hz);
     }
-    result.frequency_hz = segmenter.frequencies(sample_rate_hz);
+    if (result.segments == 0) return result;
     result.h1.resize(bins);
     result.coherence.resize(bins);
     for (std::size_t k = 0; k < bins; ++k) {
@@ -127,7 +144,6 @@ FrfEstimate estimate_frf_h1(std::span<const double> input, std::span<const doubl
         const double denominator = sxx[k] * syy[k];
         result.coherence[k] = denominator > 0.0 ? std::min(1.0, std::norm(sxy[k]) / denominator) : 0.0;
     }
-    result.segments = segmenter.count();
     return result;
 }
 

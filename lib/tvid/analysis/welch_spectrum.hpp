@@ -46,6 +46,14 @@ struct FrfEstimate {
 FrfEstimate estimate_frf_h1(std::span<const double> input, std::span<const double> output, double sample_rate_hz,
                             const WelchSettings& settings = {});
 
+/// The same over several records (the windows of a split), pooled as Welch pools the
+/// segments of one: S_xx, S_yy and S_xy summed over every segment of every record, no
+/// segment crossing from one record into the next. Every record is cut into segments of
+/// settings.segment_length (at least 2); a record shorter than that is left out.
+FrfEstimate estimate_frf_h1(std::span<const std::span<const double>> inputs,
+                            std::span<const std::span<const double>> outputs, double sample_rate_hz,
+                            const WelchSettings& settings);
+
 /// The segment length `settings` gives for n samples (the default rule when 0; at most n).
 std::size_t welch_segment_length(std::size_t n, const WelchSettings& settings = {});
 
