@@ -6,6 +6,7 @@
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <utility>
 
 #include "support/run_tvid.hpp"
 #include "support/test_files.hpp"
@@ -20,6 +21,19 @@ std::string config(const std::string& name) { return (source_dir() / "configs" /
 // tvid validate's fit % of `output` in `split`, pooled.
 double fit_percent(const json& v, const std::string& split, const std::string& output) {
     return v.at(split).at("pooled").at(output).at("fit_percent").get<double>();
+}
+
+// The shipped bench experiment's text, its data path made absolute (for a copy written
+// elsewhere), with each edit (text → replacement) made once.
+std::string bench_experiment(std::initializer_list<std::pair<std::string, std::string>> edits = {}) {
+    std::string text = read_text(config("aalto_bench.yaml"));
+    const auto replace = [&](const std::string& from, const std::string& to) {
+        REQUIRE(text.find(from) != std::string::npos);
+        text.replace(text.find(from), from.size(), to);
+    };
+    replace("../data/aalto_bench/", (source_dir() / "data/aalto_bench").string() + "/");
+    for (const auto& [from, to] : edits) replace(from, to);
+    return text;
 }
 
 json validate(const std::string& experiment, const std::string& params) {
@@ -76,12 +90,8 @@ TEST_CASE("the steady start's sensitivity Jacobian reaches the cost of finite di
     TempDir tmp;
     json cost;
     // The shipped experiment on its first 3000 samples.
-    std::string text = read_text(config("aalto_bench.yaml"));
-    const std::string data = "../data/aalto_bench/";
-    text.replace(text.find(data), data.size(), (source_dir() / "data/aalto_bench").string() + "/");
-    const std::string window = "samples: [0, 8999]";
-    text.replace(text.find(window), window.size(), "samples: [0, 2999]");
-    const std::string experiment = tmp.write("short.yaml", text).string();
+    const std::string experiment =
+        tmp.write("short.yaml", bench_experiment({{"samples: [0, 8999]", "samples: [0, 2999]"}})).string();
     for (const std::string jacobian : {"sensitivity", "fd"}) {
         const auto out = tmp.path() / jacobian;
         const RunResult r = run_tvid({"fit", experiment, "-o", out.string(), "--quiet", "--set",
@@ -141,16 +151,12 @@ TEST_CASE("the load-motor torque's logger delay is identified as a parameter, in
     // first 3000 samples alone, with little excitation, the delay drifts to 8.6 ms: a
     // short slice does not pin it.)
     TempDir tmp;
-    std::string text = read_text(config("aalto_bench.yaml"));
-    const auto replace = [&](const std::string& from, const std::string& to) {
-        REQUIRE(text.find(from) != std::string::npos);
-        text.replace(text.find(from), from.size(), to);
-    };
-    replace("../data/aalto_bench/", (source_dir() / "data/aalto_bench").string() + "/");
-    const std::string plain = tmp.write("plain.yaml", text).string();
-    replace("T_prop: prop_torque", "T_prop: { column: prop_torque, delay: d_prop }");
-    replace("parameters:\n", "parameters:\n  d_prop: { init: 0.002, min: -0.02, max: 0.02 }\n");
-    const std::string delayed = tmp.write("delayed.yaml", text).string();
+    const std::string plain = tmp.write("plain.yaml", bench_experiment()).string();
+    const std::string delayed =
+        tmp.write("delayed.yaml",
+                  bench_experiment({{"T_prop: prop_torque", "T_prop: { column: prop_torque, delay: d_prop }"},
+                                    {"parameters:\n", "parameters:\n  d_prop: { init: 0.002, min: -0.02, max: 0.02 }\n"}}))
+            .string();
     json summary;
     for (const std::string& experiment : {plain, delayed}) {
         const auto out = tmp.path() / (experiment == plain ? "plain" : "delayed");
@@ -180,15 +186,9 @@ TEST_CASE("a transducer delay that buys the interpolation's smoothing is flagged
     // less cost, and one sample on the gain is there again, as smoothing does (the
     // transducers carry content near the Nyquist frequency that the model cannot make).
     TempDir tmp;
-    std::string text = read_text(config("aalto_bench.yaml"));
-    const auto replace = [&](const std::string& from, const std::string& to) {
-        REQUIRE(text.find(from) != std::string::npos);
-        text.replace(text.find(from), from.size(), to);
-    };
-    replace("../data/aalto_bench/", (source_dir() / "data/aalto_bench").string() + "/");
-    replace("torque: coupling_b }", "torque: coupling_b, delay: d_T }");
-    replace("side: output }", "side: output, delay: d_T }");
-    replace("parameters:\n", "parameters:\n  d_T: { init: 0, min: -0.02, max: 0.02 }\n");
+    const std::string text = bench_experiment({{"torque: coupling_b }", "torque: coupling_b, delay: d_T }"},
+                                               {"side: output }", "side: output, delay: d_T }"},
+                                               {"parameters:\n", "parameters:\n  d_T: { init: 0, min: -0.02, max: 0.02 }\n"}});
     const auto out = tmp.path() / "fit";
     const RunResult r = run_tvid({"fit", tmp.write("d_T.yaml", text).string(), "-o", out.string()});
     INFO(r.out << r.err);

@@ -93,6 +93,18 @@ std::string scored_inside(std::string text) {
     return text.replace(text.find(all), all.size(), "[0, 1989]");
 }
 
+// The experiment, scored short of the recording's end, fitted with lm on 2 threads to the
+// recording in dir.
+FitResult fitted(const test::TempDir& dir, const std::string& input, const std::string& speed_output,
+                 const std::string& parameters) {
+    const Experiment ex = load_experiment(dir.write("e.yaml", scored_inside(experiment_text(input, speed_output, parameters))));
+    FitOptions options;
+    options.threads = 2;
+    FitResult fit = run_fit(IdentificationProblem(ex), options);
+    REQUIRE(fit.success);
+    return fit;
+}
+
 std::vector<double> drive_samples(double late) {
     std::vector<double> u;
     for (int i = 0; i < 2000; ++i) u.push_back(drive(i * 1e-3 - late));
@@ -182,13 +194,8 @@ TEST_CASE("a fit finds a delay written into noise-free data", "[delay][fit]") {
         for (std::size_t i = 2; i < r.w.size(); ++i) late[i] = r.w[i - 2];  // w(t) recorded at t + 2 ms
         r.w = late;
         dir.write("rec.csv", r.csv());
-        const Experiment ex = load_experiment(dir.write(
-            "e.yaml", scored_inside(experiment_text("u", "{ column: w, speed: load, delay: d_w }",
-                                                    "  d_w: { init: 0.0005, min: -0.01, max: 0.01 }"))));
-        FitOptions options;
-        options.threads = 2;
-        const FitResult fit = run_fit(IdentificationProblem(ex), options);
-        REQUIRE(fit.success);
+        const FitResult fit = fitted(dir, "u", "{ column: w, speed: load, delay: d_w }",
+                                     "  d_w: { init: 0.0005, min: -0.01, max: 0.01 }");
         CHECK(fit.best_free[0] == Approx(40.0).epsilon(1e-6));
         CHECK(fit.best_free[1] == Approx(0.002).margin(1e-8));
     }
@@ -196,14 +203,9 @@ TEST_CASE("a fit finds a delay written into noise-free data", "[delay][fit]") {
         Recording r = simulated(dir, drive_samples(0.0));
         r.u = drive_samples(0.0033);  // the torque as a logger 3.3 ms behind recorded it
         dir.write("rec.csv", r.csv());
-        const Experiment ex = load_experiment(dir.write(
-            "e.yaml", scored_inside(experiment_text("{ column: u, delay: d_u }", "{ column: w, speed: load }",
-                                                    "  d_u: { init: 0.001, min: -0.01, max: 0.01 }"))));
-        FitOptions options;
-        options.threads = 2;
-        const FitResult fit = run_fit(IdentificationProblem(ex), options);
-        REQUIRE(fit.success);
-        // Interpolating the late recording linearly is the only error: 1 kHz samples of 3 and 11 Hz.
+        const FitResult fit = fitted(dir, "{ column: u, delay: d_u }", "{ column: w, speed: load }",
+                                     "  d_u: { init: 0.001, min: -0.01, max: 0.01 }");
+        // Interpolating the late recording is the only error: 1 kHz samples of 3 and 11 Hz.
         CHECK(fit.best_free[0] == Approx(40.0).epsilon(1e-3));
         CHECK(fit.best_free[1] == Approx(0.0033).margin(2e-5));
         REQUIRE(fit.uncertainty.available);
@@ -213,13 +215,8 @@ TEST_CASE("a fit finds a delay written into noise-free data", "[delay][fit]") {
         Recording r = simulated(dir, drive_samples(0.0));
         r.u = drive_samples(0.0025);
         dir.write("rec.csv", r.csv());
-        const Experiment ex = load_experiment(dir.write(
-            "e.yaml", scored_inside(experiment_text("{ column: u, delay: d_u }", "{ column: w, speed: load }",
-                                                    "  d_u: { init: 0.001, min: -0.01, max: 0.01 }"))));
-        FitOptions options;
-        options.threads = 2;
-        const FitResult fit = run_fit(IdentificationProblem(ex), options);
-        REQUIRE(fit.success);
+        const FitResult fit = fitted(dir, "{ column: u, delay: d_u }", "{ column: w, speed: load }",
+                                     "  d_u: { init: 0.001, min: -0.01, max: 0.01 }");
         CHECK(fit.best_free[1] == Approx(0.0025).margin(2e-5));
         // The cost one sample on is far above: a delay, which delay_smoothing must not flag.
         for (const Finding& f : fit.verdict.findings) CHECK(f.code != "delay_smoothing");

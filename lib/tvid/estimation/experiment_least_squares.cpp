@@ -40,11 +40,6 @@ ExperimentLeastSquares::ExperimentLeastSquares(const IdentificationProblem& prob
     start_slopes_ = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(2 * problem.definition().estimation.size()),
                                           static_cast<Eigen::Index>(m));
     for (std::size_t j = 0; j < m; ++j) all_columns_.push_back(j);
-    for (const ProblemDefinition::DelayedChannel& c : problem.definition().delayed_inputs)
-        for (std::size_t j = 0; j < m; ++j)
-            if (problem.free_indices()[j] == static_cast<std::size_t>(c.parameter) &&
-                std::find(input_delay_columns_.begin(), input_delay_columns_.end(), j) == input_delay_columns_.end())
-                input_delay_columns_.push_back(j);
     evaluated_.resize(static_cast<std::size_t>(threads_));
     for (EvaluatedPoint& e : evaluated_) e.residuals.reserve(residual_count_);
 }
@@ -181,8 +176,8 @@ bool ExperimentLeastSquares::sensitivity_jacobian(const double* x, const double*
     }
     simulations_ += count;
     slopes_valid_ = std::all_of(ok.begin(), ok.end(), [](char c) { return c != 0; });
-    if (!slopes_valid_ || input_delay_columns_.empty()) return slopes_valid_;
-    return finite_difference_columns(x, r, input_delay_columns_, J);
+    if (!slopes_valid_ || problem_->input_delay_columns().empty()) return slopes_valid_;
+    return finite_difference_columns(x, r, problem_->input_delay_columns(), J);
 }
 
 bool ExperimentLeastSquares::finite_difference_columns(const double* x, const double* r,

@@ -59,7 +59,6 @@ private:
     std::vector<std::unique_ptr<ProblemWorkspace>> workspaces_;
     std::vector<std::vector<double>> plus_, minus_;  ///< residuals at x ± h e_j, per column
     std::vector<std::size_t> all_columns_;          ///< 0 … m − 1
-    std::vector<std::size_t> input_delay_columns_;  ///< the free parameters that delay an input
     // The last residuals computed and where, one record per thread for the evaluations side
     // by side: a Jacobian asked for at one of these points (LM asks for it after accepting
     // the trial point just evaluated) reuses its residuals and the windows' solved starts

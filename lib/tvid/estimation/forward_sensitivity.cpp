@@ -273,9 +273,8 @@ bool ForwardSensitivity::jacobian_columns(const double* free, std::size_t j0, st
     };
     std::vector<OutputDelayColumn> delay_columns;
     for (const ProblemDefinition::DelayedChannel& c : def.delayed_outputs)
-        for (std::size_t j = j0; j < j1; ++j)
-            if (problem_->free_indices()[j] == static_cast<std::size_t>(c.parameter))
-                delay_columns.push_back({j, c.channel, c.signal(time), free[j], 0});
+        if (const long j = problem_->free_column(c.parameter); j >= static_cast<long>(j0) && j < static_cast<long>(j1))
+            delay_columns.push_back({static_cast<std::size_t>(j), c.channel, c.signal(time), free[j], 0});
     for (std::size_t wi = 0; wi < def.estimation.size(); ++wi) {
         const Window& w = def.estimation[wi];
         const auto record = [&](std::size_t i, const auto* outputs) {
@@ -340,16 +339,10 @@ WindowSensitivity ForwardSensitivity::window_sensitivity(const double* free, con
 void ForwardSensitivity::delay_sensitivities(const double* free, const Window& w, SensitivityWorkspace& ws,
                                              WindowSensitivity& out) const {
     const ProblemDefinition& def = problem_->definition();
-    const std::vector<std::size_t>& index = problem_->free_indices();
     const std::vector<double>& time = problem_->inputs().time();
-    const auto column = [&](int parameter) {
-        for (std::size_t j = 0; j < index.size(); ++j)
-            if (index[j] == static_cast<std::size_t>(parameter)) return static_cast<long>(j);
-        return -1L;
-    };
     // An output's delay moves the recording: the residual y − y*(t + d) changes by −y*'(t + d).
     for (const ProblemDefinition::DelayedChannel& c : def.delayed_outputs) {
-        const long j = column(c.parameter);
+        const long j = problem_->free_column(c.parameter);
         if (j < 0) continue;
         std::vector<double>& d = out.dydp[c.channel][static_cast<std::size_t>(j)];
         std::size_t hint = 0;
@@ -358,11 +351,8 @@ void ForwardSensitivity::delay_sensitivities(const double* free, const Window& w
     }
     // An input's delay moves what drives the model, which carries no derivative of its
     // inputs: central differences of the outputs.
-    std::vector<double> point(free, free + index.size());
-    for (const ProblemDefinition::DelayedChannel& c : def.delayed_inputs) {
-        const long jj = column(c.parameter);
-        if (jj < 0) continue;
-        const auto j = static_cast<std::size_t>(jj);
+    std::vector<double> point(free, free + problem_->dimension());
+    for (const std::size_t j : problem_->input_delay_columns()) {
         const double h = problem_->difference_step(j, free[j]);
         const double up = std::min(free[j] + h, problem_->upper()[j]), down = std::max(free[j] - h, problem_->lower()[j]);
         point[j] = up;
@@ -373,7 +363,7 @@ void ForwardSensitivity::delay_sensitivities(const double* free, const Window& w
         if (plus.status != SimulationStatus::ok || minus.status != SimulationStatus::ok ||
             plus.time.size() != out.time.size() || minus.time.size() != out.time.size()) {
             out.status = plus.status != SimulationStatus::ok ? plus.status : minus.status;
-            out.problem = "the difference of input delay " + def.network.parameter_names[static_cast<std::size_t>(c.parameter)] +
+            out.problem = "the difference of input delay " + problem_->free_names()[j] +
                           " did not simulate";
             return;
         }

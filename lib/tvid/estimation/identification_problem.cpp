@@ -30,6 +30,19 @@ IdentificationProblem::IdentificationProblem(const Experiment& experiment)
         init_.push_back(p.init);
         scales_.push_back(p.scale);
     }
+    const std::vector<int>& delays = definition_.network.delay_parameters;
+    for (std::size_t index : free_)
+        delay_column_.push_back(std::find(delays.begin(), delays.end(), static_cast<int>(index)) != delays.end());
+    for (const ProblemDefinition::DelayedChannel& c : definition_.delayed_inputs)
+        if (const long j = free_column(c.parameter); j >= 0 &&
+            std::find(input_delay_columns_.begin(), input_delay_columns_.end(), static_cast<std::size_t>(j)) ==
+                input_delay_columns_.end())
+            input_delay_columns_.push_back(static_cast<std::size_t>(j));
+}
+
+long IdentificationProblem::free_column(int parameter) const {
+    const auto it = std::find(free_.begin(), free_.end(), static_cast<std::size_t>(parameter));
+    return parameter >= 0 && it != free_.end() ? static_cast<long>(it - free_.begin()) : -1;
 }
 
 std::unique_ptr<ProblemWorkspace> IdentificationProblem::make_workspace() const {
@@ -61,9 +74,8 @@ std::unique_ptr<ProblemWorkspace> IdentificationProblem::make_workspace() const 
 }
 
 double IdentificationProblem::difference_step(std::size_t j, double x) const {
-    const std::vector<int>& delays = definition_.network.delay_parameters;
     const std::vector<double>& time = inputs().time();
-    if (time.size() > 1 && std::find(delays.begin(), delays.end(), static_cast<int>(free_[j])) != delays.end())
+    if (time.size() > 1 && delay_column_[j])
         return 1e-3 * (time.back() - time.front()) / static_cast<double>(time.size() - 1);
     return tvid::difference_step(x, lower_[j], upper_[j]);
 }

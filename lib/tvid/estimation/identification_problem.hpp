@@ -63,6 +63,12 @@ public:
     bool has_delay_parameters() const {
         return !definition_.delayed_inputs.empty() || !definition_.delayed_outputs.empty();
     }
+    /// The free column of model parameter `parameter`, or -1 when it is fixed.
+    long free_column(int parameter) const;
+    /// Whether free column j is a channel's delay.
+    bool is_delay_column(std::size_t j) const { return delay_column_[j] != 0; }
+    /// The free columns that delay an input, each once (an input and its rate share one).
+    const std::vector<std::size_t>& input_delay_columns() const { return input_delay_columns_; }
     /// The central-difference step of free parameter j at value x (difference_step.hpp);
     /// for a delay, a thousandth of the mean sample interval, whatever its value (a step
     /// relative to a delay near 0 would vanish).
@@ -147,6 +153,8 @@ private:
     std::vector<std::string> free_names_;
     std::vector<double> lower_, upper_, range_lo_, range_hi_, init_;
     std::vector<ParameterScale> scales_;
+    std::vector<char> delay_column_;               ///< per free column: a channel's delay
+    std::vector<std::size_t> input_delay_columns_;
     std::vector<double> fixed_values_;  ///< full vector with every fixed parameter set
 };
 

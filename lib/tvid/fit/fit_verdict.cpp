@@ -283,12 +283,11 @@ void judge_stability(const StepStability& s, Verdict& v) {
 // whole-sample delay is worse, the fit was buying that smoothing, not a delay.
 void judge_delays(const IdentificationProblem& problem, const FitResult& fit, Verdict& v) {
     const std::vector<double>& time = problem.inputs().time();
-    const std::vector<int>& delays = problem.definition().network.delay_parameters;
-    if (time.size() < 2 || delays.empty()) return;
+    if (time.size() < 2) return;
     const double dt = (time.back() - time.front()) / static_cast<double>(time.size() - 1);
     std::unique_ptr<ProblemWorkspace> ws;
     for (std::size_t j = 0; j < problem.dimension(); ++j) {
-        if (std::find(delays.begin(), delays.end(), static_cast<int>(problem.free_indices()[j])) == delays.end()) continue;
+        if (!problem.is_delay_column(j)) continue;
         const double d = fit.best_free[j], samples = d / dt, past = samples - std::floor(samples);
         if (std::abs(past - 0.5) > kHalfSampleBand) continue;
         if (!ws) ws = problem.make_workspace();
