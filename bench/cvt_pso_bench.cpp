@@ -52,8 +52,8 @@ int main(int argc, char** argv) {
         o.threads = threads;
         const FitResult fit = run_fit(problem, o);
         std::printf("paper PSO (512 x 250)        %.2f s wall on %d threads, %lld simulations, %.0f sim/s, E = %.6g\n",
-                    fit.optimizer_seconds, fit.threads, fit.pso.evaluations,
-                    static_cast<double>(fit.pso.evaluations) / fit.optimizer_seconds, fit.pso.best_cost);
+                    fit.optimizer_seconds, fit.threads, fit.run.evaluations,
+                    static_cast<double>(fit.run.evaluations) / fit.optimizer_seconds, fit.run.best_cost);
     }
     return 0;
 }

@@ -57,8 +57,8 @@ int main(int argc, char** argv) {
             FitOptions o;
             o.threads = threads;
             const FitResult fit = run_fit(p, o);
-            sum += fit.pso.best_cost;
-            std::printf("%-22s %6d %12.6g %9.3f %9.2f\n", v.name, s, fit.pso.best_cost,
+            sum += fit.run.best_cost;
+            std::printf("%-22s %6d %12.6g %9.3f %9.2f\n", v.name, s, fit.run.best_cost,
                         fit.evaluation.estimation.pooled.at(0).q_index, fit.optimizer_seconds);
             std::fflush(stdout);
         }

@@ -267,10 +267,11 @@ int engine_lm(const Args& a) {
     const auto t0 = Clock::now();
     const FitResult fit = run_fit(problem, o);
     const double wall = seconds_since(t0);
+    const LmSummary& lm = *fit.summary_of<LmSummary>();
     print_row({"engine-lm", wall, static_cast<double>(fit.run.evaluations), 0, fit.threads,
                cost_note(fit.run.best_cost) + ",iterations=" + std::to_string(fit.run.iterations) +
-                   ",trials_ahead_taken=" + std::to_string(fit.lm.taken_ahead) + "/" +
-                   std::to_string(fit.lm.evaluated_ahead) + ",after_optimizer_s=" + seconds_text(wall - fit.optimizer_seconds)});
+                   ",trials_ahead_taken=" + std::to_string(lm.taken_ahead) + "/" +
+                   std::to_string(lm.evaluated_ahead) + ",after_optimizer_s=" + seconds_text(wall - fit.optimizer_seconds)});
     return 0;
 }
 

@@ -17,10 +17,10 @@ namespace {
 // "pso, lm, nlopt, pso+lm or multistart"
 std::string optimizer_names() {
     std::string s;
-    const std::size_t n = std::size(tvid::kOptimizerKinds);
-    for (std::size_t i = 0; i < n; ++i) {
-        if (i > 0) s += i + 1 == n ? " or " : ", ";
-        s += tvid::optimizer_name(tvid::kOptimizerKinds[i]);
+    const auto& rows = tvid::optimizer_kinds();
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+        if (i > 0) s += i + 1 == rows.size() ? " or " : ", ";
+        s += rows[i].name;
     }
     return s;
 }
@@ -88,7 +88,7 @@ int main(int argc, char** argv) {
     fit_cmd->add_option("-o,--output", fit.output_dir, "report directory (default: report.dir or results/NAME)")->check(kNonEmptyPath);
     fit_cmd->add_option("--seed", fit.seed, "random seed of the optimizer")->check(kSeed);
     std::vector<std::string> optimizers;
-    for (const tvid::OptimizerKind kind : tvid::kOptimizerKinds) optimizers.emplace_back(tvid::optimizer_name(kind));
+    for (const tvid::OptimizerKindRow& row : tvid::optimizer_kinds()) optimizers.emplace_back(row.name);
     fit_cmd->add_option("--optimizer", fit.optimizer, optimizer_names() + " (overrides estimation.optimizer)")
         ->check(CLI::IsMember(optimizers));  // the error names the flag the user typed
     fit_cmd->add_flag("--force", fit.force, "replace a report already in the report directory");

@@ -44,19 +44,17 @@ int run_sensitivity_command(const SensitivityCommand& cmd) {
     if (cmd.validation)
         for (const Window& w : ex.validation) windows.push_back(&w);
 
-    // One window per task, each thread with its own workspace: a window's sensitivities
-    // do not depend on the thread count.
-    const ForwardSensitivity sensitivity(problem);
+    // One window per task, each thread with its own workspace of the one evaluator: a
+    // window's sensitivities do not depend on the thread count.
     const int threads = std::max(1, std::min(resolve_thread_count(cmd.common.threads), static_cast<int>(windows.size())));
-    std::vector<std::unique_ptr<SensitivityWorkspace>> workspaces;
-    for (int t = 0; t < threads; ++t) workspaces.push_back(sensitivity.make_workspace());
+    ResidualEvaluator evaluator(problem, threads, JacobianKind::sensitivity);
     std::vector<WindowSensitivity> results(windows.size());
     const auto start = std::chrono::steady_clock::now();
     const auto n = static_cast<long long>(windows.size());
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
     for (long long i = 0; i < n; ++i) {
         const auto w = static_cast<std::size_t>(i);
-        results[w] = sensitivity.window_sensitivity(free.data(), *windows[w], *workspaces[omp_get_thread_num()]);
+        results[w] = evaluator.output_sensitivity(free.data(), *windows[w], omp_get_thread_num());
     }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 

@@ -16,6 +16,7 @@
 #include "tvid/analysis/evaluation.hpp"
 #include "tvid/experiment/experiment.hpp"
 #include "tvid/fit/fit_run.hpp"
+#include "tvid/optim/hybrid_pso_lm.hpp"
 
 using namespace tvid;
 using tvid::test::read_text;
@@ -93,10 +94,12 @@ TEST_CASE("noise-free CVT data of the fit's own simulation: pso+lm reaches the f
     const FitResult fit = run_fit(problem, FitOptions{});
     REQUIRE(fit.success);
     CHECK(fit.run.name == "pso+lm");
-    CHECK(fit.pso.iterations == 30);
-    INFO("swarm cost " << fit.pso.best_cost << ", LM steps " << fit.lm.iterations << ", polished " << fit.evaluation.cost << ", truth " << truth_cost
+    const HybridSummary* hybrid = fit.summary_of<HybridSummary>();
+    REQUIRE(hybrid != nullptr);
+    CHECK(hybrid->pso.iterations == 30);
+    INFO("swarm cost " << hybrid->pso.best_cost << ", LM steps " << hybrid->lm.iterations << ", polished " << fit.evaluation.cost << ", truth " << truth_cost
                        << ", signal " << signal);
-    CHECK(fit.pso.best_cost > 1e-6 * signal);          // the cut swarm alone is far from the floor
+    CHECK(hybrid->pso.best_cost > 1e-6 * signal);          // the cut swarm alone is far from the floor
     CHECK(fit.evaluation.cost <= 1e-16 * signal);      // the polish reaches it
     const auto fitted = combinations(by_name(ex, fit.best_params));
     for (const auto& [name, truth] : combinations(by_name(ex, p_true))) {

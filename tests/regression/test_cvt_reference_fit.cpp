@@ -51,11 +51,12 @@ TEST_CASE("noise-free CVT tip-in: the paper's swarm reaches Q >= 99 % and the id
 
     const FitResult fit = run_fit(problem, FitOptions{});
     REQUIRE(fit.success);
-    CHECK(fit.pso.particles == 512);
-    CHECK(fit.pso.iterations == 250);
+    REQUIRE(fit.summary_of<PsoSummary>() != nullptr);
+    CHECK(fit.summary_of<PsoSummary>()->particles == 512);
+    CHECK(fit.run.iterations == 250);
     INFO("fit cost " << fit.evaluation.cost << ", truth cost " << truth.cost);
     CHECK(estimation_q(fit.evaluation) >= 99.0);
-    CHECK(fit.pso.failed_evaluations < fit.pso.evaluations);
+    CHECK(fit.run.failed_evaluations < fit.run.evaluations);
     // The validation windows are predicted as well (noise-free, same model).
     CHECK(fit.evaluation.validation.pooled.at(0).q_index > 99.0);
 

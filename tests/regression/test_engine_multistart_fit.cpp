@@ -38,8 +38,8 @@ TEST_CASE("engine: multistart from the box x0.5..x2 of the truth finds the globa
     const FitResult fit = run_fit(problem, FitOptions{});
     REQUIRE(fit.success);
     CHECK(fit.run.name == "multistart");
-    REQUIRE(fit.multistart.starts.size() == 4);
-    for (const StartResult& s : fit.multistart.starts) {
+    REQUIRE(fit.run.starts.size() == 4);
+    for (const StartResult& s : fit.run.starts) {
         CHECK(s.iterations <= 40);
         for (std::size_t j = 0; j < s.initial.size(); ++j) {  // every start inside the box
             CHECK(s.initial[j] >= problem.range_lower()[j]);

@@ -6,13 +6,14 @@
 
 #include <cmath>
 #include <numbers>
+#include <random>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "support/test_files.hpp"
 #include "tvid/analysis/frf_comparison.hpp"
-#include "tvid/estimation/experiment_least_squares.hpp"
+#include "tvid/estimation/residual_evaluator.hpp"
 #include "tvid/estimation/forward_sensitivity.hpp"
 #include "tvid/estimation/identification_problem.hpp"
 #include "tvid/experiment/experiment.hpp"
@@ -154,7 +155,7 @@ TEST_CASE("a delay parameter's Jacobian column matches central differences", "[d
     REQUIRE(problem.dimension() == 3);
     const std::vector<double> x{55.0, 0.0013, 0.0024};  // a k_s off the truth: the residuals are not small
     const auto jacobian = [&](JacobianKind kind) {
-        ExperimentLeastSquares ls(problem, 1, kind);
+        ResidualEvaluator ls(problem, 1, kind);
         Eigen::MatrixXd J(static_cast<Eigen::Index>(ls.residual_count()), 3);
         std::vector<double> r(ls.residual_count());
         REQUIRE(ls.jacobian(x.data(), r.data(), J));
@@ -220,6 +221,57 @@ TEST_CASE("a fit finds a delay written into noise-free data", "[delay][fit]") {
         CHECK(fit.best_free[1] == Approx(0.0025).margin(2e-5));
         // The cost one sample on is far above: a delay, which delay_smoothing must not flag.
         for (const Finding& f : fit.verdict.findings) CHECK(f.code != "delay_smoothing");
+    }
+}
+
+TEST_CASE("an input delay has its standard error after every optimizer", "[delay][uncertainty]") {
+    // The torque logged 3.3 ms late and the outputs noisy: every optimizer's uncertainty
+    // comes from the one evaluator, whose Jacobian has the input delay's column, so no
+    // optimizer reports the delay as having no effect on the output.
+    test::TempDir dir;
+    Recording r = simulated(dir, drive_samples(0.0));
+    r.u = drive_samples(0.0033);
+    std::mt19937 noise_source(7);
+    std::normal_distribution<double> noise(0.0, 0.01);
+    for (std::size_t i = 0; i < r.t.size(); ++i) {
+        r.w[i] += noise(noise_source);
+        r.T[i] += noise(noise_source);
+    }
+    dir.write("rec.csv", r.csv());
+    const auto fit_with = [&](const std::string& estimation) {
+        std::string text = scored_inside(experiment_text("{ column: u, delay: d_u }", "{ column: w, speed: load }",
+                                                         "  d_u: { init: 0.001, min: -0.01, max: 0.01 }"));
+        const std::string lm = "estimation: { cost: l2, optimizer: lm, lm: { max_iterations: 60 } }";
+        text.replace(text.find(lm), lm.size(), estimation);
+        FitOptions options;
+        options.threads = 2;
+        FitResult fit = run_fit(IdentificationProblem(load_experiment(dir.write("e.yaml", text))), options);
+        REQUIRE(fit.success);
+        return fit;
+    };
+    const FitResult lm = fit_with("estimation: { cost: l2, optimizer: lm, lm: { max_iterations: 60 } }");
+    REQUIRE(lm.uncertainty.available);
+    const double lm_error = lm.uncertainty.std_error[1];
+    CHECK(lm_error > 0);
+    CHECK(lm_error < 1e-4);
+    for (const std::string estimation :
+         {"estimation: { cost: l2, optimizer: pso, pso: { particles: 32, iterations: 40, seed: 3 } }",
+          "estimation: { cost: l2, optimizer: multistart, multistart: { starts: 4, seed: 3 } }",
+          "estimation: { cost: l2, optimizer: nlopt, nlopt: { algorithm: LN_BOBYQA } }"}) {
+        INFO(estimation);
+        const FitResult fit = fit_with(estimation);
+        CHECK(fit.best_free[1] == Approx(0.0033).margin(2e-4));
+        REQUIRE(fit.uncertainty.available);
+        CHECK(fit.uncertainty.determined[1]);
+        CHECK(std::isfinite(fit.uncertainty.std_error[1]));
+        // Near the same optimum the same Jacobian column: the same standard error.
+        CHECK(fit.uncertainty.std_error[1] == Approx(lm_error).epsilon(0.25));
+        for (const Finding& f : fit.verdict.findings) {
+            INFO(f.code << ": " << f.message);
+            const bool names_delay = f.subject == "d_u" || f.message.find("d_u") != std::string::npos;
+            CHECK_FALSE((names_delay && f.code == "undetermined"));
+            CHECK_FALSE((names_delay && f.message.find("no effect") != std::string::npos));
+        }
     }
 }
 

@@ -210,12 +210,12 @@ TEST_CASE("validation much worse than estimation, and a second optimum among the
         other.start = 2;
         other.best[0] *= 2.0;
         other.best_cost *= 1.001;
-        r.multistart.starts = {best, other};
-        r.multistart.best_start = 1;
+        r.run.starts = {best, other};
+        r.run.best_start = 1;
         judge_fit(problem, r);
         CHECK(has(r.verdict, "non_unique_optimum", Severity::warning));
         SECTION("but not when its cost is clearly higher") {
-            r.multistart.starts[1].best_cost = 1.5 * r.run.best_cost;
+            r.run.starts[1].best_cost = 1.5 * r.run.best_cost;
             judge_fit(problem, r);
             CHECK_FALSE(has(r.verdict, "non_unique_optimum"));
         }
@@ -260,7 +260,7 @@ TEST_CASE("validation much worse than estimation, and a second optimum among the
         StartResult failed;
         failed.start = 1;
         failed.best_cost = std::numeric_limits<double>::infinity();
-        r.multistart.starts = {failed};
+        r.run.starts = {failed};
         judge_fit(problem, r);
         CHECK(has(r.verdict, "failed_simulations", Severity::warning));
         CHECK(has(r.verdict, "failed_starts", Severity::warning));

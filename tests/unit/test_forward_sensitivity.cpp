@@ -8,7 +8,7 @@
 #include <cmath>
 
 #include "support/test_files.hpp"
-#include "tvid/estimation/experiment_least_squares.hpp"
+#include "tvid/estimation/residual_evaluator.hpp"
 #include "tvid/estimation/forward_sensitivity.hpp"
 #include "tvid/experiment/experiment.hpp"
 
@@ -86,9 +86,9 @@ TEST_CASE("the least-squares Jacobian from sensitivities equals the one by diffe
           "[sensitivity][engine]") {
     const Experiment ex = load_experiment(source_dir() / "configs/engine_idle_clean.yaml");
     const IdentificationProblem problem(ex);
-    ExperimentLeastSquares by_sensitivity(problem, 2, JacobianKind::sensitivity);
-    ExperimentLeastSquares one_thread(problem, 1, JacobianKind::sensitivity);
-    ExperimentLeastSquares by_differences(problem, 2, JacobianKind::fd);
+    ResidualEvaluator by_sensitivity(problem, 2, JacobianKind::sensitivity);
+    ResidualEvaluator one_thread(problem, 1, JacobianKind::sensitivity);
+    ResidualEvaluator by_differences(problem, 2, JacobianKind::fd);
     const auto rows = static_cast<Eigen::Index>(by_sensitivity.residual_count());
     const auto cols = static_cast<Eigen::Index>(problem.dimension());
     Eigen::MatrixXd Js(rows, cols), J1(rows, cols), Jf(rows, cols);
@@ -131,7 +131,7 @@ TEST_CASE("a Jacobian after the residuals at the same point reuses their starts 
           "[sensitivity][engine]") {
     const Experiment ex = load_experiment(source_dir() / "configs/engine_idle_clean.yaml");
     const IdentificationProblem problem(ex);
-    ExperimentLeastSquares reusing(problem, 2, JacobianKind::sensitivity), fresh(problem, 2, JacobianKind::sensitivity);
+    ResidualEvaluator reusing(problem, 2, JacobianKind::sensitivity), fresh(problem, 2, JacobianKind::sensitivity);
     const auto rows = static_cast<Eigen::Index>(reusing.residual_count());
     const auto cols = static_cast<Eigen::Index>(problem.dimension());
     Eigen::MatrixXd J_reused(rows, cols), J_fresh(rows, cols);

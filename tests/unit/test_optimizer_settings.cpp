@@ -171,7 +171,8 @@ TEST_CASE("settings are read whole, then validated: the problem names its key an
     REQUIRE(without.experiment);
     CHECK_FALSE(without.experiment->estimation_settings.multistart.max_iterations);
     // Every optimizer name of the table is read back as its kind.
-    for (OptimizerKind kind : kOptimizerKinds) {
+    for (const OptimizerKindRow& row : optimizer_kinds()) {
+        const OptimizerKind kind = row.kind;
         const Loaded r = load(std::string("  optimizer: ") + optimizer_name(kind), "  cost: l2",
                               "  d_ds:    { min: -100, max: 100, range: [-10, -5] }");
         INFO(optimizer_name(kind));

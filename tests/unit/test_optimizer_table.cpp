@@ -12,10 +12,10 @@ using namespace tvid;
 
 TEST_CASE("the optimizer table has one row for every optimizer kind, in the enum's order") {
     const std::vector<OptimizerEntry>& table = optimizer_table();
-    REQUIRE(table.size() == std::size(kOptimizerKinds));
+    REQUIRE(table.size() == optimizer_kinds().size());
     for (std::size_t i = 0; i < table.size(); ++i) {
         CAPTURE(i);
-        CHECK(table[i].kind == kOptimizerKinds[i]);
+        CHECK(table[i].kind == optimizer_kinds()[i].kind);
         CHECK(table[i].run != nullptr);
         CHECK(table[i].details != nullptr);
         CHECK(table[i].planned_iterations != nullptr);
@@ -24,7 +24,8 @@ TEST_CASE("the optimizer table has one row for every optimizer kind, in the enum
 
 TEST_CASE("every optimizer is found by its kind and by its name") {
     std::set<std::string> names;
-    for (OptimizerKind kind : kOptimizerKinds) {
+    for (const OptimizerKindRow& row : optimizer_kinds()) {
+        const OptimizerKind kind = row.kind;
         const OptimizerEntry& entry = optimizer_entry(kind);
         CHECK(entry.kind == kind);
         const std::string name = optimizer_name(kind);
@@ -65,11 +66,29 @@ TEST_CASE("each row plans its own iterations") {
 }
 
 TEST_CASE("only the swarm runs all its planned iterations; only multistart writes starts.csv") {
-    for (OptimizerKind kind : kOptimizerKinds) {
+    for (const OptimizerKindRow& row : optimizer_kinds()) {
+        const OptimizerKind kind = row.kind;
         CAPTURE(optimizer_name(kind));
         EstimationSettings s;
         s.optimizer = kind;
         CHECK(planned_iterations_are_a_cap(s) == (kind != OptimizerKind::pso));
         CHECK((optimizer_entry(kind).starts_csv != nullptr) == (kind == OptimizerKind::multistart));
     }
+}
+
+TEST_CASE("each optimizer kind's traits are what its run does") {
+    // A least-squares optimizer runs LM on the residuals (l2 only); a swarm samples the box
+    // from particles; one that starts at init never samples it.
+    for (const OptimizerKindRow& row : optimizer_kinds()) {
+        INFO(row.name);
+        CHECK(row.summary != nullptr);
+        CHECK_FALSE((row.traits.starts_at_init && (row.traits.swarm || row.traits.samples_box)));
+        CHECK(row.traits.least_squares == (row.kind == OptimizerKind::lm || row.kind == OptimizerKind::pso_lm ||
+                                           row.kind == OptimizerKind::multistart));
+        CHECK(row.traits.swarm == (row.kind == OptimizerKind::pso || row.kind == OptimizerKind::pso_lm));
+        CHECK(row.traits.samples_box == (row.kind == OptimizerKind::multistart));
+        CHECK(row.traits.starts_at_init == (row.kind == OptimizerKind::lm));
+        CHECK(find_optimizer_kind(row.name) == &row);
+    }
+    CHECK(find_optimizer_kind("pso_lm") == nullptr);
 }

@@ -1,5 +1,5 @@
 // The engine's warm-up shooting started from a guess: the solution (angle offset, speed)
-// and miss Jacobian of the shooting at nearby parameters, as ExperimentLeastSquares
+// and miss Jacobian of the shooting at nearby parameters, as ResidualEvaluator
 // passes them from the point of its last Jacobian to the next trial point, moved to first
 // order by the sensitivities' d(a, s)/dp. The guess must save simulations and reach the
 // same start to within the shooting's tolerance; a guess that does not converge, or one
@@ -10,7 +10,7 @@
 #include <cmath>
 
 #include "support/test_files.hpp"
-#include "tvid/estimation/experiment_least_squares.hpp"
+#include "tvid/estimation/residual_evaluator.hpp"
 #include "tvid/estimation/forward_sensitivity.hpp"
 #include "tvid/estimation/identification_problem.hpp"
 #include "tvid/experiment/experiment.hpp"
@@ -42,7 +42,7 @@ struct EngineAtPrior {
     IdentificationProblem problem{ex};
     std::vector<double> x = problem.initial();
     Shot here = shoot(problem, x);
-    /// The guess ExperimentLeastSquares would keep from `here`.
+    /// The guess ResidualEvaluator would keep from `here`.
     ShootingGuess guess() const {
         const Window& w = ex.estimation.at(0);
         const WindowStart& s = here.starts.at(0).start;
@@ -169,7 +169,7 @@ TEST_CASE("least squares with shooting guesses give the same residuals and Jacob
         Eigen::MatrixXd J, J_trial;
     };
     auto run = [&](int threads) {
-        ExperimentLeastSquares ls(problem, threads, JacobianKind::sensitivity);
+        ResidualEvaluator ls(problem, threads, JacobianKind::sensitivity);
         Run out{std::vector<double>(static_cast<std::size_t>(n)), std::vector<double>(static_cast<std::size_t>(n)),
                 Eigen::MatrixXd(n, m), Eigen::MatrixXd(n, m)};
         REQUIRE(ls.jacobian(x.data(), out.r.data(), out.J));        // keeps the guesses
@@ -262,13 +262,13 @@ TEST_CASE("least squares evaluated side by side give the residuals of each point
     std::vector<double> r0(n), r_near(n), r_further(n), r_jac(n);
     Eigen::MatrixXd J(static_cast<Eigen::Index>(n), m);
 
-    ExperimentLeastSquares one(problem, 1, JacobianKind::sensitivity);  // one at a time
+    ResidualEvaluator one(problem, 1, JacobianKind::sensitivity);  // one at a time
     REQUIRE(one.concurrent_residuals() == 1);
     REQUIRE(one.jacobian(x.data(), r0.data(), J));
     REQUIRE(one.residuals(near.data(), r_near.data()));
     REQUIRE(one.residuals(further.data(), r_further.data()));
 
-    ExperimentLeastSquares two(problem, 2, JacobianKind::sensitivity);
+    ResidualEvaluator two(problem, 2, JacobianKind::sensitivity);
     REQUIRE(two.concurrent_residuals() == 2);
     REQUIRE(two.jacobian(x.data(), r0.data(), J));
     std::vector<double> a(n), b(n);

@@ -9,7 +9,7 @@
 #include <thread>
 
 #include "support/test_files.hpp"
-#include "tvid/estimation/experiment_least_squares.hpp"
+#include "tvid/estimation/residual_evaluator.hpp"
 #include "tvid/estimation/forward_sensitivity.hpp"
 #include "tvid/estimation/parallel_evaluator.hpp"
 #include "tvid/experiment/experiment.hpp"
@@ -150,7 +150,7 @@ TEST_CASE("the parallel evaluator skips the rest of a batch once the stop flag i
     CHECK(evaluator.stopped());
     for (double c : costs) CHECK(std::isinf(c));
 
-    ExperimentLeastSquares least_squares(problem, 2, JacobianKind::sensitivity, &stop);
+    ResidualEvaluator least_squares(problem, 2, JacobianKind::sensitivity, &stop);
     std::vector<double> r(least_squares.residual_count());
     CHECK_FALSE(least_squares.residuals(x.data(), r.data()));
     CHECK(least_squares.stopped());
@@ -203,7 +203,7 @@ TEST_CASE("a stop request raised during an engine evaluation ends it and the lea
     const IdentificationProblem problem(ex);
     std::vector<double> x = problem.initial();
     std::atomic<bool> stop{false};
-    ExperimentLeastSquares least_squares(problem, 2, JacobianKind::sensitivity, &stop);
+    ResidualEvaluator least_squares(problem, 2, JacobianKind::sensitivity, &stop);
     std::vector<double> r(least_squares.residual_count());
     Eigen::MatrixXd J(static_cast<Eigen::Index>(r.size()), static_cast<Eigen::Index>(x.size()));
     const auto raise_soon = [&stop] {

@@ -6,7 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "support/test_files.hpp"
-#include "tvid/estimation/experiment_least_squares.hpp"
+#include "tvid/estimation/residual_evaluator.hpp"
 #include "tvid/analysis/uncertainty.hpp"
 #include "tvid/experiment/experiment.hpp"
 #include "tvid/fit/fit_run.hpp"
@@ -35,7 +35,7 @@ struct ResidualsAndJacobian {
 };
 
 ResidualsAndJacobian least_squares_jacobian(const IdentificationProblem& problem, const std::vector<double>& at) {
-    ExperimentLeastSquares ls(problem, 1, problem.experiment().estimation_settings.jacobian);
+    ResidualEvaluator ls(problem, 1, problem.experiment().estimation_settings.jacobian);
     ResidualsAndJacobian out{Eigen::VectorXd(static_cast<Eigen::Index>(ls.residual_count())),
                              Eigen::MatrixXd(static_cast<Eigen::Index>(ls.residual_count()),
                                              static_cast<Eigen::Index>(problem.dimension()))};
@@ -115,7 +115,7 @@ TEST_CASE("an LM fit reports the uncertainty of its last Jacobian, equal to one 
     options.threads = 2;
     const FitResult fit = run_fit(problem, options);
     REQUIRE(fit.success);
-    REQUIRE(fit.lm.best == fit.best_free);
-    REQUIRE(fit.lm.jacobian_at_best.cols() == 8);
+    REQUIRE(fit.summary_of<LmSummary>()->best == fit.best_free);
+    REQUIRE(fit.run.jacobian_at_best.cols() == 8);
     check_same(fit.uncertainty, estimate_uncertainty(problem, fit.best_free), 1e-9);
 }

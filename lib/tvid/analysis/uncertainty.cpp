@@ -1,6 +1,6 @@
 #include "tvid/analysis/uncertainty.hpp"
 
-#include "tvid/estimation/forward_sensitivity.hpp"
+#include "tvid/estimation/residual_evaluator.hpp"
 
 #include <Eigen/Dense>
 #include <algorithm>
@@ -14,53 +14,32 @@ namespace {
 // Singular values of the scaled Jacobian below this fraction of the largest count as zero
 // (a condition number of JᵀJ above 1e12).
 constexpr double kRankTolerance = 1e-6;
-// The residuals at free_best (Σe² into ssr) and the Jacobian in scaled parameters into js;
-// false with `problem` set when they cannot be computed.
-bool scaled_jacobian(const IdentificationProblem& problem, const std::vector<double>& free_best,
+// The residuals at free_best (Σe² into ssr) and their Jacobian from the problem's one
+// evaluator (every column kind: sensitivities, delays, differences) in scaled parameters
+// into js; false with `problem_text` set when they cannot be computed.
+bool scaled_jacobian(const IdentificationProblem& problem, const std::vector<double>& free_best, int threads,
                      const std::vector<double>& scale, Eigen::MatrixXd& js, double& ssr, std::string& problem_text) {
     const std::size_t m = problem.dimension();
-    auto ws = problem.make_workspace();
-    std::vector<double> r0, rp, rm, p = free_best;
-    if (!problem.residuals(free_best.data(), *ws, r0)) { problem_text = "the simulation at the optimum failed"; return false; }
-    const auto n = static_cast<Eigen::Index>(r0.size());
-    if (r0.size() <= m) { problem_text = "fewer residuals than free parameters"; return false; }
-    js.resize(n, static_cast<Eigen::Index>(m));
-    if (problem.experiment().estimation_settings.jacobian == JacobianKind::sensitivity) {
-        const ForwardSensitivity sensitivity(problem);
-        auto sws = sensitivity.make_workspace();
-        for (std::size_t j0 = 0; j0 < m; j0 += ForwardSensitivity::kMaxBlock)
-            if (!sensitivity.jacobian_columns(free_best.data(), j0, std::min(m, j0 + ForwardSensitivity::kMaxBlock),
-                                              *sws, js)) {
-                problem_text = "the sensitivity simulation failed at the optimum";
-                return false;
-            }
-        for (std::size_t j = 0; j < m; ++j) js.col(static_cast<Eigen::Index>(j)) *= scale[j];
-    } else {
-        for (std::size_t j = 0; j < m; ++j) {
-            const double h = 1e-6 * scale[j];
-            p[j] = free_best[j] + h;
-            const bool ok_p = problem.residuals(p.data(), *ws, rp);
-            p[j] = free_best[j] - h;
-            const bool ok_m = problem.residuals(p.data(), *ws, rm);
-            p[j] = free_best[j];
-            if (!ok_p || !ok_m || rp.size() != r0.size() || rm.size() != r0.size()) {
-                problem_text = "the simulation failed near the optimum (parameter " + problem.free_names()[j] + ")";
-                return false;
-            }
-            for (Eigen::Index i = 0; i < n; ++i)
-                js(i, static_cast<Eigen::Index>(j)) =
-                    scale[j] * (rp[static_cast<std::size_t>(i)] - rm[static_cast<std::size_t>(i)]) / (2 * h);
-        }
+    ResidualEvaluator evaluator(problem, threads, problem.experiment().estimation_settings.jacobian);
+    const std::size_t n = evaluator.residual_count();
+    if (n <= m) { problem_text = "fewer residuals than free parameters"; return false; }
+    std::vector<double> r(n);
+    js.resize(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(m));
+    if (!evaluator.residuals(free_best.data(), r.data())) { problem_text = "the simulation at the optimum failed"; return false; }
+    if (!evaluator.jacobian(free_best.data(), r.data(), js) || !js.allFinite()) {
+        problem_text = "the Jacobian could not be formed at the optimum (a simulation near it failed)";
+        return false;
     }
+    for (std::size_t j = 0; j < m; ++j) js.col(static_cast<Eigen::Index>(j)) *= scale[j];
     ssr = 0.0;
-    for (double e : r0) ssr += e * e;
+    for (double e : r) ssr += e * e;
     return true;
 }
 
 }  // namespace
 
 ParameterUncertainty estimate_uncertainty(const IdentificationProblem& problem, const std::vector<double>& free_best,
-                                          const JacobianAtOptimum& known) {
+                                          const JacobianAtOptimum& known, int threads) {
     ParameterUncertainty u;
     const std::size_t m = problem.dimension();
     const double nan = std::numeric_limits<double>::quiet_NaN();
@@ -73,13 +52,12 @@ ParameterUncertainty estimate_uncertainty(const IdentificationProblem& problem, 
     u.interval.assign(m, "two-sided");
     if (m == 0) { u.problem = "no free parameters"; return u; }
 
-    // The Jacobian in scaled parameters: column j = s_j ∂r/∂p_j, from the forward
-    // sensitivities or by central differences, as the experiment asks.
+    // The Jacobian in scaled parameters: column j = s_j ∂r/∂p_j, from the evaluator the
+    // least-squares fit used (given) or from a new one.
     std::vector<double> scale(m);
     for (std::size_t j = 0; j < m; ++j) scale[j] = free_best[j] != 0.0 ? std::abs(free_best[j]) : 1.0;
-    const bool sensitivities = problem.experiment().estimation_settings.jacobian == JacobianKind::sensitivity;
     const Eigen::MatrixXd* given = known.jacobian;
-    const bool use_given = sensitivities && given && given->cols() == static_cast<Eigen::Index>(m) &&
+    const bool use_given = given && given->cols() == static_cast<Eigen::Index>(m) &&
                            given->rows() > static_cast<Eigen::Index>(m) && given->allFinite() &&
                            std::isfinite(known.sum_of_squares);
     Eigen::MatrixXd js;
@@ -88,7 +66,7 @@ ParameterUncertainty estimate_uncertainty(const IdentificationProblem& problem, 
         js = *given;
         ssr = known.sum_of_squares;
         for (std::size_t j = 0; j < m; ++j) js.col(static_cast<Eigen::Index>(j)) *= scale[j];
-    } else if (!scaled_jacobian(problem, free_best, scale, js, ssr, u.problem)) {
+    } else if (!scaled_jacobian(problem, free_best, threads, scale, js, ssr, u.problem)) {
         return u;
     }
     const auto n = js.rows();

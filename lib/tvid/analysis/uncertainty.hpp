@@ -1,8 +1,9 @@
 #pragma once
 // Uncertainty of the estimate from the Jacobian J of the residuals at the optimum
-// (forward sensitivities or finite differences): covariance s²(JᵀJ)⁻¹ with s² = Σe²/(N − M), standard errors,
-// 95 % intervals and correlations, computed in scaled parameters (p_j·∂r/∂p_j) so that
-// inertias of 1e-3 and dampings of 1e1 are conditioned alike. Directions that the data
+// (the ResidualEvaluator's: forward sensitivities, delay columns, finite differences):
+// covariance s²(JᵀJ)⁻¹ with s² = Σe²/(N − M), standard errors, 95 % intervals and
+// correlations, computed in scaled parameters (p_j·∂r/∂p_j) so that inertias of 1e-3 and
+// dampings of 1e1 are conditioned alike. Directions that the data
 // do not determine (near-zero singular values of the scaled J) are reported, and the
 // parameters in them get no standard error. The interval of a parameter of `scale: log` is
 // formed in ln p (its scaled column p_j·∂r/∂p_j is ∂r/∂ln p_j) and mapped back: asymmetric in p.
@@ -41,17 +42,18 @@ struct ParameterUncertainty {
 };
 
 /// The residuals' Jacobian at the optimum as the optimizer left it: ∂r/∂p over the free
-/// parameters (N×M) from the forward sensitivities, and Σe² there. A least-squares fit has
+/// parameters (N×M) from the ResidualEvaluator, and Σe² there. A least-squares fit has
 /// just computed both; taking them saves a simulation and a sensitivity run.
 struct JacobianAtOptimum {
     const Eigen::MatrixXd* jacobian = nullptr;  ///< none: computed here
     double sum_of_squares = 0.0;
 };
 
-/// The uncertainty at `free_best`. `known` is used when it is there, the experiment's
-/// Jacobian is the sensitivities' and it has M columns and more than M finite rows;
-/// otherwise the residuals and the Jacobian are computed here.
+/// The uncertainty at `free_best`. `known` (the Jacobian the least-squares fit took there
+/// from the problem's ResidualEvaluator) is used when it has M columns and more than M
+/// finite rows; otherwise a ResidualEvaluator computes the residuals and the Jacobian here,
+/// on `threads` threads (<= 0: all), with every column kind the fit's own would have.
 ParameterUncertainty estimate_uncertainty(const IdentificationProblem& problem, const std::vector<double>& free_best,
-                                          const JacobianAtOptimum& known = {});
+                                          const JacobianAtOptimum& known = {}, int threads = 1);
 
 }  // namespace tvid

@@ -296,7 +296,7 @@ private:
                 const auto output = static_cast<std::size_t>(d_.output_indices[k]);
                 const P y = after_derivative ? ws.model.output_after_derivative(output, xs.data())
                                              : ws.model.output(output, xs.data(), u);
-                window.add(P(d_.output_scale[k]) * (y - measured(k, i)));
+                window.add(output_residual(P(d_.output_scale[k]), y, measured(k, i)));
             }
             const Lanes watched = bounded & live;
             if (!watched.any()) return;

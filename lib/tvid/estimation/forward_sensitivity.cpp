@@ -13,6 +13,49 @@
 
 namespace tvid {
 
+namespace {
+
+// How the residual y − y*(t + d) of an output read with delay d moves with d: the model
+// does not see the delay, the recording moves under it, so −y*'(t + d) (the slope of the
+// interpolation, channel_delay.hpp). Every Jacobian and sensitivity column of an output's
+// delay is this.
+double output_delay_derivative(const SampledSignal& recorded, double t, double delay, std::size_t& hint) {
+    return -delayed_slope(recorded, t + delay, hint);
+}
+
+// The two Jacobians of the implicit-function theorem for a start that solves F(v, p) = 0
+// (the equilibrium's static torques, the steady start's accelerations): with F(v̄(p), p) = 0,
+// ∂F/∂v · dv̄/dp = −∂F/∂p. `v` holds the solution as constant dual numbers; its first
+// `unknowns` entries are the unknowns v, seeded in blocks of the dual capacity with the
+// parameters held; `residual(v)` points at F's `rows` values. ∂F/∂p is taken first, with
+// ws.model's parameters as set (the block's `cols` columns seeded), and they are set so again.
+template <class Residual>
+void implicit_jacobians(std::vector<Dual>& v, std::size_t unknowns, std::size_t rows, std::size_t cols,
+                        SensitivityWorkspace& ws, Eigen::MatrixXd& dFdp, Eigen::MatrixXd& dFdv, Residual&& residual) {
+    const auto at = [](std::size_t i) { return static_cast<Eigen::Index>(i); };
+    dFdp.resize(at(rows), at(cols));
+    dFdv.resize(at(rows), at(unknowns));
+    const Dual* f = residual(v);
+    for (std::size_t i = 0; i < rows; ++i)
+        for (std::size_t j = 0; j < cols; ++j) dFdp(at(i), at(j)) = f[i].derivative(static_cast<int>(j));
+    std::vector<Dual> constant(ws.params.size());
+    for (std::size_t i = 0; i < constant.size(); ++i) constant[i] = Dual(ws.plain->params[i]);
+    ws.model.set_parameters(constant.data());
+    const auto capacity = static_cast<std::size_t>(kDualCapacity);
+    for (std::size_t c0 = 0; c0 < unknowns; c0 += capacity) {
+        const std::size_t c1 = std::min(unknowns, c0 + capacity);
+        for (std::size_t i = 0; i < unknowns; ++i)
+            v[i] = i >= c0 && i < c1 ? Dual::variable(v[i].value(), static_cast<int>(i - c0), static_cast<int>(c1 - c0))
+                                     : Dual(v[i].value());
+        f = residual(v);
+        for (std::size_t i = 0; i < rows; ++i)
+            for (std::size_t k = c0; k < c1; ++k) dFdv(at(i), at(k)) = f[i].derivative(static_cast<int>(k - c0));
+    }
+    ws.model.set_parameters(ws.params.data());
+}
+
+}  // namespace
+
 SensitivityWorkspace::SensitivityWorkspace(const IdentificationProblem& problem)
     : plain(problem.make_workspace()), model(problem.definition().network), packed8(problem), packed16(problem) {
     model.set_crank_angle_inputs(&problem.crank_angle_inputs());
@@ -41,36 +84,16 @@ void ForwardSensitivity::set_parameters(const double* free, std::size_t j0, std:
 
 bool ForwardSensitivity::equilibrium_sensitivity(std::size_t j0, std::size_t j1, SensitivityWorkspace& ws,
                                                  Eigen::MatrixXd& dtheta) const {
-    // F(θ̄(p), p) = 0 ⇒ ∂F/∂θ · dθ̄/dp = −∂F/∂p, with both Jacobians of the static torques
-    // from the dual model (θ seeded in blocks of the dual capacity, then p).
-    const std::size_t n = ws.model.node_count(), cols = j1 - j0;
+    // F(θ̄(p), p) = 0, F the static torques.
+    const std::size_t n = ws.model.node_count();
     const double* u = ws.plain->u0.data();
     std::vector<Dual> theta(n), torque(n);
-    Eigen::MatrixXd dFdtheta(n, n), dFdp(n, cols);
-    // ∂F/∂p: θ constant, the block's parameters seeded (as set).
     for (std::size_t i = 0; i < n; ++i) theta[i] = Dual(ws.plain->x_start[i]);
-    ws.model.static_torques(theta.data(), u, torque.data());
-    for (std::size_t i = 0; i < n; ++i)
-        for (std::size_t j = 0; j < cols; ++j)
-            dFdp(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = torque[i].derivative(static_cast<int>(j));
-    // ∂F/∂θ: the parameters constant.
-    std::vector<Dual> constant(ws.params.size());
-    for (std::size_t i = 0; i < constant.size(); ++i) constant[i] = Dual(ws.plain->params[i]);
-    ws.model.set_parameters(constant.data());
-    const auto capacity = static_cast<std::size_t>(kDualCapacity);
-    for (std::size_t c0 = 0; c0 < n; c0 += capacity) {
-        const std::size_t c1 = std::min(n, c0 + capacity);
-        for (std::size_t i = 0; i < n; ++i)
-            theta[i] = i >= c0 && i < c1 ? Dual::variable(ws.plain->x_start[i], static_cast<int>(i - c0),
-                                                          static_cast<int>(c1 - c0))
-                                         : Dual(ws.plain->x_start[i]);
-        ws.model.static_torques(theta.data(), u, torque.data());
-        for (std::size_t i = 0; i < n; ++i)
-            for (std::size_t k = c0; k < c1; ++k)
-                dFdtheta(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(k)) =
-                    torque[i].derivative(static_cast<int>(k - c0));
-    }
-    ws.model.set_parameters(ws.params.data());
+    Eigen::MatrixXd dFdp, dFdtheta;
+    implicit_jacobians(theta, n, n, j1 - j0, ws, dFdp, dFdtheta, [&](const std::vector<Dual>& at) {
+        ws.model.static_torques(at.data(), u, torque.data());
+        return torque.data();
+    });
     const Eigen::FullPivLU<Eigen::MatrixXd> lu(dFdtheta);
     if (!lu.isInvertible()) return false;
     dtheta = -lu.solve(dFdp);
@@ -80,36 +103,21 @@ bool ForwardSensitivity::equilibrium_sensitivity(std::size_t j0, std::size_t j1,
 bool ForwardSensitivity::steady_sensitivity(std::size_t j0, std::size_t j1, SensitivityWorkspace& ws,
                                             Eigen::MatrixXd& dtheta) const {
     // g(z, p) = θ'' − r·α = 0 at the solved start (steady_motion.hpp), z the twists of every
-    // node but the reference and α in the reference's slot ⇒ ∂g/∂z · dz/dp = −∂g/∂p.
+    // node but the reference and α in the reference's slot: the angles are the unknowns,
+    // the speeds the given ones.
     const ProblemDefinition& def = problem_->definition();
-    const std::size_t n = ws.model.node_count(), cols = j1 - j0;
+    const std::size_t n = ws.model.node_count();
     const auto ref = static_cast<std::size_t>(def.steady.node);
     const RigidMotion rigid = rigid_motion(def.network, ws.plain->params, def.steady.node);
     const double* u = ws.plain->u0.data();  // the mean inputs the start balanced
     std::vector<Dual> x(2 * n), dxdt(2 * n);
-    Eigen::MatrixXd dgdp(n, cols), dgdz(n, n);
-    const auto at = [](std::size_t i) { return static_cast<Eigen::Index>(i); };
-    // ∂g/∂p: the state constant, the block's parameters seeded (as set).
     for (std::size_t i = 0; i < 2 * n; ++i) x[i] = Dual(ws.plain->x_start[i]);
-    ws.model.derivative(x.data(), u, dxdt.data());
-    for (std::size_t i = 0; i < n; ++i)
-        for (std::size_t j = 0; j < cols; ++j) dgdp(at(i), at(j)) = dxdt[n + i].derivative(static_cast<int>(j));
-    // ∂g/∂z: the parameters constant, the angles seeded in blocks of the dual capacity.
-    std::vector<Dual> constant(ws.params.size());
-    for (std::size_t i = 0; i < constant.size(); ++i) constant[i] = Dual(ws.plain->params[i]);
-    ws.model.set_parameters(constant.data());
-    const auto capacity = static_cast<std::size_t>(kDualCapacity);
-    for (std::size_t c0 = 0; c0 < n; c0 += capacity) {
-        const std::size_t c1 = std::min(n, c0 + capacity);
-        for (std::size_t i = 0; i < n; ++i)
-            x[i] = i >= c0 && i < c1 ? Dual::variable(ws.plain->x_start[i], static_cast<int>(i - c0),
-                                                      static_cast<int>(c1 - c0))
-                                     : Dual(ws.plain->x_start[i]);
-        ws.model.derivative(x.data(), u, dxdt.data());
-        for (std::size_t i = 0; i < n; ++i)
-            for (std::size_t k = c0; k < c1; ++k) dgdz(at(i), at(k)) = dxdt[n + i].derivative(static_cast<int>(k - c0));
-    }
-    ws.model.set_parameters(ws.params.data());
+    Eigen::MatrixXd dgdp, dgdz;
+    implicit_jacobians(x, n, n, j1 - j0, ws, dgdp, dgdz, [&](const std::vector<Dual>& at) {
+        ws.model.derivative(at.data(), u, dxdt.data());
+        return dxdt.data() + n;  // the accelerations
+    });
+    const auto at = [](std::size_t i) { return static_cast<Eigen::Index>(i); };
     for (std::size_t i = 0; i < n; ++i) dgdz(at(i), at(ref)) = -rigid.ratio[i];  // ∂g_i/∂α
     const Eigen::FullPivLU<Eigen::MatrixXd> lu(dgdz);
     if (!lu.isInvertible()) return false;
@@ -196,19 +204,18 @@ SimulationStatus ForwardSensitivity::simulate_augmented(const double* free, cons
             // G = (θ_node(mid), θ_node(first)) − measured: d(a, s)/dp = −(∂G/∂(a, s))⁻¹ ∂G/∂p.
             ws.row_first.assign(ws.z.begin() + static_cast<std::ptrdiff_t>(state + node * d),
                                 ws.z.begin() + static_cast<std::ptrdiff_t>(state + node * d + d));
-            const double g00 = ws.row_mid[cols], g01 = ws.row_mid[cols + 1];
-            const double g10 = ws.row_first[cols], g11 = ws.row_first[cols + 1];
-            const double det = g00 * g11 - g01 * g10;
-            if (!std::isfinite(det) || det == 0.0) {
-                if (problem) *problem = "the warm-up shooting has no sensitivity (singular)";
+            const ShootingSensitivity shooting(ws.row_mid[cols], ws.row_mid[cols + 1], ws.row_first[cols],
+                                               ws.row_first[cols + 1]);
+            if (!shooting.regular()) {
+                if (problem) *problem = ShootingSensitivity::kSingular;
                 return SimulationStatus::not_finite;
             }
             // Repack z to the block's columns with the total derivative S_p + S_(a,s)·d(a,s)/dp.
             std::vector<double> packed(state * (1 + cols));
             std::copy(ws.z.begin(), ws.z.begin() + static_cast<std::ptrdiff_t>(state), packed.begin());
             for (std::size_t j = 0; j < cols; ++j) {
-                const double da = -(g11 * ws.row_mid[j] - g01 * ws.row_first[j]) / det;
-                const double ds = -(-g10 * ws.row_mid[j] + g00 * ws.row_first[j]) / det;
+                const double da = shooting.offset_slope(ws.row_mid[j], ws.row_first[j]);
+                const double ds = shooting.speed_slope(ws.row_mid[j], ws.row_first[j]);
                 for (std::size_t i = 0; i < state; ++i) {
                     const double* row = ws.z.data() + state + i * d;
                     packed[state + i * cols + j] = row[j] + row[cols] * da + row[cols + 1] * ds;
@@ -283,10 +290,10 @@ bool ForwardSensitivity::jacobian_columns(const double* free, std::size_t j0, st
                 if (row >= J.rows()) return false;
                 for (std::size_t j = j0; j < j1; ++j)
                     J(row, static_cast<Eigen::Index>(j)) = def.output_scale[k] * y.derivative(static_cast<int>(j - j0));
-                for (OutputDelayColumn& c : delay_columns)  // r = scale·(y − y*(t + d)): −scale·y*'(t + d)
+                for (OutputDelayColumn& c : delay_columns)
                     if (c.output == k)
-                        J(row, static_cast<Eigen::Index>(c.column)) -=
-                            def.output_scale[k] * delayed_slope(c.recorded, time[i] + c.delay, c.hint);
+                        J(row, static_cast<Eigen::Index>(c.column)) +=
+                            def.output_scale[k] * output_delay_derivative(c.recorded, time[i], c.delay, c.hint);
                 ++row;
             }
             return true;
@@ -347,14 +354,13 @@ void ForwardSensitivity::delay_sensitivities(const double* free, const Window& w
         std::vector<double>& d = out.dydp[c.channel][static_cast<std::size_t>(j)];
         std::size_t hint = 0;
         for (std::size_t s = 0; s < out.time.size(); ++s)
-            d[s] -= delayed_slope(c.signal(time), out.time[s] + free[j], hint);
+            d[s] += output_delay_derivative(c.signal(time), out.time[s], free[j], hint);
     }
     // An input's delay moves what drives the model, which carries no derivative of its
     // inputs: central differences of the outputs.
     std::vector<double> point(free, free + problem_->dimension());
     for (const std::size_t j : problem_->input_delay_columns()) {
-        const double h = problem_->difference_step(j, free[j]);
-        const double up = std::min(free[j] + h, problem_->upper()[j]), down = std::max(free[j] - h, problem_->lower()[j]);
+        const auto [up, down] = problem_->difference_points(j, free[j]);
         point[j] = up;
         const WindowTrace plus = problem_->trace(problem_->full_parameters(point), w, *ws.plain);
         point[j] = down;

@@ -15,6 +15,7 @@
 // different threads; a column's values do not depend on the blocking with fixed-step RK4.
 
 #include <Eigen/Dense>
+#include <cmath>
 #include <cstddef>
 #include <memory>
 #include <string>
@@ -61,6 +62,26 @@ struct SensitivityWorkspace {
     std::vector<double> start_slopes;
     PackedSensitivityModel<8> packed8;        ///< fixed-step RK4 with up to 8 directions
     PackedSensitivityModel<16> packed16;      ///< … up to 16
+};
+
+/// The warm-up shooting's dependence on the parameters, written once for every path that
+/// carries sensitivities through a warm-up: the shooting solves G(a, s, p) = 0, G the encoder
+/// node's angle at two samples (mid, first) less the measured ones, for the angle offset a
+/// and speed s, so d(a, s)/dp = −(∂G/∂(a, s))⁻¹ ∂G/∂p.
+class ShootingSensitivity {
+public:
+    /// From ∂G/∂(a, s): the node's angle derivatives in a and s at mid and at first.
+    ShootingSensitivity(double mid_a, double mid_s, double first_a, double first_s)
+        : g00_(mid_a), g01_(mid_s), g10_(first_a), g11_(first_s), det_(mid_a * first_s - mid_s * first_a) {}
+    /// False when ∂G/∂(a, s) is singular: the shooting has no sensitivity.
+    bool regular() const { return std::isfinite(det_) && det_ != 0.0; }
+    /// da/dp_j and ds/dp_j from ∂G/∂p_j = (mid_j, first_j).
+    double offset_slope(double mid_j, double first_j) const { return -(g11_ * mid_j - g01_ * first_j) / det_; }
+    double speed_slope(double mid_j, double first_j) const { return -(-g10_ * mid_j + g00_ * first_j) / det_; }
+    static constexpr const char* kSingular = "the warm-up shooting has no sensitivity (singular)";
+
+private:
+    double g00_, g01_, g10_, g11_, det_;
 };
 
 /// One window's outputs and their derivatives for `tvid sensitivity`.

@@ -76,18 +76,17 @@ SimulationStatus ForwardSensitivity::simulate_packed(const double* free, const W
             // G = (θ_node(mid), θ_node(first)) − measured: d(a, s)/dp = −(∂G/∂(a, s))⁻¹ ∂G/∂p,
             // and every state's derivative becomes the total S_p + S_(a,s)·d(a,s)/dp.
             const T& at_first = x[start.node];
-            const double g00 = at_mid.derivative(a_dir), g01 = at_mid.derivative(s_dir);
-            const double g10 = at_first.derivative(a_dir), g11 = at_first.derivative(s_dir);
-            const double det = g00 * g11 - g01 * g10;
-            if (!std::isfinite(det) || det == 0.0) {
-                if (problem) *problem = "the warm-up shooting has no sensitivity (singular)";
+            const ShootingSensitivity shooting(at_mid.derivative(a_dir), at_mid.derivative(s_dir),
+                                               at_first.derivative(a_dir), at_first.derivative(s_dir));
+            if (!shooting.regular()) {
+                if (problem) *problem = ShootingSensitivity::kSingular;
                 return SimulationStatus::not_finite;
             }
             Pack<D> da(0.0), ds(0.0);
             for (std::size_t j = 0; j < cols; ++j) {
                 const double mid_j = at_mid.derivative(static_cast<int>(j)), first_j = at_first.derivative(static_cast<int>(j));
-                da.set(static_cast<int>(j), -(g11 * mid_j - g01 * first_j) / det);
-                ds.set(static_cast<int>(j), -(-g10 * mid_j + g00 * first_j) / det);
+                da.set(static_cast<int>(j), shooting.offset_slope(mid_j, first_j));
+                ds.set(static_cast<int>(j), shooting.speed_slope(mid_j, first_j));
             }
             ws.start_slopes.resize(2 * cols);
             for (std::size_t j = 0; j < cols; ++j) {

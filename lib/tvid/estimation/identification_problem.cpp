@@ -76,8 +76,13 @@ std::unique_ptr<ProblemWorkspace> IdentificationProblem::make_workspace() const 
 double IdentificationProblem::difference_step(std::size_t j, double x) const {
     const std::vector<double>& time = inputs().time();
     if (time.size() > 1 && delay_column_[j])
-        return 1e-3 * (time.back() - time.front()) / static_cast<double>(time.size() - 1);
+        return delay_difference_step((time.back() - time.front()) / static_cast<double>(time.size() - 1));
     return tvid::difference_step(x, lower_[j], upper_[j]);
+}
+
+std::pair<double, double> IdentificationProblem::difference_points(std::size_t j, double x) const {
+    const double h = difference_step(j, x);
+    return {std::min(x + h, upper_[j]), std::max(x - h, lower_[j])};
 }
 
 void IdentificationProblem::use_parameters(const std::vector<double>& params, ProblemWorkspace& ws) const {
@@ -245,8 +250,9 @@ double IdentificationProblem::cost(const double* free, ProblemWorkspace& ws, dou
         ws.window_residuals.clear();
         auto add_sample = [&](std::size_t i, const std::vector<double>& x, const std::vector<double>& u) {
             for (std::size_t k = 0; k < n_out; ++k) {
-                const double e = definition_.output_scale[k] * (ws.model.output(definition_.output_indices[k], x.data(),
-                                                                                u.data()) - (*ws.measured[k])[i]);
+                const double e = output_residual(definition_.output_scale[k],
+                                                 ws.model.output(definition_.output_indices[k], x.data(), u.data()),
+                                                 (*ws.measured[k])[i]);
                 if (definition_.filtered)
                     ws.window_residuals.push_back(e);  // scored once the window is complete
                 else
@@ -278,9 +284,9 @@ bool IdentificationProblem::residuals(const double* free, ProblemWorkspace& ws, 
     for (std::size_t wi = 0; wi < definition_.estimation.size(); ++wi) {
         auto record = [&](std::size_t i, const std::vector<double>& x, const std::vector<double>& u) {
             for (std::size_t k = 0; k < n_out; ++k)
-                out.push_back(definition_.output_scale[k] *
-                              (ws.model.output(definition_.output_indices[k], x.data(), u.data()) -
-                               (*ws.measured[k])[i]));
+                out.push_back(output_residual(definition_.output_scale[k],
+                                              ws.model.output(definition_.output_indices[k], x.data(), u.data()),
+                                              (*ws.measured[k])[i]));
             return true;
         };
         const std::size_t at = out.size();

@@ -12,6 +12,7 @@
 #include <limits>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "tvid/estimation/problem_definition.hpp"
@@ -73,6 +74,9 @@ public:
     /// for a delay, a thousandth of the mean sample interval, whatever its value (a step
     /// relative to a delay near 0 would vanish).
     double difference_step(std::size_t j, double x) const;
+    /// The points of free column j's central difference at x: x ± difference_step, each
+    /// kept within the bounds (one-sided when x is on or near one). {up, down}.
+    std::pair<double, double> difference_points(std::size_t j, double x) const;
     /// Sets the full parameter vector `params` in ws: its model and its delayed channels.
     void use_parameters(const std::vector<double>& params, ProblemWorkspace& ws) const;
     /// Shifts ws's copies of the channels whose delay is a parameter to ws.params' delays
@@ -96,7 +100,8 @@ public:
     /// optimizer that only asks whether the candidate beats `bound`. bound = +inf: cost().
     double cost(const double* free, ProblemWorkspace& ws, double bound) const;
 
-    /// Residuals y* − y of every scored sample of every estimation window and output
+    /// Residuals f·(y − y*) (output_residual, window_score.hpp) of every scored sample of every
+    /// estimation window and output
     /// (window by window, sample-major). False when a simulation fails. With `starts`,
     /// each estimation window's solved start is kept there (one per window).
     bool residuals(const double* free, ProblemWorkspace& ws, std::vector<double>& out,

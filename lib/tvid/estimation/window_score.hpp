@@ -1,7 +1,7 @@
 #pragma once
 // The cost's rule for one estimation window, written once for every path that scores:
 // a simulation sample by sample (IdentificationProblem::cost), SIMD groups of candidates
-// side by side (batch_cost.cpp) and residuals already computed (ExperimentCost).
+// side by side (batch_cost.cpp) and residuals already computed (ProblemCost).
 //
 //   l1 (Yoshida & Takamatsu eq. 19): the window's share = (Σ_samples Σ_outputs |e|) / n_w,
 //                         n_w the window's scored samples (the mean per sample);
@@ -32,6 +32,14 @@ namespace tvid {
 inline std::size_t scored_sample_count(const Window& w) {
     const std::size_t from = std::max(w.start + 1, w.first);
     return w.last >= from ? w.last - from + 1 : 0;
+}
+
+/// The residual of one output at one sample, the only place its sign is set: e = f·(y − y*),
+/// the simulated output y minus the measured y*, times the output's factor f (weight over
+/// spread, ProblemDefinition::output_scale). T is double, a dual number or a Pack.
+template <class T>
+[[gnu::always_inline]] inline T output_residual(const T& factor, const T& simulated, const T& measured) {
+    return factor * (simulated - measured);
 }
 
 /// One window's share of the cost, summed residual by residual.

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "tvid/experiment/optimizer_kinds.hpp"
 #include "tvid/io/csv_table.hpp"
 #include "tvid/model/network_spec.hpp"
 #include "tvid/model/presets.hpp"
@@ -99,25 +100,6 @@ struct SteadyStartSpec {
     std::size_t samples = 0;     ///< samples averaged from the window's start (0: its warm-up, or 50)
 };
 enum class CostKind { l1, l2 };
-/// pso: particle swarm (Yoshida & Takamatsu); lm: Levenberg–Marquardt (the methodology paper); nlopt: any NLopt
-/// algorithm; pso_lm: the swarm, then LM from its best particle; multistart: LM from
-/// Latin-hypercube starts of the range box.
-/// Each has a row in the optimizer table (lib/tvid/fit/optimizer_table.cpp).
-enum class OptimizerKind { pso, lm, nlopt, pso_lm, multistart };
-inline constexpr OptimizerKind kOptimizerKinds[] = {OptimizerKind::pso, OptimizerKind::lm, OptimizerKind::nlopt,
-                                                    OptimizerKind::pso_lm, OptimizerKind::multistart};
-
-/// The optimizer's name in experiment files, on the command line and in reports.
-constexpr const char* optimizer_name(OptimizerKind kind) {
-    switch (kind) {
-        case OptimizerKind::pso: return "pso";
-        case OptimizerKind::lm: return "lm";
-        case OptimizerKind::nlopt: return "nlopt";
-        case OptimizerKind::pso_lm: return "pso+lm";
-        case OptimizerKind::multistart: return "multistart";
-    }
-    return "pso";
-}
 /// How the Jacobian of the residuals is formed (LM steps, standard errors): forward
 /// sensitivities (the methodology paper eq. 9) or central finite differences.
 enum class JacobianKind { sensitivity, fd };

@@ -243,9 +243,7 @@ EstimationSettings read_estimation(const YamlMap& m) {
     }
     // Levenberg–Marquardt minimizes a sum of squares (the methodology paper eq. 7), also as the polish
     // of pso+lm and in every start of multistart.
-    const bool least_squares = s.optimizer == OptimizerKind::lm || s.optimizer == OptimizerKind::pso_lm ||
-                               s.optimizer == OptimizerKind::multistart;
-    if (least_squares && s.cost != CostKind::l2)
+    if (optimizer_traits(s.optimizer).least_squares && s.cost != CostKind::l2)
         m.fail(m.has("cost") ? "cost" : "optimizer", std::string("the ") + optimizer_name(s.optimizer) +
                                                          " optimizer minimizes a sum of squares: set cost: l2");
     return s;
@@ -329,8 +327,7 @@ Experiment load_experiment(const std::filesystem::path& file, const std::vector<
     ex.outputs = std::move(outputs.channels);
     ex.output_indices = std::move(outputs.indices);
     if (top.has("estimation")) ex.estimation_settings = read_estimation(top.map("estimation"));
-    const bool swarm = ex.estimation_settings.optimizer == OptimizerKind::pso ||
-                       ex.estimation_settings.optimizer == OptimizerKind::pso_lm;
+    const bool swarm = optimizer_traits(ex.estimation_settings.optimizer).swarm;
     ex.parameters = read_parameters(parameters, ex.network, swarm);
     check_delay_parameters(parameters, ex.network, ex.parameters, recording_seconds);
     check_search_box(parameters, ex.parameters, ex.estimation_settings);

@@ -34,9 +34,9 @@ void fail_on_problem(const YamlMap& m, const std::optional<SettingsProblem>& pro
 OptimizerKind read_optimizer_kind(const YamlMap& estimation) {
     const std::string name = estimation.text("optimizer");
     std::vector<std::string> names;
-    for (OptimizerKind kind : kOptimizerKinds) {
-        if (name == optimizer_name(kind)) return kind;
-        names.emplace_back(optimizer_name(kind));
+    for (const OptimizerKindRow& row : optimizer_kinds()) {
+        if (name == row.name) return row.kind;
+        names.emplace_back(row.name);
     }
     estimation.fail("optimizer", "'" + name + "' is not one of: " + join_words(names));
 }
@@ -108,17 +108,13 @@ MultistartSettings read_multistart(const YamlMap& m) {
 
 void check_search_box(const YamlMap& parameters, const std::vector<ParameterSetting>& settings,
                       const EstimationSettings& estimation) {
-    const bool nlopt = estimation.optimizer == OptimizerKind::nlopt;
-    const bool global = nlopt && find_nlopt_algorithm(estimation.nlopt.algorithm)->global;
-    const bool multistart = estimation.optimizer == OptimizerKind::multistart;
-    for (const ParameterSetting& p : settings) {
-        if (p.fixed) continue;
-        if (global && !(p.has_min && p.has_max))
-            parameters.fail(p.name, "the global NLopt algorithm " + estimation.nlopt.algorithm +
-                                        " searches within the bounds: give both min and max");
-        if (multistart && !p.range && !(p.has_min && p.has_max))
-            parameters.fail(p.name, "multistart samples its starts in the search box: give range: [a, b] or both min and max");
-    }
+    const OptimizerKindRow& optimizer = optimizer_kind_row(estimation.optimizer);
+    if (optimizer.check_parameters) optimizer.check_parameters(parameters, settings, estimation);
+    if (!optimizer.traits.samples_box) return;
+    for (const ParameterSetting& p : settings)
+        if (!p.fixed && !p.range && !(p.has_min && p.has_max))
+            parameters.fail(p.name, std::string(optimizer.name) +
+                                        " samples its starts in the search box: give range: [a, b] or both min and max");
 }
 
 }  // namespace tvid

@@ -65,11 +65,11 @@ FitResult run_fit(const IdentificationProblem& problem, const FitOptions& option
     else if (r.success) {
         // A least-squares fit ended on the point it last took the Jacobian at: that one.
         JacobianAtOptimum known;
-        if (r.lm.jacobian_at_best.size() > 0 && r.lm.best == r.best_free) {
-            known.jacobian = &r.lm.jacobian_at_best;
-            known.sum_of_squares = r.lm.best_cost;
+        if (r.run.jacobian_at_best.size() > 0) {
+            known.jacobian = &r.run.jacobian_at_best;
+            known.sum_of_squares = r.run.best_cost;
         }
-        r.uncertainty = estimate_uncertainty(problem, r.best_free, known);
+        r.uncertainty = estimate_uncertainty(problem, r.best_free, known, options.threads);
     }
     judge_fit(problem, r);
     r.wall_seconds = std::chrono::duration<double>(clock::now() - t0).count();

@@ -3,6 +3,7 @@
 // on every window and its uncertainty estimated. What `tvid fit` does between reading
 // the experiment and writing the report.
 
+#include <Eigen/Core>
 #include <any>
 #include <atomic>
 #include <cstdint>
@@ -63,20 +64,23 @@ struct OptimizerRun {
     /// thread and process: the work done (the swarm's stop at each particle's personal best
     /// and a least-squares fit's reuse of simulations lower it).
     long long right_hand_sides = 0;
+    /// A least-squares optimizer's Jacobian at `best` (the ResidualEvaluator's, in the
+    /// parameters' own units; the uncertainty takes it instead of forming it again); empty
+    /// when the optimizer has none there.
+    Eigen::MatrixXd jacobian_at_best;
+    /// An optimizer that runs from several starts: each start, and the best one (1-based;
+    /// 0 when every start failed). Empty for the others.
+    std::vector<StartResult> starts;
+    int best_start = 0;
+    /// The optimizer's own record, of the types its row chooses: its settings as run (seed
+    /// resolved) and its own summary (PsoSummary, LmSummary, NloptSummary, HybridSummary,
+    /// MultistartSummary, …). Read them with FitResult::summary_of / settings_of.
+    std::any settings;
+    std::any summary;
 };
 
 struct FitResult {
-    OptimizerRun run;
-    PsoSettings pso_settings;               ///< as run (seed resolved), when the swarm ran
-    PsoSummary pso;                         ///< the swarm's own summary (particles …), when it ran
-    LmSettings lm_settings;
-    LmSummary lm;                           ///< when Levenberg–Marquardt ran (lm, the polish of pso+lm)
-    NloptSettings nlopt_settings;           ///< as run (seed resolved), when NLopt ran
-    NloptSummary nlopt;
-    MultistartSettings multistart_settings; ///< as run (seed resolved), when multistart ran
-    MultistartSummary multistart;
-    /// The summary of an optimizer that has no field above, for its own report function.
-    std::any other_summary;
+    OptimizerRun run;                       ///< what the optimizer that ran reports, its own record included
     bool success = false;                   ///< a finite cost was reached
     bool interrupted = false;               ///< stopped by FitOptions::stop: best so far, no uncertainty
     std::vector<double> best_free;
@@ -92,6 +96,13 @@ struct FitResult {
     double wall_seconds = 0.0;
     int threads = 1;
     int processes = 1;                      ///< processes that scored candidates (threads each)
+
+    /// The optimizer's own summary as type S, or null when the optimizer that ran keeps another.
+    template <class S>
+    const S* summary_of() const { return std::any_cast<S>(&run.summary); }
+    /// Its settings as run, as type S, or null.
+    template <class S>
+    const S* settings_of() const { return std::any_cast<S>(&run.settings); }
 };
 
 FitResult run_fit(const IdentificationProblem& problem, const FitOptions& options);

@@ -115,10 +115,10 @@ void judge_run(const FitResult& fit, Verdict& v) {
                "narrow the search box, or a smaller simulation.step or integrator rosenbrock4 for stiff candidates"});
     }
     int failed_starts = 0;
-    for (const StartResult& s : fit.multistart.starts) failed_starts += std::isfinite(s.best_cost) ? 0 : 1;
+    for (const StartResult& s : fit.run.starts) failed_starts += std::isfinite(s.best_cost) ? 0 : 1;
     if (failed_starts > 0)
         v.add({"failed_starts", Severity::warning, "",
-               std::to_string(failed_starts) + " of " + std::to_string(fit.multistart.starts.size()) +
+               std::to_string(failed_starts) + " of " + std::to_string(fit.run.starts.size()) +
                    " multistart starts failed to simulate",
                "narrow range to where the model simulates, or a stiffer-safe integrator (rosenbrock4)"});
 }
@@ -223,11 +223,11 @@ void judge_parameters(const IdentificationProblem& problem, const FitResult& fit
 
 // Another multistart start that ended as low, elsewhere.
 void judge_starts(const IdentificationProblem& problem, const FitResult& fit, Verdict& v) {
-    const MultistartSummary& ms = fit.multistart;
-    if (ms.best_start < 1 || ms.starts.size() < 2) return;
-    const StartResult& best = ms.starts[static_cast<std::size_t>(ms.best_start - 1)];
+    const std::vector<StartResult>& starts = fit.run.starts;
+    if (fit.run.best_start < 1 || starts.size() < 2) return;
+    const StartResult& best = starts[static_cast<std::size_t>(fit.run.best_start - 1)];
     const auto& names = problem.free_names();
-    for (const StartResult& s : ms.starts) {
+    for (const StartResult& s : starts) {
         if (s.start == best.start || !std::isfinite(s.best_cost) || s.best.size() != best.best.size()) continue;
         if (s.best_cost - best.best_cost > kNearEqualCost * best.best_cost) continue;
         std::size_t widest = names.size();
@@ -252,7 +252,7 @@ void judge_starts(const IdentificationProblem& problem, const FitResult& fit, Ve
 // A box the optimizer samples linearly over several decades: almost every particle or
 // start lands in its top decade.
 void judge_search_boxes(const Experiment& ex, Verdict& v) {
-    if (ex.estimation_settings.optimizer == OptimizerKind::lm) return;  // starts at init: the box is only a bound
+    if (optimizer_traits(ex.estimation_settings.optimizer).starts_at_init) return;  // the box is only a bound
     for (const ParameterSetting& p : ex.parameters) {
         if (!spans_decades(p, kWideBoxDecades)) continue;
         const auto box = search_interval(p);

@@ -5,9 +5,10 @@
 //
 // Adding an optimizer: a file lib/tvid/fit/optimizers/NAME_run.cpp that defines its row
 // (`OptimizerEntry NAME_optimizer()`), and that row in optimizer_table.cpp. Its name and
-// settings are read with the experiment (OptimizerKind and optimizer_name in
-// experiment/experiment.hpp, the reader in experiment/optimizer_settings_reader.cpp: the
-// experiment floor cannot see this one).
+// traits are read with the experiment (its row in experiment/optimizer_kinds.cpp; its own
+// settings section, if any, in experiment/optimizer_settings_reader.cpp: the experiment
+// floor cannot see this one). Its run keeps its own settings as run and its own summary
+// in OptimizerRun::settings and ::summary, which its report functions read back.
 
 #include <string>
 #include <string_view>

@@ -7,7 +7,7 @@
 #include <thread>
 
 #include "tvid/analysis/uncertainty.hpp"
-#include "tvid/estimation/experiment_least_squares.hpp"
+#include "tvid/estimation/residual_evaluator.hpp"
 #include "tvid/estimation/identification_problem.hpp"
 #include "tvid/estimation/parallel_evaluator.hpp"
 #include "tvid/model/parameter_units.hpp"
@@ -38,7 +38,7 @@ struct LeastSquaresFit {
 };
 
 LeastSquaresFit fit_least_squares(const IdentificationProblem& problem, int threads, const std::atomic<bool>* stop) {
-    ExperimentLeastSquares least_squares(problem, threads, problem.experiment().estimation_settings.jacobian, stop);
+    ResidualEvaluator least_squares(problem, threads, problem.experiment().estimation_settings.jacobian, stop);
     LeastSquaresFit f;
     f.lm = run_levenberg_marquardt(problem.experiment().estimation_settings.lm, problem.initial(), problem.lower(),
                                    problem.upper(), least_squares,
@@ -99,7 +99,9 @@ ProfileResult profile_likelihood(const Experiment& ex, const std::vector<double>
     for (std::size_t j = 0; j < m; ++j)
         if (j != j_held) r.others.push_back(problem.free_names()[j]);
     r.s2 = r.best_cost / (static_cast<double>(r.residuals) - static_cast<double>(m));
-    const ParameterUncertainty u = estimate_uncertainty(problem, r.optimum);
+    // The standard error from the Jacobian LM ended on (the one evaluator's).
+    const ParameterUncertainty u =
+        estimate_uncertainty(problem, r.optimum, {&best.lm.jacobian_at_best, best.lm.best_cost}, r.threads);
     r.std_error = u.available ? u.std_error[j_held] : std::numeric_limits<double>::quiet_NaN();
 
     // The grid: θ̂ ∓ 4 standard errors (or ∓ 50 % without one), within the bounds.

@@ -19,6 +19,12 @@
 
 namespace tvid {
 
+/// The settings of the two phases.
+struct HybridSettings {
+    PsoSettings pso;
+    LmSettings lm;
+};
+
 struct HybridSummary {
     PsoSummary pso;                      ///< the swarm phase
     LmSummary lm;                        ///< the polish (empty when it did not run)

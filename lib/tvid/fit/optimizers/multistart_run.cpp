@@ -3,7 +3,7 @@
 
 #include <sstream>
 
-#include "tvid/estimation/experiment_least_squares.hpp"
+#include "tvid/estimation/residual_evaluator.hpp"
 #include "tvid/estimation/parallel_evaluator.hpp"
 #include "tvid/fit/optimizer_table.hpp"
 #include "tvid/fit/optimizers/report_parts.hpp"
@@ -13,42 +13,53 @@ namespace tvid {
 
 namespace {
 
+// Multistart's settings as run: its own, and those of each start's LM.
+struct MultistartRunSettings {
+    MultistartSettings multistart;
+    LmSettings lm;
+};
+
 OptimizerRun run_multistart_fit(const IdentificationProblem& problem, const FitOptions& options, FitResult& r) {
-    const EstimationSettings& settings = problem.experiment().estimation_settings;
-    r.multistart_settings = settings.multistart;
-    if (options.seed) r.multistart_settings.seed = *options.seed;
-    r.lm_settings = settings.lm;
-    if (r.multistart_settings.max_iterations) r.lm_settings.max_iterations = *r.multistart_settings.max_iterations;
-    const JacobianKind jacobian = settings.jacobian;
+    const EstimationSettings& estimation = problem.experiment().estimation_settings;
+    MultistartRunSettings settings{estimation.multistart, estimation.lm};
+    if (options.seed) settings.multistart.seed = *options.seed;
+    if (settings.multistart.max_iterations) settings.lm.max_iterations = *settings.multistart.max_iterations;
+    const JacobianKind jacobian = estimation.jacobian;
     const std::atomic<bool>* stop = options.stop;
     const ParameterScaling scaling = search_scaling(problem);
     const LeastSquaresFactory make = [&problem, &scaling, jacobian, stop](int threads) {
         return std::make_unique<ScaledLeastSquares>(
-            std::make_unique<ExperimentLeastSquares>(problem, threads, jacobian, stop), scaling);
+            std::make_unique<ResidualEvaluator>(problem, threads, jacobian, stop), scaling);
     };
-    r.multistart = run_multistart(r.multistart_settings, r.lm_settings, search_box(problem),
-                                  resolve_thread_count(options.threads), make, options.progress);
-    scaling.to_parameters(r.multistart);
-    r.threads = r.multistart.threads * r.multistart.threads_per_start;
-    const MultistartSummary& m = r.multistart;
-    return OptimizerRun{.name = {},  // run_fit names it after its row
-                        .best = m.best,
-                        .best_cost = m.best_cost,
-                        .iterations = m.iterations,
-                        .evaluations = m.evaluations,
-                        .failed_evaluations = m.failed_evaluations,
-                        .first_failure = {},  // the swarm's alone
-                        .history = m.history,
-                        .termination = m.termination,
-                        .termination_type = m.termination_type,
-                        .converged = m.success,  // the best start converged
-                        .right_hand_sides = m.right_hand_sides};
+    MultistartSummary m = run_multistart(settings.multistart, settings.lm, search_box(problem),
+                                         resolve_thread_count(options.threads), make, options.progress);
+    scaling.to_parameters(m);
+    r.threads = m.threads * m.threads_per_start;
+    OptimizerRun run{.name = {},  // run_fit names it after its row
+                     .best = m.best,
+                     .best_cost = m.best_cost,
+                     .iterations = m.iterations,
+                     .evaluations = m.evaluations,
+                     .failed_evaluations = m.failed_evaluations,
+                     .first_failure = {},  // the swarm's alone
+                     .history = m.history,
+                     .termination = m.termination,
+                     .termination_type = m.termination_type,
+                     .converged = m.success,  // the best start converged
+                     .right_hand_sides = m.right_hand_sides,
+                     .jacobian_at_best = {},
+                     .starts = m.starts,
+                     .best_start = m.best_start,
+                     .settings = settings,
+                     .summary = std::move(m)};
+    return run;
 }
 
 nlohmann::json multistart_details(const Experiment& ex, const FitResult& fit) {
     using nlohmann::json;
     using optimizer_report::number;
-    const MultistartSummary& ms = fit.multistart;
+    const MultistartRunSettings& settings = *fit.settings_of<MultistartRunSettings>();
+    const MultistartSummary& ms = *fit.summary_of<MultistartSummary>();
     json starts = json::array();
     for (const StartResult& s : ms.starts)
         starts.push_back(json{{"start", s.start},
@@ -58,12 +69,12 @@ nlohmann::json multistart_details(const Experiment& ex, const FitResult& fit) {
                               {"evaluations", s.evaluations},
                               {"termination", s.termination},
                               {"converged", s.success}});
-    return json{{"starts", fit.multistart_settings.starts},
-                {"seed", fit.multistart_settings.seed},
+    return json{{"starts", settings.multistart.starts},
+                {"seed", settings.multistart.seed},
                 {"best_start", ms.best_start},
                 {"parallel_starts", ms.threads},
                 {"threads_per_start", ms.threads_per_start},
-                {"lm", optimizer_report::lm_settings(ex, fit)},
+                {"lm", optimizer_report::lm_settings(ex, settings.lm)},
                 {"start_results", starts}};
 }
 
@@ -82,12 +93,12 @@ std::string multistart_starts_csv(const IdentificationProblem& problem, const Fi
     for (const std::string& n : problem.free_names()) out << ",initial_" << n;
     for (const std::string& n : problem.free_names()) out << ",final_" << n;
     out << ",initial_cost,cost,iterations,evaluations,termination,best\n";
-    for (const StartResult& s : fit.multistart.starts) {
+    for (const StartResult& s : fit.run.starts) {
         out << s.start;
         for (double v : s.initial) out << ',' << csv_cell(v);
         for (double v : s.best) out << ',' << csv_cell(v);
         out << ',' << csv_cell(s.initial_cost) << ',' << csv_cell(s.best_cost) << ',' << s.iterations << ','
-            << s.evaluations << ',' << s.termination << ',' << (s.start == fit.multistart.best_start ? "true" : "false")
+            << s.evaluations << ',' << s.termination << ',' << (s.start == fit.run.best_start ? "true" : "false")
             << '\n';
     }
     return out.str();

@@ -1,7 +1,7 @@
 // The optimizer table's row of `pso+lm`: the swarm on the l2 cost, then Levenberg–Marquardt
 // from its best particle.
 
-#include "tvid/estimation/experiment_least_squares.hpp"
+#include "tvid/estimation/residual_evaluator.hpp"
 #include "tvid/estimation/parallel_evaluator.hpp"
 #include "tvid/fit/optimizer_table.hpp"
 #include "tvid/fit/optimizers/report_parts.hpp"
@@ -14,54 +14,60 @@ namespace tvid {
 namespace {
 
 OptimizerRun run_hybrid_fit(const IdentificationProblem& problem, const FitOptions& options, FitResult& r) {
-    const EstimationSettings& settings = problem.experiment().estimation_settings;
-    r.pso_settings = settings.pso;
-    if (options.seed) r.pso_settings.seed = *options.seed;
-    r.lm_settings = settings.lm;
+    const EstimationSettings& estimation = problem.experiment().estimation_settings;
+    HybridSettings settings{estimation.pso, estimation.lm};
+    if (options.seed) settings.pso.seed = *options.seed;
     // The swarm's candidates are scored by every process under mpirun, as for pso alone;
     // the polish runs on the root.
     ParallelEvaluator local(problem, options.threads, options.stop);
     DistributedEvaluator swarm_cost(options.processes, local);
-    ExperimentLeastSquares residuals(problem, options.threads, settings.jacobian, options.stop);
+    ResidualEvaluator residuals(problem, options.threads, estimation.jacobian, options.stop);
     r.threads = local.threads();
     r.processes = swarm_cost.processes();
     const ParameterScaling scaling = search_scaling(problem);
     ScaledCandidateEvaluator swarm_search(swarm_cost, scaling);
     ScaledLeastSquares residuals_search(residuals, scaling);
-    HybridSummary h = run_pso_then_lm(r.pso_settings, r.lm_settings, search_box(problem), swarm_search,
+    HybridSummary h = run_pso_then_lm(settings.pso, settings.lm, search_box(problem), swarm_search,
                                       residuals_search, options.progress);
     scaling.to_parameters(h);
-    r.pso = std::move(h.pso);
-    r.lm = std::move(h.lm);
-    return OptimizerRun{.name = {},  // run_fit names it after its row
-                        .best = h.best,
-                        .best_cost = h.best_cost,
-                        .iterations = h.iterations,
-                        .evaluations = h.evaluations,
-                        .failed_evaluations = h.failed_evaluations,
-                        .first_failure = optimizer_report::first_failure(problem, r.pso),
-                        .history = h.history,
-                        .termination = h.termination,
-                        .termination_type = h.termination_type,
-                        .converged = h.success,  // the polish converged
-                        .right_hand_sides = static_cast<long long>(swarm_cost.right_hand_sides()) +
-                                            residuals.right_hand_sides()};
+    OptimizerRun run{.name = {},  // run_fit names it after its row
+                     .best = h.best,
+                     .best_cost = h.best_cost,
+                     .iterations = h.iterations,
+                     .evaluations = h.evaluations,
+                     .failed_evaluations = h.failed_evaluations,
+                     .first_failure = optimizer_report::first_failure(problem, h.pso),
+                     .history = h.history,
+                     .termination = h.termination,
+                     .termination_type = h.termination_type,
+                     .converged = h.success,  // the polish converged
+                     .right_hand_sides = static_cast<long long>(swarm_cost.right_hand_sides()) +
+                                         residuals.right_hand_sides(),
+                     // The polish's Jacobian, when the polish ended the fit.
+                     .jacobian_at_best = h.lm.best == h.best ? std::move(h.lm.jacobian_at_best) : Eigen::MatrixXd(),
+                     .starts = {},
+                     .best_start = 0,
+                     .settings = settings,
+                     .summary = std::move(h)};
+    return run;
 }
 
 // Both phases minimize the l2 cost; the polish starts at the swarm's best particle.
 nlohmann::json hybrid_details(const Experiment& ex, const FitResult& fit) {
     using optimizer_report::number;
-    nlohmann::json swarm = optimizer_report::swarm_settings(fit);
-    swarm["iterations"] = fit.pso.iterations;
-    swarm["evaluations"] = fit.pso.evaluations;
-    swarm["cost"] = number(fit.pso.best_cost);
-    swarm["termination"] = fit.pso.termination;
-    nlohmann::json polish = optimizer_report::lm_settings(ex, fit);
-    polish["ran"] = !fit.lm.history.empty();
-    polish["initial_cost"] = number(fit.lm.initial_cost);
-    polish["cost"] = number(fit.lm.best_cost);
-    polish["iterations"] = fit.lm.iterations;
-    polish["termination"] = fit.lm.termination;
+    const HybridSettings& settings = *fit.settings_of<HybridSettings>();
+    const HybridSummary& h = *fit.summary_of<HybridSummary>();
+    nlohmann::json swarm = optimizer_report::swarm_settings(settings.pso, h.pso);
+    swarm["iterations"] = h.pso.iterations;
+    swarm["evaluations"] = h.pso.evaluations;
+    swarm["cost"] = number(h.pso.best_cost);
+    swarm["termination"] = h.pso.termination;
+    nlohmann::json polish = optimizer_report::lm_settings(ex, settings.lm);
+    polish["ran"] = !h.lm.history.empty();
+    polish["initial_cost"] = number(h.lm.initial_cost);
+    polish["cost"] = number(h.lm.best_cost);
+    polish["iterations"] = h.lm.iterations;
+    polish["termination"] = h.lm.termination;
     return nlohmann::json{{"swarm", swarm}, {"polish", polish}};
 }
 

@@ -12,37 +12,47 @@ namespace tvid {
 namespace {
 
 OptimizerRun run_swarm(const IdentificationProblem& problem, const FitOptions& options, FitResult& r) {
-    r.pso_settings = problem.experiment().estimation_settings.pso;
-    if (options.seed) r.pso_settings.seed = *options.seed;
+    PsoSettings settings = problem.experiment().estimation_settings.pso;
+    if (options.seed) settings.seed = *options.seed;
     ParallelEvaluator local(problem, options.threads, options.stop);
     DistributedEvaluator evaluator(options.processes, local);
     r.threads = local.threads();
     r.processes = evaluator.processes();
     const ParameterScaling scaling = search_scaling(problem);
     ScaledCandidateEvaluator search(evaluator, scaling);
-    r.pso = run_pso(r.pso_settings, search_box(problem), search, options.progress);
-    scaling.to_parameters(r.pso);
-    return OptimizerRun{.name = {},  // run_fit names it after its row
-                        .best = r.pso.best,
-                        .best_cost = r.pso.best_cost,
-                        .iterations = r.pso.iterations,
-                        .evaluations = r.pso.evaluations,
-                        .failed_evaluations = r.pso.failed_evaluations,
-                        .first_failure = optimizer_report::first_failure(problem, r.pso),
-                        .history = r.pso.history,
-                        .termination = r.pso.termination,
-                        .termination_type = r.pso.termination_type,
-                        // The swarm has no convergence test: its iterations run out when it is done.
-                        .converged = r.pso.termination_type == TerminationType::iteration_limit,
-                        .right_hand_sides = static_cast<long long>(evaluator.right_hand_sides())};
+    PsoSummary swarm = run_pso(settings, search_box(problem), search, options.progress);
+    scaling.to_parameters(swarm);
+    OptimizerRun run{.name = {},  // run_fit names it after its row
+                     .best = swarm.best,
+                     .best_cost = swarm.best_cost,
+                     .iterations = swarm.iterations,
+                     .evaluations = swarm.evaluations,
+                     .failed_evaluations = swarm.failed_evaluations,
+                     .first_failure = optimizer_report::first_failure(problem, swarm),
+                     .history = swarm.history,
+                     .termination = swarm.termination,
+                     .termination_type = swarm.termination_type,
+                     // The swarm has no convergence test: its iterations run out when it is done.
+                     .converged = swarm.termination_type == TerminationType::iteration_limit,
+                     .right_hand_sides = static_cast<long long>(evaluator.right_hand_sides()),
+                     .jacobian_at_best = {},
+                     .starts = {},
+                     .best_start = 0,
+                     .settings = settings,
+                     .summary = std::move(swarm)};
+    return run;
 }
 
-nlohmann::json swarm_details(const Experiment&, const FitResult& fit) { return optimizer_report::swarm_settings(fit); }
+nlohmann::json swarm_details(const Experiment&, const FitResult& fit) {
+    return optimizer_report::swarm_settings(*fit.settings_of<PsoSettings>(), *fit.summary_of<PsoSummary>());
+}
 
 int swarm_iterations(const EstimationSettings& settings) { return settings.pso.iterations; }
 
 // The swarm runs its iterations to the end: its size says more than its termination.
-std::string swarm_headline(const FitResult& fit) { return "pso, " + std::to_string(fit.pso.particles) + " particles"; }
+std::string swarm_headline(const FitResult& fit) {
+    return "pso, " + std::to_string(fit.summary_of<PsoSummary>()->particles) + " particles";
+}
 
 }  // namespace
 

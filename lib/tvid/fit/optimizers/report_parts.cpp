@@ -22,14 +22,16 @@ std::string first_failure(const IdentificationProblem& problem, const PsoSummary
     return problem.failure(swarm.first_failed.data(), *ws);
 }
 
-json swarm_settings(const FitResult& fit) {
-    const PsoSettings& ps = fit.pso_settings;
-    return json{{"particles", fit.pso.particles}, {"seed", ps.seed}, {"w", ps.w}, {"c1", ps.c1}, {"c2", ps.c2}};
+json swarm_settings(const PsoSettings& ps, const PsoSummary& swarm) {
+    return json{{"particles", swarm.particles}, {"seed", ps.seed}, {"w", ps.w}, {"c1", ps.c1}, {"c2", ps.c2}};
 }
 
-json lm_settings(const Experiment& ex, const FitResult& fit) {
-    const LmSettings& ls = fit.lm_settings;
-    return json{{"jacobian", ex.estimation_settings.jacobian == JacobianKind::fd ? "fd" : "sensitivity"},
+const char* jacobian_name(const Experiment& ex) {
+    return ex.estimation_settings.jacobian == JacobianKind::fd ? "fd" : "sensitivity";
+}
+
+json lm_settings(const Experiment& ex, const LmSettings& ls) {
+    return json{{"jacobian", jacobian_name(ex)},
                 {"ftol", ls.ftol},
                 {"xtol", ls.xtol},
                 {"gtol", ls.gtol},

@@ -22,9 +22,12 @@ std::string csv_cell(double v);
 std::string first_failure(const IdentificationProblem& problem, const PsoSummary& swarm);
 
 /// The swarm's settings as run: particles, seed, w, c1, c2.
-nlohmann::json swarm_settings(const FitResult& fit);
+nlohmann::json swarm_settings(const PsoSettings& settings, const PsoSummary& swarm);
+
+/// The experiment's Jacobian kind as the report names it: "sensitivity" or "fd".
+const char* jacobian_name(const Experiment& experiment);
 
 /// Levenberg–Marquardt's settings as run: jacobian, ftol, xtol, gtol, max_iterations.
-nlohmann::json lm_settings(const Experiment& experiment, const FitResult& fit);
+nlohmann::json lm_settings(const Experiment& experiment, const LmSettings& settings);
 
 }  // namespace tvid::optimizer_report

@@ -1,4 +1,4 @@
-#include "tvid/estimation/experiment_least_squares.hpp"
+#include "tvid/estimation/residual_evaluator.hpp"
 
 #include <omp.h>
 
@@ -21,7 +21,7 @@ std::size_t estimation_residual_count(const Experiment& experiment) {
     return estimation_residual_count(experiment.estimation, experiment.outputs.size());
 }
 
-ExperimentLeastSquares::ExperimentLeastSquares(const IdentificationProblem& problem, int threads, JacobianKind kind,
+ResidualEvaluator::ResidualEvaluator(const IdentificationProblem& problem, int threads, JacobianKind kind,
                                                const std::atomic<bool>* stop)
     : problem_(&problem), kind_(kind), sensitivity_(problem), threads_(resolve_thread_count(threads)),
       residual_count_(estimation_residual_count(problem.definition().estimation, problem.definition().measured.size())),
@@ -46,7 +46,7 @@ ExperimentLeastSquares::ExperimentLeastSquares(const IdentificationProblem& prob
 
 // x's residuals into evaluated_[record] with workspace ws, the shootings starting from
 // the last Jacobian's solutions; false when the model fails there or a stop cut it short.
-bool ExperimentLeastSquares::evaluate_into(std::size_t record, const double* x, ProblemWorkspace& ws) {
+bool ResidualEvaluator::evaluate_into(std::size_t record, const double* x, ProblemWorkspace& ws) {
     EvaluatedPoint& e = evaluated_[record];
     e.valid = false;
     predict_guesses(x, ws.shooting_guesses);
@@ -58,20 +58,20 @@ bool ExperimentLeastSquares::evaluate_into(std::size_t record, const double* x, 
     return true;
 }
 
-const ExperimentLeastSquares::EvaluatedPoint* ExperimentLeastSquares::find_evaluated(const double* x) const {
+const ResidualEvaluator::EvaluatedPoint* ResidualEvaluator::find_evaluated(const double* x) const {
     for (const EvaluatedPoint& e : evaluated_)
         if (e.valid && std::equal(e.point.begin(), e.point.end(), x)) return &e;
     return nullptr;
 }
 
-long long ExperimentLeastSquares::right_hand_sides() const {
+long long ResidualEvaluator::right_hand_sides() const {
     std::size_t total = 0;
     for (const auto& ws : workspaces_) total += ws->buffers.rhs_evaluations;
     for (const auto& ws : sensitivity_workspaces_) total += ws->buffers.rhs_evaluations + ws->plain->buffers.rhs_evaluations;
     return static_cast<long long>(total);
 }
 
-bool ExperimentLeastSquares::residuals(const double* x, double* r) {
+bool ResidualEvaluator::residuals(const double* x, double* r) {
     for (EvaluatedPoint& e : evaluated_) e.valid = false;
     stopped_ = stop_requested();
     if (stopped_) return false;
@@ -84,13 +84,13 @@ bool ExperimentLeastSquares::residuals(const double* x, double* r) {
     return true;
 }
 
-std::string ExperimentLeastSquares::failure(const double* x) {
+std::string ResidualEvaluator::failure(const double* x) {
     return problem_->failure(x, *workspaces_[0]);
 }
 
-void ExperimentLeastSquares::residuals_side_by_side(std::size_t count, const double* const* x, double* const* r,
+void ResidualEvaluator::residuals_side_by_side(std::size_t count, const double* const* x, double* const* r,
                                                     char* ok, char* stopped) {
-    if (count > evaluated_.size()) throw std::logic_error("ExperimentLeastSquares: more points side by side than threads");
+    if (count > evaluated_.size()) throw std::logic_error("ResidualEvaluator: more points side by side than threads");
     for (EvaluatedPoint& e : evaluated_) e.valid = false;
     const auto points = static_cast<long long>(count);
 #pragma omp parallel for schedule(static, 1) num_threads(threads_)
@@ -105,7 +105,13 @@ void ExperimentLeastSquares::residuals_side_by_side(std::size_t count, const dou
     stopped_ = count > 0 && stopped[0];
 }
 
-bool ExperimentLeastSquares::jacobian(const double* x, double* r, Eigen::MatrixXd& J) {
+WindowSensitivity ResidualEvaluator::output_sensitivity(const double* x, const Window& w, int thread) {
+    if (sensitivity_workspaces_.empty())
+        throw std::logic_error("ResidualEvaluator: output sensitivities need JacobianKind::sensitivity");
+    return sensitivity_.window_sensitivity(x, w, *sensitivity_workspaces_.at(static_cast<std::size_t>(thread)));
+}
+
+bool ResidualEvaluator::jacobian(const double* x, double* r, Eigen::MatrixXd& J) {
     const EvaluatedPoint* known = find_evaluated(x);
     if (known) {
         stopped_ = stop_requested();
@@ -123,7 +129,7 @@ bool ExperimentLeastSquares::jacobian(const double* x, double* r, Eigen::MatrixX
     return ok;
 }
 
-void ExperimentLeastSquares::keep_guesses(const double* x, const std::vector<SolvedStart>& starts) {
+void ResidualEvaluator::keep_guesses(const double* x, const std::vector<SolvedStart>& starts) {
     const std::vector<Window>& windows = problem_->definition().estimation;
     guesses_.clear();
     guess_windows_.clear();
@@ -136,7 +142,7 @@ void ExperimentLeastSquares::keep_guesses(const double* x, const std::vector<Sol
     slopes_valid_ = false;  // until the sensitivities at x are in
 }
 
-void ExperimentLeastSquares::predict_guesses(const double* x, std::vector<ShootingGuess>& out) const {
+void ResidualEvaluator::predict_guesses(const double* x, std::vector<ShootingGuess>& out) const {
     out = guesses_;
     if (!slopes_valid_) return;
     for (std::size_t g = 0; g < out.size(); ++g) {
@@ -152,7 +158,7 @@ void ExperimentLeastSquares::predict_guesses(const double* x, std::vector<Shooti
     }
 }
 
-bool ExperimentLeastSquares::sensitivity_jacobian(const double* x, const double* r,
+bool ResidualEvaluator::sensitivity_jacobian(const double* x, const double* r,
                                                   const std::vector<SolvedStart>& starts, Eigen::MatrixXd& J) {
     // Column blocks: one per thread with fixed-step RK4 (a column does not depend on its
     // block), otherwise blocks as large as the dual numbers carry.
@@ -180,11 +186,9 @@ bool ExperimentLeastSquares::sensitivity_jacobian(const double* x, const double*
     return finite_difference_columns(x, r, problem_->input_delay_columns(), J);
 }
 
-bool ExperimentLeastSquares::finite_difference_columns(const double* x, const double* r,
+bool ResidualEvaluator::finite_difference_columns(const double* x, const double* r,
                                                        const std::vector<std::size_t>& which, Eigen::MatrixXd& J) {
     const std::size_t m = problem_->dimension();
-    const std::vector<double>& lower = problem_->lower();
-    const std::vector<double>& upper = problem_->upper();
     std::vector<double> step(m);
     std::vector<char> ok(m, 1);
     const auto columns = static_cast<long long>(which.size());
@@ -197,9 +201,7 @@ bool ExperimentLeastSquares::finite_difference_columns(const double* x, const do
         }
         ProblemWorkspace& ws = *workspaces_[static_cast<std::size_t>(omp_get_thread_num())];
         std::vector<double> point(x, x + m);
-        const double h = problem_->difference_step(j, x[j]);
-        // Stay inside the bounds: a one-sided difference when x sits on (or near) one.
-        const double up = std::min(x[j] + h, upper[j]), down = std::max(x[j] - h, lower[j]);
+        const auto [up, down] = problem_->difference_points(j, x[j]);
         step[j] = up - down;
         point[j] = up;
         std::vector<double> out;

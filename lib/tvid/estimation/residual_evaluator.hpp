@@ -1,9 +1,21 @@
 #pragma once
-// An IdentificationProblem seen as nonlinear least squares for the Levenberg–Marquardt
-// solver: the residuals y* − y of every scored sample of every estimation window and
-// output (the methodology paper eq. 7), and their Jacobian either from forward sensitivities (the methodology paper
-// eq. 9; the free parameters split into column blocks, one augmented simulation each, run
-// in parallel) or by central finite differences (2M perturbed simulations in parallel).
+// The one evaluator of an IdentificationProblem's residuals and their Jacobian (after Ceres'
+// Evaluator, which its solver and its Covariance share): the residuals f·(y − y*) of every
+// scored sample of every estimation window and output (output_residual, window_score.hpp;
+// the methodology paper eq. 7) at a free-parameter vector, and their Jacobian ∂r/∂p with
+// every kind of column:
+//  - a model quantity, an output's gain or offset: forward sensitivities (the methodology
+//    paper eq. 9; the free parameters split into column blocks, one augmented simulation
+//    each, run in parallel), the start's own dependence included (forward_sensitivity.hpp);
+//  - an output's delay: the recording's slope (forward_sensitivity.cpp);
+//  - an input's delay, which the model's inputs carry no derivative for: central
+//    differences;
+//  - or every column by central differences (`lm.jacobian: fd`), with the one step rule of
+//    difference_step.hpp.
+// Levenberg–Marquardt minimizes through it, NLopt's gradient (ProblemCost) and the
+// uncertainty after any optimizer (analysis/uncertainty.hpp, and so identifiability, the
+// verdict and `tvid profile`) take their Jacobian from it, and `tvid sensitivity` its
+// outputs' derivatives (output_sensitivity).
 // Each column is computed from its own inputs, so the Jacobian is the same for any thread
 // count (with an adaptive integrator the sensitivity blocks are fixed, not per thread,
 // because the step control sees the whole block). Given a stop flag, an evaluation
@@ -20,10 +32,10 @@
 
 namespace tvid {
 
-class ExperimentLeastSquares : public LeastSquaresProblem {
+class ResidualEvaluator : public LeastSquaresProblem {
 public:
     /// threads <= 0: all hardware threads. `stop` (may be null): give up evaluations once set.
-    ExperimentLeastSquares(const IdentificationProblem& problem, int threads, JacobianKind kind,
+    ResidualEvaluator(const IdentificationProblem& problem, int threads, JacobianKind kind,
                            const std::atomic<bool>* stop = nullptr);
 
     std::size_t residual_count() const override { return residual_count_; }
@@ -35,6 +47,12 @@ public:
     int concurrent_residuals() const override { return threads_; }
     void residuals_side_by_side(std::size_t count, const double* const* x, double* const* r, char* ok,
                                 char* stopped) override;
+
+    /// Window w's outputs and their derivatives ∂y/∂p for every free parameter, by the
+    /// Jacobian's own column rules (`tvid sensitivity`: any window, validation too), on
+    /// workspace `thread` (0 … threads() − 1, one per concurrent caller). Needs
+    /// JacobianKind::sensitivity.
+    WindowSensitivity output_sensitivity(const double* x, const Window& w, int thread);
 
     int threads() const { return threads_; }
     JacobianKind jacobian_kind() const { return kind_; }

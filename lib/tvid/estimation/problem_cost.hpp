@@ -11,15 +11,15 @@
 #include <Eigen/Core>
 #include <vector>
 
-#include "tvid/estimation/experiment_least_squares.hpp"
+#include "tvid/estimation/residual_evaluator.hpp"
 #include "tvid/optim/differentiable_cost.hpp"
 
 namespace tvid {
 
-class ExperimentCost : public DifferentiableCost {
+class ProblemCost : public DifferentiableCost {
 public:
     /// threads <= 0: all hardware threads (the Jacobian's simulations run in parallel).
-    ExperimentCost(const IdentificationProblem& problem, int threads);
+    ProblemCost(const IdentificationProblem& problem, int threads);
 
     double value(const double* x) override;
     double value_and_gradient(const double* x, double* gradient) override;
@@ -32,7 +32,7 @@ public:
     double cost_of_residuals(const double* r) const;
 
 private:
-    ExperimentLeastSquares least_squares_;
+    ResidualEvaluator least_squares_;
     CostKind cost_;
     std::size_t outputs_;
     std::vector<std::size_t> window_samples_;  ///< scored samples per estimation window

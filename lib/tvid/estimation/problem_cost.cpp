@@ -1,4 +1,4 @@
-#include "tvid/estimation/experiment_cost.hpp"
+#include "tvid/estimation/problem_cost.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -12,7 +12,7 @@ namespace {
 double sign(double e) { return e > 0 ? 1.0 : (e < 0 ? -1.0 : 0.0); }
 }  // namespace
 
-ExperimentCost::ExperimentCost(const IdentificationProblem& problem, int threads)
+ProblemCost::ProblemCost(const IdentificationProblem& problem, int threads)
     : least_squares_(problem, threads, problem.definition().jacobian),
       cost_(problem.definition().cost),
       outputs_(problem.definition().measured.size()) {
@@ -21,7 +21,7 @@ ExperimentCost::ExperimentCost(const IdentificationProblem& problem, int threads
     J_.resize(static_cast<Eigen::Index>(r_.size()), static_cast<Eigen::Index>(problem.dimension()));
 }
 
-double ExperimentCost::cost_of_residuals(const double* r) const {
+double ProblemCost::cost_of_residuals(const double* r) const {
     double total = 0.0;
     std::size_t at = 0;
     for (const std::size_t samples : window_samples_) {
@@ -33,12 +33,12 @@ double ExperimentCost::cost_of_residuals(const double* r) const {
     return finished_cost(total);
 }
 
-double ExperimentCost::value(const double* x) {
+double ProblemCost::value(const double* x) {
     if (!least_squares_.residuals(x, r_.data())) return std::numeric_limits<double>::infinity();
     return cost_of_residuals(r_.data());
 }
 
-double ExperimentCost::value_and_gradient(const double* x, double* gradient) {
+double ProblemCost::value_and_gradient(const double* x, double* gradient) {
     if (!least_squares_.jacobian(x, r_.data(), J_)) return std::numeric_limits<double>::infinity();
     const double f = cost_of_residuals(r_.data());
     const auto m = J_.cols();

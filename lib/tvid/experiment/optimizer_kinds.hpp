@@ -1,0 +1,58 @@
+#pragma once
+// The optimizers an experiment can name, one row each, on the floor the experiment reader
+// stands on: each kind's name and the traits the reader and the verdict ask about (after
+// pagmo2's problem that describes itself). The fit floor's table
+// (fit/optimizer_table.hpp) holds how each one runs and what it reports. Nothing else
+// switches on an optimizer's kind.
+//
+// Adding an optimizer: its OptimizerKind value and its row in optimizer_kinds.cpp, its
+// settings section (if it has its own) in optimizer_settings_reader.cpp, and its run file
+// with its row in fit/optimizers/.
+
+#include <span>
+#include <string_view>
+#include <vector>
+
+namespace tvid {
+
+class YamlMap;
+struct ParameterSetting;
+struct EstimationSettings;
+
+enum class OptimizerKind { pso, lm, nlopt, pso_lm, multistart };
+
+/// What the reader and the verdict need to know of an optimizer.
+struct OptimizerTraits {
+    bool least_squares = false;   ///< minimizes Σe² through the residuals (needs cost: l2)
+    bool swarm = false;           ///< runs the particle swarm (its search box, its grid start)
+    bool samples_box = false;     ///< draws its starts in the range box (needs range or both bounds)
+    bool starts_at_init = false;  ///< starts at init: the box is only a bound, never sampled
+};
+
+struct OptimizerKindRow {
+    OptimizerKind kind;
+    const char* name;             ///< in experiment files, on the command line and in reports
+    const char* summary;          ///< one line for `tvid models` and the docs
+    OptimizerTraits traits;
+    /// Fails at the first free parameter it cannot search, beyond the traits' own rule
+    /// (a global NLopt algorithm needs both bounds); null when there is none.
+    void (*check_parameters)(const YamlMap& parameters, const std::vector<ParameterSetting>& settings,
+                             const EstimationSettings& estimation) = nullptr;
+};
+
+/// Every optimizer, in the order of OptimizerKind.
+const std::vector<OptimizerKindRow>& optimizer_kinds();
+
+/// The row of `kind`.
+const OptimizerKindRow& optimizer_kind_row(OptimizerKind kind);
+
+/// The row named `name`, or null.
+const OptimizerKindRow* find_optimizer_kind(std::string_view name);
+
+/// The optimizer's name ("pso", "pso+lm", …).
+const char* optimizer_name(OptimizerKind kind);
+
+/// Its traits.
+inline const OptimizerTraits& optimizer_traits(OptimizerKind kind) { return optimizer_kind_row(kind).traits; }
+
+}  // namespace tvid
