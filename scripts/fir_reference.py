@@ -272,10 +272,15 @@ def fit_percent(y, yhat, detrend):
     return float(100.0 * (1.0 - np.linalg.norm(y - yhat) / spread)) if spread > 0 else float("nan")
 
 
+class Parser(argparse.ArgumentParser):
+    def error(self, message):  # one line, not the usage block
+        fail(f"{message} (see --help)")
+
+
 def main():
     for stream in (sys.stdout, sys.stderr):  # names read from a file or the command line print as they are
         stream.reconfigure(errors="backslashreplace")
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser = Parser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--inputs", required=True, help="input columns, comma-separated")
     parser.add_argument("--outputs", required=True, help="output columns, comma-separated")
     parser.add_argument("--estimation", required=True, help="FILE[:FIRST[:LAST]]")

@@ -73,6 +73,8 @@ def refused(args, *expected):
 
 
 refused(["--inputs", "u1,u3", "--outputs", "y", "--estimation", run1], "no column u3")
+refused(["--inputs", "u1,u2", "--outputs", "y", "--estimation", run1, "--taps", "x"], "--taps", "'x'")
+refused(["--inputs", "u1,u2", "--estimation", run1], "--outputs")
 
 # FILE:FIRST:LAST with a window that is not row numbers.
 refused(["--inputs", "u1,u2", "--outputs", "y", "--estimation", f"{run1}:a:b"], f"{run1}:a:b", "FIRST 'a'")
