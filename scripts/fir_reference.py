@@ -54,6 +54,8 @@ class BadInput(Exception):
 
 
 def fail(message):
+    # One line: a control character (a line break in a name) is shown as \xNN.
+    message = re.sub(r"[\x00-\x1f\x7f]", lambda m: f"\\x{ord(m.group()):02x}", str(message))
     print(f"fir_reference.py: {message}", file=sys.stderr)
     sys.exit(2)
 

@@ -26,6 +26,7 @@ Every read of a report file goes through report_plots/common.py, which checks it
 import argparse
 import importlib
 import os
+import re
 import shutil
 import sys
 import tempfile
@@ -46,6 +47,8 @@ MODULES = [
 
 
 def fail(message, status=2):
+    # One line: a control character (a line break in a name) is shown as \xNN.
+    message = re.sub(r"[\x00-\x1f\x7f]", lambda m: f"\\x{ord(m.group()):02x}", str(message))
     print(f"plot_report.py: {message}", file=sys.stderr)
     sys.exit(status)
 

@@ -36,15 +36,22 @@ class ReportError(Exception):
 
 
 def fail(message):
-    raise ReportError(message)
+    """Raise ReportError: one line (control characters in names from the files escaped)."""
+    raise ReportError(_escaped(message))
 
 
 def exists(directory, name):
     return os.path.isfile(os.path.join(directory, name))
 
 
+def _escaped(text):
+    """Control characters (a line break in a name) as \\xNN."""
+    return re.sub(r"[\x00-\x1f\x7f]", lambda m: f"\\x{ord(m.group()):02x}", str(text))
+
+
 def _shown(text, limit=40):
-    text = str(text)
+    """Text for a message: control characters escaped, cut after `limit` characters."""
+    text = _escaped(text)
     return text if len(text) <= limit else text[:limit] + "..."
 
 
