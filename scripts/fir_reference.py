@@ -47,6 +47,7 @@ import tempfile
 import numpy as np
 
 MAX_RECORDING_BYTES = 1 << 30  # tvid's limit for a recording (lib/tvid/io/input_file.hpp)
+MAX_REGRESSOR_BYTES = 2 << 30  # the lagged inputs of one set; the least squares needs about twice that
 
 
 class BadInput(Exception):
@@ -295,6 +296,8 @@ def main():
         run(args)
     except BadInput as e:
         fail(str(e))
+    except MemoryError:
+        fail(f"--taps {args.taps}: not enough memory for the fit (fewer taps, or shorter sets)")
 
 
 def run(args):
@@ -327,6 +330,11 @@ def run(args):
                            f"{first} hold none whose {args.taps} lags are all measured (fewer taps, or a longer set)")
         # Only the rows the set needs: its own and the taps - 1 before it.
         lead = min(first, args.taps - 1)
+        size = (last - first + lead) * coefficients * 8
+        if size > MAX_REGRESSOR_BYTES:
+            raise BadInput(f"{spec}: --taps {args.taps}: the lagged inputs of its {last - first} samples take "
+                           f"{size / 1e9:.3g} GB, more than the {MAX_REGRESSOR_BYTES / 1e9:.3g} GB allowed (fewer taps, "
+                           "or a shorter set)")
         phi = lagged(data[first - lead:last, : len(inputs)], args.taps)[lead:]
         return phi, data[first:last, len(inputs):], slice(skipped, None)
 

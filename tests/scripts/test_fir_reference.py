@@ -90,6 +90,11 @@ refused(["--inputs", "u1,u2", "--outputs", "y", "--taps", "100", "--estimation",
         "201 coefficients")
 refused(["--inputs", "u1,u2", "--outputs", "y", "--taps", "50", "--estimation", run1, "--validation", f"{run2}:0:20"],
         f"{run2}:0:20", "--taps 50")
+# A FIR whose lagged inputs would not fit in memory: refused before they are built.
+big = os.path.join(work_dir, "big.csv")
+with open(big, "w") as f:
+    f.write("t,u1,y\n" + "".join(f"{i},{i % 7},{i % 3}\n" for i in range(40000)))
+refused(["--inputs", "u1", "--outputs", "y", "--taps", "20000", "--estimation", big], "--taps 20000", "GB")
 
 # --json on a directory, a device, a recording or in a missing directory: refused before the fit.
 before = sorted(os.listdir(work_dir))
