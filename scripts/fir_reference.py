@@ -31,8 +31,8 @@ torques, or the measured motor speed and the load torque.
 
 Exit status: 0 done, 2 bad input (one line on stderr: a missing file or column, a file
 tvid would refuse, a bad FILE:FIRST:LAST, more taps than the data carry (or than 2 GB
-of lagged inputs hold), a --json target
-that is not a writable file or is one of the recordings); nothing is written then. The
+of lagged inputs hold), a --json target that is not a writable file or is one of the
+recordings); nothing is written then. The
 JSON file is written whole or not at all (a temporary file renamed over it). Uses numpy
 only.
 """
