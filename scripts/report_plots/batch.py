@@ -15,7 +15,6 @@ Reads batch.csv, batch_summary.json, parameter_stability.csv and matrix_long.csv
 directory without batch.csv gives no figure. Standard library, numpy and matplotlib (Agg).
 """
 
-import csv
 import math
 import os
 
@@ -24,26 +23,6 @@ from matplotlib import ticker
 
 from . import common
 from .common import plt
-
-
-def _number(cell):
-    try:
-        return float(cell) if cell not in ("", None) else math.nan
-    except ValueError:
-        return math.nan
-
-
-def _read_rows(path):
-    """The header and the rows of a CSV file; ([], []) when it does not exist."""
-    if not os.path.isfile(path):
-        return [], []
-    with open(path, newline="") as f:
-        rows = list(csv.reader(f))
-    return (rows[0], rows[1:]) if rows else ([], [])
-
-
-def _read_json(path):
-    return common.read_json(path) if os.path.isfile(path) else {}
 
 
 def _labelled(name, unit):
@@ -72,19 +51,20 @@ def _tick_labels(ax, ids, axis="x", highlight=()):
 def _outliers(summary):
     """{subject: set of job ids} from batch_summary.json's outliers."""
     flagged = {}
-    for o in summary.get("outliers") or []:
-        flagged.setdefault(o.get("subject", ""), set()).add(o.get("id", ""))
+    for o in summary.objects("outliers", nullable=True):
+        flagged.setdefault(o.text("subject", ""), set()).add(o.text("id", ""))
     return flagged
 
 
 def _draw_cross(batch_dir, out_dir, dpi, summary):
-    header, rows = _read_rows(os.path.join(batch_dir, "matrix_long.csv"))
-    if not rows:
+    table = common.read_table(os.path.join(batch_dir, "matrix_long.csv"), required=False)
+    if table is None or not table.rows:
         return []
-    col = {name: k for k, name in enumerate(header)}
+    fitted, validated, output_of = table.texts("fitted"), table.texts("validated"), table.texts("output")
+    fit_percent = table.numbers("fit_percent")
     jobs, outputs = [], []
-    for r in rows:
-        for value, seen in ((r[col["fitted"]], jobs), (r[col["validated"]], jobs), (r[col["output"]], outputs)):
+    for r in range(len(table.rows)):
+        for value, seen in ((fitted[r], jobs), (validated[r], jobs), (output_of[r], outputs)):
             if value not in seen:
                 seen.append(value)
     index = {job: k for k, job in enumerate(jobs)}
@@ -92,9 +72,9 @@ def _draw_cross(batch_dir, out_dir, dpi, summary):
     written = []
     for output in outputs:
         fit = np.full((len(jobs), len(jobs)), np.nan)
-        for r in rows:
-            if r[col["output"]] == output:
-                fit[index[r[col["fitted"]]], index[r[col["validated"]]]] = _number(r[col["fit_percent"]])
+        for r in range(len(table.rows)):
+            if output_of[r] == output:
+                fit[index[fitted[r]], index[validated[r]]] = fit_percent[r]
         n = len(jobs)
         size = min(14.0, 3.0 + 0.55 * n)
         fig, ax = plt.subplots(figsize=(size + 1.5, size), layout="constrained")
@@ -145,25 +125,27 @@ def _draw_cross(batch_dir, out_dir, dpi, summary):
 
 
 def _draw_spread(batch_dir, out_dir, dpi, summary):
-    header, rows = _read_rows(os.path.join(batch_dir, "batch.csv"))
-    if not rows:
+    table = common.read_table(os.path.join(batch_dir, "batch.csv"))
+    if not table.rows:
         return []
-    col = {name: k for k, name in enumerate(header)}
-    ok = [r for r in rows if len(r) == len(header) and r[col["status"]] == "ok"]
+    ok = [r for r, status in enumerate(table.texts("status")) if status == "ok"]
     if not ok:
         return []
-    stab_header, stab_rows = _read_rows(os.path.join(batch_dir, "parameter_stability.csv"))
     units = {}
-    if stab_rows:
-        units = {r[stab_header.index("parameter")]: r[stab_header.index("unit")] for r in stab_rows}
-    for name, p in (summary.get("parameter_stability") or {}).items():
-        units.setdefault(name, p.get("unit", ""))
+    stability = common.read_table(os.path.join(batch_dir, "parameter_stability.csv"), required=False)
+    if stability is not None:
+        units = dict(zip(stability.texts("parameter"), stability.texts("unit")))
+    stability_json = summary.obj("parameter_stability", nullable=True)
+    for name in stability_json.keys():
+        units.setdefault(name, stability_json.obj(name, nullable=True).text("unit", ""))
     # The free parameters: the columns between message and cost.
-    parameters = header[col["message"] + 1: col["cost"]] if "cost" in col else []
+    first, last = table.index("message") + 1, table.index("cost")
+    parameters = table.names[first:last]
     if not parameters:
         return []
     flagged = _outliers(summary)
-    ids = [r[col["id"]] for r in ok]
+    every_id = table.texts("id")
+    ids = [every_id[r] for r in ok]
     x = np.arange(len(ids))
     ncols = min(4, len(parameters))
     nrows = math.ceil(len(parameters) / ncols)
@@ -173,9 +155,12 @@ def _draw_spread(batch_dir, out_dir, dpi, summary):
     any_outlier = False
     for k, name in enumerate(parameters):
         ax = axes[k // ncols][k % ncols]
-        values = np.array([_number(r[col[name]]) for r in ok])
-        err_col = col.get("std_error_" + name)
-        errors = np.array([_number(r[err_col]) for r in ok]) if err_col is not None else None
+        every = table.numbers(name)
+        values = np.array([every[r] for r in ok])
+        errors = None
+        if table.has("std_error_" + name):
+            every_error = table.numbers("std_error_" + name)
+            errors = np.array([every_error[r] for r in ok])
         finite = values[np.isfinite(values)]
         if finite.size:
             mean = float(np.mean(finite))
@@ -206,7 +191,7 @@ def _draw_spread(batch_dir, out_dir, dpi, summary):
             ax.legend(fontsize=7, loc="best")
     for k in range(len(parameters), nrows * ncols):
         axes[k // ncols][k % ncols].set_visible(False)
-    title = f"Parameter spread over {len(ids)} jobs ({summary.get('experiment', os.path.basename(batch_dir))})"
+    title = f"Parameter spread over {len(ids)} jobs ({summary.text('experiment', os.path.basename(batch_dir))})"
     if any_outlier:
         title += "; red: outlier by robust z-score (|z| > 3.5)"
     fig.suptitle(title, fontsize=11)
@@ -218,5 +203,5 @@ def draw(batch_dir, out_dir, dpi):
     if not os.path.isfile(os.path.join(batch_dir, "batch.csv")):
         return []
     os.makedirs(out_dir, exist_ok=True)
-    summary = _read_json(os.path.join(batch_dir, "batch_summary.json"))
+    summary = common.read_json_if(batch_dir, "batch_summary.json")
     return _draw_cross(batch_dir, out_dir, dpi, summary) + _draw_spread(batch_dir, out_dir, dpi, summary)

@@ -1,15 +1,24 @@
 """What every figure module shares: reading a report's CSV and JSON files, units, the
 windows of a trace, the crank-angle axis of an engine report, and saving a PNG.
 
-Bad input (a malformed file) raises ReportError with one line naming the file; the
-dispatcher (plot_report.py) prints it and exits with status 2.
+Every value a figure takes from a report file is read here, through checked accessors:
+read_json gives a Json (an object, with the file and the key path it was found at) whose
+num, text, flag, obj, objects, nums and texts check the type of what they read;
+read_table gives a Table whose number/numbers/texts name the file, line and column of a
+bad cell, and whose index names a missing column. Bad input (a missing, damaged, non-UTF-8
+or deeply nested file, a value of the wrong type, a missing column or key) raises
+ReportError with one line naming the file and the key or column; the dispatcher
+(plot_report.py) prints it and exits with status 2. A figure module never indexes a
+report's data directly.
 """
 
 import csv
+import io
 import json
 import math
 import os
 import re
+import stat
 
 import matplotlib
 
@@ -18,17 +27,238 @@ import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib import ticker  # noqa: E402
 
 
+MAX_FILE_BYTES = 1 << 30  # a report file larger than this is not one tvid wrote
+csv.field_size_limit(MAX_FILE_BYTES)
+
+
 class ReportError(Exception):
     """A report file that is missing where it is required, or malformed."""
 
 
 def fail(message):
-    raise ReportError(message)
+    """Raise ReportError: one line (control characters in names from the files escaped)."""
+    raise ReportError(_escaped(message))
 
 
 def exists(directory, name):
     return os.path.isfile(os.path.join(directory, name))
 
+
+def _escaped(text):
+    """Control characters (a line break in a name) as \\xNN."""
+    return re.sub(r"[\x00-\x1f\x7f]", lambda m: f"\\x{ord(m.group()):02x}", str(text))
+
+
+def _shown(text, limit=40):
+    """Text for a message: control characters escaped, cut after `limit` characters."""
+    text = _escaped(text)
+    return text if len(text) <= limit else text[:limit] + "..."
+
+
+def read_text(path):
+    """The text of a report file (UTF-8; a byte-order mark is dropped), or ReportError:
+    missing, not a regular file, too large, unreadable or not UTF-8."""
+    try:
+        st = os.stat(path)
+    except FileNotFoundError:
+        fail(f"{path}: not found (is this a tvid report directory?)")
+    except OSError as e:
+        fail(f"{path}: cannot read: {e.strerror}")
+    if not stat.S_ISREG(st.st_mode):
+        fail(f"{path}: not a regular file")
+    if st.st_size > MAX_FILE_BYTES:
+        fail(f"{path}: larger than 1 GiB: not a file tvid wrote")
+    try:
+        with open(path, "rb") as f:
+            data = f.read(MAX_FILE_BYTES + 1)
+    except OSError as e:
+        fail(f"{path}: cannot read: {e.strerror}")
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError as e:
+        line = data.count(b"\n", 0, e.start) + 1
+        fail(f"{path}:{line}: not UTF-8 text (byte 0x{data[e.start]:02x}): not a file tvid wrote")
+    return text[1:] if text.startswith("\ufeff") else text
+
+
+# ---- JSON: every value read through a checked accessor ------------------------------------
+
+def _kind(value):
+    """What a JSON value is, for a message."""
+    if value is None:
+        return "null"
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, (int, float)):
+        return f"the number {_shown(repr(value))}"
+    if isinstance(value, str):
+        return f"the text '{_shown(value)}'"
+    if isinstance(value, list):
+        return f"a list of {len(value)}"
+    return "an object"
+
+
+def _is_number(value):
+    return isinstance(value, (int, float)) and not isinstance(value, bool)
+
+
+def _as_float(value):
+    try:
+        return float(value)
+    except OverflowError:  # an integer beyond a double
+        return math.inf if value > 0 else -math.inf
+
+
+class Json:
+    """A JSON object of a report file, with the file and the key path it was found at.
+
+    A key that is absent gives the default; JSON null gives the default for a number or a
+    text (tvid writes NaN and infinity as null) and, for an object or a list, only where the
+    caller says the format allows it (nullable=True); anything of another type raises
+    ReportError naming the file and the key path (e.g. `modes[0].shape`)."""
+
+    __slots__ = ("value", "path", "key")
+
+    def __init__(self, value, path, key=""):
+        self.value, self.path, self.key = value, path, key
+
+    def where(self, key):
+        if isinstance(key, int):
+            return f"{self.key}[{key}]"
+        return f"{self.key}.{key}" if self.key else str(key)
+
+    def wrong(self, key, expected, value):
+        fail(f"{self.path}: {self.where(key)}: expected {expected}, found {_kind(value)}")
+
+    def _get(self, key, required):
+        if key not in self.value:
+            if required:
+                fail(f"{self.path}: {self.where(key)}: missing")
+            return None, False
+        return self.value[key], True
+
+    def has(self, key):
+        return key in self.value
+
+    def keys(self):
+        return list(self.value)
+
+    def num(self, key, default=None, required=False):
+        """A number (float); null or absent: the default, or ReportError when required."""
+        value, _ = self._get(key, required)
+        if value is None:
+            if required:
+                self.wrong(key, "a number", value)
+            return default
+        if not _is_number(value):
+            self.wrong(key, "a number", value)
+        return _as_float(value)
+
+    def text(self, key, default=None, required=False):
+        value, _ = self._get(key, required)
+        if value is None:
+            if required:
+                self.wrong(key, "a text", value)
+            return default
+        if not isinstance(value, str):
+            self.wrong(key, "a text", value)
+        return value
+
+    def label(self, key, default="?"):
+        """A text or a number, as text (a window's label, a mode's number)."""
+        value, _ = self._get(key, False)
+        if value is None:
+            return default
+        if isinstance(value, str):
+            return value
+        if _is_number(value):
+            return f"{value:g}" if isinstance(value, float) else str(value)
+        self.wrong(key, "a text or a number", value)
+
+    def flag(self, key, default=False):
+        value, _ = self._get(key, False)
+        if value is None:
+            return default
+        if not isinstance(value, bool):
+            self.wrong(key, "true or false", value)
+        return value
+
+    def obj(self, key, required=False, nullable=False):
+        """The object at key; absent (or null where nullable): an empty one."""
+        value, present = self._get(key, required)
+        if value is None and (not present or nullable):
+            return Json({}, self.path, self.where(key))
+        if not isinstance(value, dict):
+            self.wrong(key, "an object", value)
+        return Json(value, self.path, self.where(key))
+
+    def _list(self, key, required, nullable):
+        value, present = self._get(key, required)
+        if value is None and (not present or nullable):
+            return []
+        if not isinstance(value, list):
+            self.wrong(key, "a list", value)
+        return value
+
+    def objects(self, key, required=False, nullable=False):
+        """The list of objects at key; absent (or null where nullable): []."""
+        out = []
+        for i, item in enumerate(self._list(key, required, nullable)):
+            where = f"{self.where(key)}[{i}]"
+            if not isinstance(item, dict):
+                fail(f"{self.path}: {where}: expected an object, found {_kind(item)}")
+            out.append(Json(item, self.path, where))
+        return out
+
+    def nums(self, key, required=False, nullable=False, length=None):
+        """The list of numbers at key (null: NaN); absent (or null where nullable): []."""
+        values = self._list(key, required, nullable)
+        if length is not None and values and len(values) != length:
+            fail(f"{self.path}: {self.where(key)}: expected {length} numbers, found {len(values)}")
+        out = []
+        for i, item in enumerate(values):
+            if item is not None and not _is_number(item):
+                fail(f"{self.path}: {self.where(key)}[{i}]: expected a number, found {_kind(item)}")
+            out.append(math.nan if item is None else _as_float(item))
+        return out
+
+    def texts(self, key, required=False, nullable=False):
+        out = []
+        for i, item in enumerate(self._list(key, required, nullable)):
+            if not isinstance(item, str):
+                fail(f"{self.path}: {self.where(key)}[{i}]: expected a text, found {_kind(item)}")
+            out.append(item)
+        return out
+
+    def number_map(self, key, required=False):
+        """{name: number} of the object at key (null entries: None)."""
+        o = self.obj(key, required)
+        return {k: o.num(k) for k in o.keys()}
+
+
+def read_json(path):
+    """The JSON object of a report file as a Json."""
+    text = read_text(path)
+    try:
+        value = json.loads(text)
+    except json.JSONDecodeError as e:
+        fail(f"{path}:{e.lineno}: not valid JSON: {e.msg}")
+    except RecursionError:
+        fail(f"{path}: not a file tvid wrote: JSON nested too deeply")
+    except ValueError as e:  # e.g. an integer of more digits than Python converts
+        fail(f"{path}: not valid JSON: {_shown(e, 80)}")
+    if not isinstance(value, dict):
+        fail(f"{path}: expected a JSON object, found {_kind(value)}")
+    return Json(value, path)
+
+
+def read_json_if(directory, name):
+    """read_json(directory/name), or an empty Json when there is no such file."""
+    path = os.path.join(directory, name)
+    return read_json(path) if os.path.isfile(path) else Json({}, path)
+
+
+# ---- CSV: columns by name, cells through checked accessors --------------------------------
 
 def number(cell):
     """A CSV cell as a float: empty is NaN, 'inf'/'-inf' as written."""
@@ -42,56 +272,92 @@ def split_heading(heading):
     return name, (rest[:-1] if bracket and rest.endswith("]") else "")
 
 
-def read_csv_with_units(path):
-    """(column names, their units, rows) of a CSV file."""
-    if not os.path.isfile(path):
-        fail(f"{path}: not found (is this a tvid report directory?)")
-    with open(path, newline="") as f:
-        rows = list(csv.reader(f))
-    if not rows:
-        fail(f"{path}: empty file, expected a header line")
-    names, units = zip(*(split_heading(h) for h in rows[0])) if rows[0] else ((), ())
-    return list(names), list(units), rows[1:]
+class Table:
+    """A CSV file of a report: the column names (units split off), their units and headings,
+    and the rows, each as long as the header. Columns are found by name (index); cells are
+    read through number/numbers/text/texts, which name the file, line and column of a bad one."""
+
+    def __init__(self, path, headings, rows, lines):
+        self.path, self.headings, self.rows, self.lines = path, headings, rows, lines
+        pairs = [split_heading(h) for h in headings]
+        self.names = [n for n, _ in pairs]
+        self.units = [u for _, u in pairs]
+
+    def has(self, name):
+        return name in self.names
+
+    def index(self, name):
+        if name not in self.names:
+            fail(f"{self.path}: no column {name} (columns: {_shown(', '.join(self.headings), 200)})")
+        return self.names.index(name)
+
+    def unit(self, name):
+        return self.units[self.index(name)]
+
+    def number(self, row, name, index=None, finite=False):
+        """The cell of data row `row` (from 0) in column `name` as a float (empty: NaN);
+        with finite=True, an empty cell or an infinity is refused too."""
+        cell = self.rows[row][self.index(name) if index is None else index]
+        try:
+            value = number(cell)
+        except ValueError:
+            fail(f"{self.path}:{self.lines[row]}: column {name}: '{_shown(cell)}' is not a number")
+        if finite and not math.isfinite(value):
+            fail(f"{self.path}:{self.lines[row]}: column {name}: '{_shown(cell)}' is not a finite number")
+        return value
+
+    def numbers(self, name, finite=False):
+        i = self.index(name)
+        return [self.number(r, name, i, finite) for r in range(len(self.rows))]
+
+    def text(self, row, name):
+        return self.rows[row][self.index(name)]
+
+    def texts(self, name):
+        i = self.index(name)
+        return [row[i] for row in self.rows]
 
 
-def read_csv(path):
-    """(column names without their units, rows) of a CSV file."""
-    names, _, rows = read_csv_with_units(path)
-    return names, rows
-
-
-def read_json(path):
-    if not os.path.isfile(path):
-        fail(f"{path}: not found (is this a tvid report directory?)")
+def read_table(path, required=True):
+    """The Table of a CSV file; None when it does not exist and is not required."""
+    if not required and not os.path.lexists(path):
+        return None
+    text = read_text(path)
+    rows, lines = [], []
+    reader = csv.reader(io.StringIO(text, newline=""))
     try:
-        with open(path) as f:
-            return json.load(f)
-    except json.JSONDecodeError as e:
-        fail(f"{path}:{e.lineno}: not valid JSON: {e.msg}")
-
-
-def column(header, name, path):
-    if name not in header:
-        fail(f"{path}: no column {name}")
-    return header.index(name)
-
-
-def table_by(header, rows, path, key, text_columns=()):
-    """{value of column `key`: {column: [values]}} in order of appearance; every column but
-    `key` and `text_columns` is read as numbers."""
-    k_col = column(header, key, path)
-    text = {k_col} | {header.index(c) for c in text_columns if c in header}
-    out = {}
-    for line, row in enumerate(rows, start=2):
+        header = next(reader, None)
+        for row in reader:
+            if row:
+                rows.append(row)
+                lines.append(reader.line_num)
+    except csv.Error as e:
+        fail(f"{path}:{reader.line_num}: not a CSV file tvid wrote: {e}")
+    if not header:
+        fail(f"{path}: empty file, expected a header line")
+    table = Table(path, header, rows, lines)
+    seen = set()
+    for name in table.names:
+        if name in seen:
+            fail(f"{path}:1: column {name} appears twice")
+        seen.add(name)
+    for row, line in zip(rows, lines):
         if len(row) != len(header):
             fail(f"{path}:{line}: {len(row)} cells, the header has {len(header)}")
-        try:
-            values = [c if i in text else number(c) for i, c in enumerate(row)]
-        except ValueError:
-            fail(f"{path}:{line}: a cell is not a number")
-        table = out.setdefault(row[k_col], {h: [] for h in header})
-        for h, v in zip(header, values):
-            table[h].append(v)
+    return table
+
+
+def table_by(table, key, text_columns=()):
+    """{value of column `key`: {column: [values]}} in order of appearance; every column but
+    `key` and `text_columns` is read as numbers."""
+    table.index(key)
+    text = {key} | set(text_columns)
+    columns = {name: (table.texts(name) if name in text else table.numbers(name)) for name in table.names}
+    out = {}
+    for r, label in enumerate(columns[key]):
+        group = out.setdefault(label, {name: [] for name in table.names})
+        for name in table.names:
+            group[name].append(columns[name][r])
     return out
 
 
@@ -99,15 +365,15 @@ def table_by(header, rows, path, key, text_columns=()):
 
 def output_unit(summary, output):
     """The output's unit as summary.json's cost.outputs names it ('' when not given)."""
-    for o in (summary or {}).get("cost", {}).get("outputs", []):
-        if o.get("name") == output:
-            return pretty_unit(o.get("unit", ""))
+    for o in summary.obj("cost").objects("outputs"):
+        if o.text("name") == output:
+            return pretty_unit(o.text("unit", ""))
     return ""
 
 
 def parameter_units(params):
     """{parameter: unit} from a params.json document ('' when not given)."""
-    return {p.get("name"): pretty_unit(p.get("unit", "")) for p in (params or {}).get("parameters", [])}
+    return {p.text("name", required=True): pretty_unit(p.text("unit", "")) for p in params.objects("parameters")}
 
 
 _POWERS = {"^-1": "⁻¹", "^-2": "⁻²", "^2": "²", "^3": "³", "^4": "⁴"}
@@ -161,32 +427,39 @@ def traces(directory):
         path = os.path.join(directory, f"{split}.csv")
         if not os.path.isfile(path):
             continue
-        header, units, rows = read_csv_with_units(path)
-        column(header, "t", path)
-        outputs = outputs_of(header) or outputs
+        csv_table = read_table(path)
+        csv_table.index("t")
+        outputs = outputs_of(csv_table.names) or outputs
         for out in outputs:
             for suffix in ("_measured", "_simulated", "_residual", "_residual_ratio"):
-                column(header, out + suffix, path)
-        for label, table in table_by(header, rows, path, "window").items():
+                csv_table.index(out + suffix)
+        for label, table in table_by(csv_table, "window").items():
             for out in outputs:  # the ratio in percent; a report written before it was a fraction
                 name = out + "_residual_ratio"
-                if units[header.index(name)] != "%":
+                if csv_table.unit(name) != "%":
                     table[name] = [100.0 * v for v in table[name]]
             panels.append((split, label, table))
     return panels, outputs
 
 
 def window_metric(summary, split, label, output, key):
-    for w in (summary or {}).get(split, {}).get("windows", []):
-        if w.get("window") == label:
-            return (w.get("outputs", {}).get(output) or {}).get(key)
+    metrics = window_metrics(summary, split, label, output)
+    return metrics.num(key) if metrics is not None else None
+
+
+def window_metrics(summary, split, label, output):
+    """The metrics object of an output in a window of a split (summary.json), or None."""
+    for w in summary.obj(split).objects("windows"):
+        if w.label("window", None) == label:
+            metrics = w.obj("outputs").obj(output, nullable=True)
+            return metrics if metrics.keys() else None
     return None
 
 
 def title_of(summary):
-    name = summary.get("experiment", "?")
-    optimizer = summary.get("optimizer", {}).get("name", "?")
-    note = ", interrupted" if summary.get("interrupted") else ""
+    name = summary.text("experiment", "?")
+    optimizer = summary.obj("optimizer").text("name", "?")
+    note = ", interrupted" if summary.flag("interrupted") else ""
     return f"{name} ({optimizer}{note})"
 
 
@@ -313,7 +586,7 @@ def decorate_row(ax, split, windows, by_angle, cycle, title_text, window_text):
 
 
 def split_has_windows(summary, split, count):
-    return len((summary or {}).get(split, {}).get("windows", [])) == count
+    return len(summary.obj(split).objects("windows")) == count
 
 
 # ---- saving ----------------------------------------------------------------------------
@@ -328,9 +601,58 @@ def fit_traces(directory):
     return (summary, panels, outputs) if panels and outputs else None
 
 
+_UNSAFE = re.compile(r'[\x00-\x1f\x7f/\\:*?"<>|]+')
+_taken = {}  # {(out_dir, file name): the figure name it holds}, in this run
+
+
+def file_name(name):
+    """The file name of a figure whose name holds report names (an output `w/motor`): one
+    path component, without a leading dot, at most 200 bytes; '/', '\\', control characters
+    and the characters Windows refuses become '_'."""
+    stem, ext = (name[:-4], name[-4:]) if name.endswith(".png") else (name, "")
+    stem = _UNSAFE.sub("_", stem).lstrip(".- ") or "figure"
+    while len(stem.encode("utf-8", "surrogateescape")) > 200:
+        stem = stem[:-1]
+    return stem + ext
+
+
 def save(fig, out_dir, name, dpi):
-    """Write the figure as out_dir/name and return name."""
+    """Write the figure as out_dir/NAME and return NAME: `name` made a safe file name
+    (file_name), with _2, _3, ... when two names of this run come out the same."""
     os.makedirs(out_dir, exist_ok=True)
-    fig.savefig(os.path.join(out_dir, name), dpi=dpi)
-    plt.close(fig)
-    return name
+    base = file_name(name)
+    stem, ext = os.path.splitext(base)
+    safe, k = base, 1
+    while _taken.get((out_dir, safe), name) != name:
+        k += 1
+        safe = f"{stem}_{k}{ext}"
+    _taken[(out_dir, safe)] = name
+    for text in fig.findobj(matplotlib.text.Text):
+        # A name from the report ('$' in an output's name) is drawn as written, not parsed
+        # as mathtext; the tick formatters' own mathtext (log axes) is left to them.
+        if "$" in text.get_text() and "\\mathdefault" not in text.get_text():
+            text.set_parse_math(False)
+    try:
+        fig.savefig(os.path.join(out_dir, safe), dpi=dpi)
+    finally:
+        plt.close(fig)
+    return safe
+
+
+def install(staging, out_dir, names):
+    """Move the figures `names` from the folder `staging` into out_dir, each renamed over
+    its name there, once every target is known to be replaceable: none is a directory,
+    FIFO or device (ReportError, nothing moved). Returns their paths in out_dir."""
+    for name in names:
+        target = os.path.join(out_dir, name)
+        try:
+            mode = os.lstat(target).st_mode
+        except FileNotFoundError:
+            continue
+        if not (stat.S_ISREG(mode) or stat.S_ISLNK(mode)):
+            fail(f"{target}: exists and is not a regular file: not replaced")
+    paths = []
+    for name in names:
+        os.replace(os.path.join(staging, name), os.path.join(out_dir, name))
+        paths.append(os.path.join(out_dir, name))
+    return paths

@@ -9,9 +9,10 @@ from . import common
 
 
 def metrics_text(metrics, unit, short=False):
-    """'Q = 99.95 %   fit = 85.0 %   RMSE = 0.08 rad/s' from a metrics object."""
-    q, fit, rmse = (metrics or {}).get("q_index_percent"), (metrics or {}).get("fit_percent"), \
-        (metrics or {}).get("rmse")
+    """'Q = 99.95 %   fit = 85.0 %   RMSE = 0.08 rad/s' from a metrics object (a Json, or None)."""
+    if metrics is None:
+        return ""
+    q, fit, rmse = metrics.num("q_index_percent"), metrics.num("fit_percent"), metrics.num("rmse")
     parts = []
     if q is not None:
         parts.append(f"Q {q:.2f} %" if short else f"Q = {q:.2f} %")
@@ -22,11 +23,7 @@ def metrics_text(metrics, unit, short=False):
     return ("  " if short else "   ").join(parts)
 
 
-def window_metrics(summary, split, label, out):
-    for w in summary.get(split, {}).get("windows", []):
-        if w.get("window") == label:
-            return w.get("outputs", {}).get(out)
-    return None
+window_metrics = common.window_metrics
 
 
 def row_metrics(summary, split, windows, out):
@@ -34,7 +31,8 @@ def row_metrics(summary, split, windows, out):
     if len(windows) == 1:
         return window_metrics(summary, split, windows[0][0], out), ""
     if common.split_has_windows(summary, split, len(windows)):
-        return summary.get(split, {}).get("pooled", {}).get(out), "pooled: "
+        pooled = summary.obj(split).obj("pooled").obj(out, nullable=True)
+        return (pooled if pooled.keys() else None), "pooled: "
     return None, ""
 
 
@@ -62,7 +60,7 @@ def draw(directory, out_dir, dpi):
             ax.set_ylabel(common.labelled(out, unit), fontsize=9)
             if r == 0:
                 ax.legend(loc="lower right", fontsize=8, framealpha=0.9)
-    verdict = summary.get("verdict", {}).get("summary")
+    verdict = summary.obj("verdict", nullable=True).text("summary")
     fig.suptitle(f"{common.title_of(summary)}: measured vs simulated" + (f"   (verdict: {verdict})" if verdict else ""),
                  fontsize=11)
     return [common.save(fig, out_dir, "fit.png", dpi)]

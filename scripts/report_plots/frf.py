@@ -2,19 +2,10 @@
 frequency response (linearised at a window's start) against the measured H1 estimate:
 magnitude on a log scale, phase, and the measurement's coherence."""
 
-import csv
-import math
 import os
 
 from . import common
 from .common import plt
-
-
-def _number(text):
-    try:
-        return float(text)
-    except (TypeError, ValueError):
-        return math.nan
 
 
 def draw(directory, out_dir, dpi):
@@ -22,23 +13,28 @@ def draw(directory, out_dir, dpi):
     if not (os.path.isfile(csv_path) and os.path.isfile(json_path)):
         return []
     info = common.read_json(json_path)
-    with open(csv_path, newline="", encoding="utf-8") as f:
-        rows = list(csv.DictReader(f))
-    if not rows:
+    table = common.read_table(csv_path)
+    if not table.rows:
         return []
-    col = {k: [_number(r.get(k)) for r in rows] for k in rows[0].keys()}
+    m = info.obj("measured")
+    measured = m.flag("available")
+    names = ["frequency_hz", "model_magnitude", "model_phase_deg"]
+    if measured:
+        names += ["measured_magnitude", "measured_phase_deg", "coherence"]
+    col = {name: table.numbers(name) for name in names}
     freq = col["frequency_hz"]
-    measured = info.get("measured", {}).get("available", False)
-    unit = info.get("magnitude_unit", "")
+    unit = info.text("magnitude_unit", "")
     fig, axes = plt.subplots(3 if measured else 2, 1, figsize=(8, 8.5 if measured else 6.2), sharex=True,
                              layout="constrained", gridspec_kw={"height_ratios": [3, 2, 1.3] if measured else [3, 2]})
     mag, phase = axes[0], axes[1]
     if measured:
         mag.loglog(freq, col["measured_magnitude"], color="0.55", lw=0.9, label="measured H1")
         phase.semilogx(freq, col["measured_phase_deg"], color="0.55", lw=0.9, ls="none", marker=".", ms=2)
-    curve = info.get("model_curve") or {}
-    if curve.get("frequency_hz"):  # the model on its finer grid: peaks resolved
-        mf, mm, mp = curve["frequency_hz"], curve["magnitude"], curve["phase_deg"]
+    curve = info.obj("model_curve", nullable=True)
+    mf = curve.nums("frequency_hz")
+    if mf:  # the model on its finer grid: peaks resolved
+        mm, mp = curve.nums("magnitude", required=True, length=len(mf)), curve.nums("phase_deg", required=True,
+                                                                                  length=len(mf))
     else:
         mf, mm, mp = freq, col["model_magnitude"], col["model_phase_deg"]
     mag.loglog(mf, mm, color="tab:blue", lw=1.5, label="model (linearised)")
@@ -57,13 +53,12 @@ def draw(directory, out_dir, dpi):
         coh.set_ylabel("coherence γ²  [1]")
         coh.grid(which="both", alpha=0.3)
     axes[-1].set_xlabel("frequency  [Hz]")
-    m = info.get("measured", {})
-    op = info.get("operating_point", {})
-    title = (f"{info.get('experiment', '?')}: FRF {info.get('input', '?')} → {info.get('output', '?')}, model at the "
-             f"start of window {op.get('window', '?')}")
+    op = info.obj("operating_point")
+    title = (f"{info.text('experiment', '?')}: FRF {info.text('input', '?')} → {info.text('output', '?')}, model at "
+             f"the start of window {op.label('window')}")
     if measured:
-        title += (f"\nH1 over {len(m.get('windows', []))} estimation window(s): {m.get('segments')} segments of "
-                  f"{m.get('segment_length')} samples at {m.get('sample_rate_hz', 0):.5g} Hz")
+        title += (f"\nH1 over {len(m.texts('windows'))} estimation window(s): {m.label('segments')} segments of "
+                  f"{m.label('segment_length')} samples at {m.num('sample_rate_hz', 0.0):.5g} Hz")
     else:
         title += "\n(no measured H1)"
     fig.suptitle(title, fontsize=10)

@@ -10,11 +10,11 @@ from .common import plt, ticker
 
 def cost_label(summary):
     """'best cost Σ e² [unit²]' in the unit of summary.json's cost.value."""
-    cost = summary.get("cost", {})
-    kind = cost.get("kind", "")
+    cost = summary.obj("cost")
+    kind = cost.text("kind", "")
     symbol = {"l2": "Σ e²", "l1": "mean |e|"}.get(kind, kind)
-    units = {o.get("unit", "") for o in cost.get("outputs", [])}
-    if cost.get("normalize") == "spread":
+    units = {o.text("unit", "") for o in cost.objects("outputs")}
+    if cost.text("normalize") == "spread":
         unit = "1"  # each residual divided by its output's spread
     elif len(units) == 1:
         u = units.pop()
@@ -25,18 +25,10 @@ def cost_label(summary):
 
 
 def read_history(directory):
-    path = os.path.join(directory, "history.csv")
-    header, rows = common.read_csv(path)
-    it, ev, cost = (common.column(header, n, path) for n in ("iteration", "evaluations", "best_cost"))
-    points = []
-    for line, row in enumerate(rows, start=2):
-        try:
-            k, n, e = common.number(row[it]), common.number(row[ev]), common.number(row[cost])
-        except (ValueError, IndexError):
-            common.fail(f"{path}:{line}: expected iteration,evaluations,best_cost numbers")
-        if math.isfinite(e) and e > 0:  # inf while no candidate has a finite cost
-            points.append((k, n, e))
-    return points
+    table = common.read_table(os.path.join(directory, "history.csv"))
+    columns = zip(*(table.numbers(n) for n in ("iteration", "evaluations", "best_cost")))
+    # The best cost is inf while no candidate has a finite cost.
+    return [(k, n, e) for k, n, e in columns if math.isfinite(k) and math.isfinite(n) and math.isfinite(e) and e > 0]
 
 
 def draw(directory, out_dir, dpi):

@@ -14,44 +14,54 @@ from .history import cost_label
 
 def noise_floor(summary):
     """Σ over outputs of n·(scale·σ_n)² over the estimation samples (l2 cost), or None."""
-    if summary.get("cost", {}).get("kind") != "l2":
+    cost = summary.obj("cost")
+    if cost.text("kind") != "l2":
         return None
     total = 0.0
-    residuals = summary.get("residuals", {}).get("estimation", {})
-    for o in summary.get("cost", {}).get("outputs", []):
-        r = residuals.get(o.get("name")) or {}
-        if r.get("noise_rms") is None or not r.get("samples"):
+    residuals = summary.obj("residuals").obj("estimation")
+    for o in cost.objects("outputs"):
+        r = residuals.obj(o.text("name", required=True), nullable=True)
+        noise, samples = r.num("noise_rms"), r.num("samples")
+        if noise is None or not samples:
             return None
-        total += r["samples"] * (o.get("scale", 1.0) * r["noise_rms"]) ** 2
-    return total if total > 0 else None
+        total += samples * (o.num("scale", 1.0) * noise) ** 2
+    return total if math.isfinite(total) and total > 0 else None
 
 
 def finite(v):
     return v is not None and math.isfinite(v)
 
 
+def start_label(v):
+    return f"{v:.0f}" if v is not None and math.isfinite(v) and v == int(v) else str(v)
+
+
 def draw(directory, out_dir, dpi):
     if not common.exists(directory, "summary.json"):
         return []
     summary = common.read_json(os.path.join(directory, "summary.json"))
-    opt = summary.get("optimizer", {})
-    starts = opt.get("start_results") or []
-    if opt.get("name") != "multistart" or not starts:
+    opt = summary.obj("optimizer")
+    if opt.text("name") != "multistart":
         return []
-    best = opt.get("best_start")
-    ran = [s for s in starts if finite(s.get("cost"))]
-    failed = [s for s in starts if not finite(s.get("cost"))]
+    # Each start: its number, initial and final cost, and whether it converged.
+    starts = [{"start": s.num("start", required=True), "cost": s.num("cost"), "initial_cost": s.num("initial_cost"),
+               "converged": s.flag("converged")} for s in opt.objects("start_results", nullable=True)]
+    if not starts:
+        return []
+    best = opt.num("best_start")
+    ran = [s for s in starts if finite(s["cost"])]
+    failed = [s for s in starts if not finite(s["cost"])]
     ran.sort(key=lambda s: (s["cost"], s["start"]))
     fig, ax = plt.subplots(figsize=(max(7.5, 0.35 * len(starts) + 5.0), 4.0), layout="constrained")
     for rank, s in enumerate(ran, start=1):
-        if finite(s.get("initial_cost")):
+        if finite(s["initial_cost"]):
             ax.plot([rank, rank], [s["initial_cost"], s["cost"]], color="0.75", lw=1.0, zorder=1)
             ax.plot(rank, s["initial_cost"], marker="o", mfc="white", mec="0.55", ms=5, ls="none", zorder=2)
-        colour = "tab:blue" if s.get("converged") else "tab:orange"
+        colour = "tab:blue" if s["converged"] else "tab:orange"
         ax.plot(rank, s["cost"], marker="o", color=colour, ms=6, ls="none", zorder=3)
         if s["start"] == best:
             ax.plot(rank, s["cost"], marker="*", color="tab:red", ms=16, ls="none", zorder=4)
-    costs = [s["cost"] for s in ran] + [s["initial_cost"] for s in ran if finite(s.get("initial_cost"))]
+    costs = [s["cost"] for s in ran] + [s["initial_cost"] for s in ran if finite(s["initial_cost"])]
     top = max(costs) if costs else 1.0
     for i, s in enumerate(failed, start=len(ran) + 1):  # drawn at the top: they reached no finite cost
         ax.plot(i, top, marker="x", color="black", ms=8, ls="none")
@@ -62,7 +72,7 @@ def draw(directory, out_dir, dpi):
     ax.plot([], [], marker="o", mfc="white", mec="0.55", ls="-", color="0.75", label="initial cost → final")
     ax.plot([], [], marker="o", color="tab:blue", ls="none", label="final cost, converged")
     ax.plot([], [], marker="o", color="tab:orange", ls="none", label="final cost, not converged")
-    ax.plot([], [], marker="*", color="tab:red", ms=12, ls="none", label=f"best: start {best}")
+    ax.plot([], [], marker="*", color="tab:red", ms=12, ls="none", label=f"best: start {start_label(best)}")
     if failed:
         ax.plot([], [], marker="x", color="black", ls="none", label="start failed")
     if floor is not None:
@@ -70,12 +80,12 @@ def draw(directory, out_dir, dpi):
     ax.set_yscale("log")
     order = ran + failed
     ax.set_xticks(range(1, len(order) + 1))
-    ax.set_xticklabels([str(s["start"]) for s in order], fontsize=8)
+    ax.set_xticklabels([start_label(s["start"]) for s in order], fontsize=8)
     ax.set_xlim(0.4, len(order) + 0.6)
     ax.set_xlabel("start number, sorted by final cost")
     ax.set_ylabel(cost_label(summary).replace("best cost", "cost"))
     ax.grid(alpha=0.3, which="major")
     ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), framealpha=0.9)
-    ax.set_title(f"{summary.get('experiment', '?')}: multistart, {len(starts)} starts of at most "
-                 f"{opt.get('lm', {}).get('max_iterations', '?')} LM steps", fontsize=11)
+    ax.set_title(f"{summary.text('experiment', '?')}: multistart, {len(starts)} starts of at most "
+                 f"{opt.obj('lm').label('max_iterations')} LM steps", fontsize=11)
     return [common.save(fig, out_dir, "multistart.png", dpi)]

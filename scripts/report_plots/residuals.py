@@ -14,7 +14,7 @@ NEAR_ZERO = 0.10  # a sample with |y| < NEAR_ZERO · max |y| of its window has n
 
 
 def noise_rms(summary, split, out):
-    return (summary.get("residuals", {}).get(split, {}).get(out) or {}).get("noise_rms")
+    return summary.obj("residuals").obj(split).obj(out, nullable=True).num("noise_rms")
 
 
 def peak(values):

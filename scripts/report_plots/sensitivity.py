@@ -26,7 +26,7 @@ def report_behind(directory, info):
     sensitivity directory), or None."""
     candidates = []
     try:
-        words = shlex.split(info.get("command", ""))
+        words = shlex.split(info.text("command", ""))
     except ValueError:
         words = []
     for i, w in enumerate(words):
@@ -51,7 +51,7 @@ def report_units(report, info):
         summary = common.read_json(os.path.join(report, "summary.json"))
     except common.ReportError:
         return {}, {}  # not a report's files after all: no units from it
-    return {o: common.output_unit(summary, o) for o in info.get("outputs", [])}, params
+    return {o: common.output_unit(summary, o) for o in info.texts("outputs")}, params
 
 
 def crank_angle_of(report):
@@ -95,29 +95,28 @@ def on_crank_angle(values, angle):
 
 
 def read_series(directory, info, free, raw):
-    path = os.path.join(directory, "sensitivity.csv")
-    header, rows = common.read_csv(path)
-    source = {p: common.column(header, ("d_" if raw[p] else "s_") + p, path) for p in free}
-    w_col, t_col, o_col = (common.column(header, n, path) for n in ("window", "time", "output"))
+    table = common.read_table(os.path.join(directory, "sensitivity.csv"))
+    windows, times, outputs = table.texts("window"), table.numbers("time"), table.texts("output")
     values = {p: {} for p in free}
-    for line, row in enumerate(rows, start=2):
-        if len(row) != len(header):
-            common.fail(f"{path}:{line}: {len(row)} cells, the header has {len(header)}")
-        for p in free:
-            series = values[p].setdefault(row[o_col], {}).setdefault(row[w_col], ([], []))
-            try:
-                series[0].append(common.number(row[t_col]))
-                series[1].append(common.number(row[source[p]]))
-            except ValueError:
-                common.fail(f"{path}:{line}: a cell is not a number")
+    for p in free:
+        column = table.numbers(("d_" if raw[p] else "s_") + p)
+        for w, t, o, v in zip(windows, times, outputs, column):
+            series = values[p].setdefault(o, {}).setdefault(w, ([], []))
+            series[0].append(t)
+            series[1].append(v)
     return values
+
+
+def parameter_values(info):
+    """{parameter: value} of sensitivity.json's parameters (None where null)."""
+    return {q.text("name", required=True): q.num("value") for q in info.objects("parameters")}
 
 
 def draw_series(info, free, raw, values, out_units, par_units, cycle, out_dir, dpi):
     """One figure per output; against the crank angle when `cycle` is given."""
     names = []
-    value_of = {q["name"]: q["value"] for q in info.get("parameters", [])}
-    for out in info.get("outputs", []):
+    value_of = parameter_values(info)
+    for out in info.texts("outputs"):
         unit = out_units.get(out, "")
         cols = 2 if len(free) > 3 else 1
         n_rows = math.ceil(len(free) / cols)
@@ -130,7 +129,8 @@ def draw_series(info, free, raw, values, out_units, par_units, cycle, out_dir, d
             if cycle and series:
                 common.mark_cycles(ax, [a for t, _ in series.values() for a in t], cycle, next(iter(series)))
             pu = par_units.get(p, "")
-            ax.set_title(f"{p} = {value_of.get(p, math.nan):.4g} {pu}".rstrip(), fontsize=9, loc="left")
+            value = value_of.get(p)
+            ax.set_title(f"{p} = {math.nan if value is None else value:.4g} {pu}".rstrip(), fontsize=9, loc="left")
             if raw[p]:
                 ax.set_ylabel(common.labelled(f"∂{out}/∂{p}", common.quotient_unit(unit, pu) if unit else ""),
                               fontsize=8)
@@ -144,7 +144,7 @@ def draw_series(info, free, raw, values, out_units, par_units, cycle, out_dir, d
             last = axes[max(i // cols for i in range(len(free)) if i % cols == c)][c]
             last.xaxis.set_tick_params(labelbottom=True)
             last.set_xlabel("crank angle [deg]" if cycle else "t [s]", fontsize=9)
-        fig.suptitle(f"{info.get('experiment', '?')}: scaled sensitivities p·∂{out}/∂p "
+        fig.suptitle(f"{info.text('experiment', '?')}: scaled sensitivities p·∂{out}/∂p "
                      f"(change of {out} for a 100 % change of p)", fontsize=11)
         names.append(common.save(fig, out_dir, f"sensitivity_{out}.png", dpi))
     return names
@@ -159,26 +159,31 @@ def relative_errors(report):
     except common.ReportError:
         return {}
     out = {}
-    for p in params.get("parameters", []):
-        se, value = p.get("std_error"), p.get("value")
+    for p in params.objects("parameters"):
+        se, value = p.num("std_error"), p.num("value")
         if se is not None and value:
-            out[p.get("name")] = se / abs(value)
-        elif p.get("determined") is False:
-            out[p.get("name")] = math.inf  # undetermined: a null direction of the fit
+            out[p.text("name", required=True)] = se / abs(value)
+        elif not p.flag("determined", True):
+            out[p.text("name", required=True)] = math.inf  # undetermined: a null direction of the fit
     return out
 
 
 def draw_ranking(info, out_units, errors, out_dir, dpi):
-    ranking = info.get("ranking") or {}
-    outputs = [o for o in info.get("outputs", []) if ranking.get(o)]
+    ranking = info.obj("ranking", nullable=True)
+    # Per output, its rows: rank, parameter, rms_scaled, relative, value, rms_raw.
+    ranked = {o: [{"rank": r.num("rank", 0.0), "parameter": r.text("parameter", required=True),
+                   "rms_scaled": r.num("rms_scaled"), "relative": r.num("relative"), "value": r.num("value"),
+                   "rms_raw": r.num("rms_raw", 0.0)} for r in ranking.objects(o, nullable=True)]
+              for o in info.texts("outputs")}
+    outputs = [o for o in info.texts("outputs") if ranked[o]]
     if not outputs:
         return []
-    n = max(len(ranking[o]) for o in outputs)
+    n = max(len(ranked[o]) for o in outputs)
     fig, axes = plt.subplots(1, len(outputs), figsize=(7.5 * len(outputs), 0.32 * n + 1.8), squeeze=False, layout="constrained")
     for ax, out in zip(axes[0], outputs):
-        rows = sorted(ranking[out], key=lambda r: r.get("rank", 0))
+        rows = sorted(ranked[out], key=lambda r: r["rank"])
         names = [r["parameter"] for r in rows]
-        rms = [r.get("rms_scaled") for r in rows]
+        rms = [r["rms_scaled"] for r in rows]
         shown = [v if v is not None and v > 0 else math.nan for v in rms]
         y = list(range(len(rows)))
         ax.barh(y, shown, color="tab:purple", alpha=0.8)
@@ -190,7 +195,7 @@ def draw_ranking(info, out_units, errors, out_dir, dpi):
         if positive:
             ax.set_xlim(min(positive) / 3, max(positive) * (300 if errors else 30))  # room for the labels
         for yi, r, v in zip(y, rows, shown):
-            rel = r.get("relative")
+            rel = r["relative"]
             if math.isfinite(v):
                 text = f"{100 * rel:.3g} %" if rel is not None else ""
                 se = errors.get(r["parameter"])
@@ -199,15 +204,15 @@ def draw_ranking(info, out_units, errors, out_dir, dpi):
                     text += "   σ/|p| undetermined" if math.isinf(se) else \
                         f"   σ/|p| {percent:.2g} %" if percent < 100 else f"   σ/|p| {percent:.0f} %"
                 ax.text(v * 1.15, yi, text, va="center", fontsize=8)
-            elif r.get("value") == 0:  # p·∂y/∂p vanishes at p = 0: no bar, its raw RMS instead
-                ax.text(0.01, yi, f"at {r['parameter']} = 0: RMS ∂{out}/∂{r['parameter']} = {r.get('rms_raw', 0):.3g}",
+            elif r["value"] == 0:  # p·∂y/∂p vanishes at p = 0: no bar, its raw RMS instead
+                ax.text(0.01, yi, f"at {r['parameter']} = 0: RMS ∂{out}/∂{r['parameter']} = {r['rms_raw']:.3g}",
                         transform=ax.get_yaxis_transform(), va="center", fontsize=8, color="0.3")
         ax.set_xlabel(common.labelled(f"RMS of p·∂{out}/∂p", out_units.get(out, "")), fontsize=9)
         ax.grid(alpha=0.3, axis="x", which="both")
         ax.set_title(f"{out}: labels give the % of the first"
                      + ("\nand σ/|p|, the fit's relative standard error (params.json)" if errors else ""),
                      fontsize=9, loc="left")
-    fig.suptitle(f"{info.get('experiment', '?')}: parameters ranked by scaled sensitivity", fontsize=11)
+    fig.suptitle(f"{info.text('experiment', '?')}: parameters ranked by scaled sensitivity", fontsize=11)
     return [common.save(fig, out_dir, "sensitivity_ranking.png", dpi)]
 
 
@@ -215,10 +220,10 @@ def draw(directory, out_dir, dpi):
     if not common.exists(directory, "sensitivity.json"):
         return []
     info = common.read_json(os.path.join(directory, "sensitivity.json"))
-    free = info.get("free_parameters", [])
+    free = info.texts("free_parameters")
     if not free:
-        common.fail(f"{os.path.join(directory, 'sensitivity.json')}: no free parameters")
-    value_of = {q["name"]: q["value"] for q in info.get("parameters", [])}
+        common.fail(f"{info.path}: free_parameters: no free parameters")
+    value_of = parameter_values(info)
     raw = {p: value_of.get(p) == 0 for p in free}  # p·∂y/∂p is 0 for a parameter at 0: ∂y/∂p instead
     values = read_series(directory, info, free, raw)
     report = report_behind(directory, info)

@@ -17,7 +17,6 @@ empty list when the directory holds neither file). Standard library, numpy and
 matplotlib (Agg backend) only.
 """
 
-import csv
 import math
 import os
 import re
@@ -35,16 +34,6 @@ _STYLE = {
 }
 
 
-def _read_csv(path):
-    with open(path, newline="") as f:
-        rows = list(csv.reader(f))
-    return (rows[0], rows[1:]) if rows else ([], [])
-
-
-def _number(cell):
-    return float(cell) if cell not in ("", None) else math.nan
-
-
 def _percent(share):
     """A share as the terminal writes it: "38 %", "0.39 %"."""
     return f"{100 * share:.0f} %" if share >= 0.1 else f"{100 * share:.2g} %"
@@ -54,39 +43,37 @@ def _hz(value):
     return f"{value:.0f}" if value >= 100 else f"{value:.3g}"
 
 
-def _summary(directory):
-    path = os.path.join(directory, "summary.json")
-    return common.read_json(path) if os.path.isfile(path) else {}
-
-
 def _eigenfrequencies(summary):
     """(frequency_hz, kind) of the model's flexible modes, when the summary lists them."""
-    modes = (summary.get("modes") or {}).get("modes") or []
     out = []
-    for m in modes:
-        f = m.get("frequency_hz")
-        if m.get("kind") == "rigid_body" or not isinstance(f, (int, float)) or not f > 0:
+    for m in summary.obj("modes", nullable=True).objects("modes", nullable=True):
+        f, kind = m.num("frequency_hz"), m.text("kind", "")
+        if kind == "rigid_body" or f is None or not math.isfinite(f) or not f > 0:
             continue
-        out.append((float(f), m.get("kind", "")))
+        out.append((f, kind))
     return out
 
 
 def _spectra(path):
     """{split: {"f": array, output: {kind: array}}}, and {output: density unit}."""
-    header, rows = _read_csv(path)
+    table = common.read_table(path)
     columns = []
     units = {}
-    for i, name in enumerate(header[2:], start=2):
-        m = _COLUMN.match(name)
+    for heading, name in zip(table.headings, table.names):
+        m = _COLUMN.match(heading)
         if m:
-            columns.append((i, m["output"], m["kind"]))
+            columns.append((name, m["output"], m["kind"], table.numbers(name)))
             units[m["output"]] = m["unit"]
+    for output in units:
+        for kind in ("measured", "simulated", "residual"):
+            table.index(f"{output}_{kind}_psd")
+    splits, frequencies = table.texts("split"), table.numbers("frequency", finite=True)
     data = {}
-    for row in rows:
-        split = data.setdefault(row[0], {"f": []})
-        split["f"].append(_number(row[1]))
-        for i, output, kind in columns:
-            split.setdefault(output, {}).setdefault(kind, []).append(_number(row[i]))
+    for r, (split_name, f) in enumerate(zip(splits, frequencies)):
+        split = data.setdefault(split_name, {"f": []})
+        split["f"].append(f)
+        for _, output, kind, values in columns:
+            split.setdefault(output, {}).setdefault(kind, []).append(values[r])
     for split in data.values():
         split["f"] = np.array(split["f"])
         for key, value in split.items():
@@ -94,6 +81,11 @@ def _spectra(path):
                 for kind in value:
                     value[kind] = np.array(value[kind])
     return data, units
+
+
+def _residual_spectrum(summary, split, output):
+    """summary.json's residual_spectrum.SPLIT.OUTPUT (empty when absent or null)."""
+    return summary.obj("residual_spectrum", nullable=True).obj(split, nullable=True).obj(output, nullable=True)
 
 
 def _draw_spectra(directory, out_dir, dpi, summary):
@@ -114,13 +106,14 @@ def _draw_spectra(directory, out_dir, dpi, summary):
                 keep = (f > 0) & np.isfinite(d) & (d > 0)  # 0 Hz holds nothing: each segment's mean is removed
                 ax.loglog(f[keep], d[keep], **_STYLE[kind])
             title = f"{split}: {output}"
-            peak = (((summary.get("residual_spectrum") or {}).get(split) or {}).get(output) or {}).get("frequency")
-            if peak and peak.get("band_hz") and None not in peak["band_hz"]:
-                lo, hi = peak["band_hz"]
+            peak = _residual_spectrum(summary, split, output).obj("frequency", nullable=True)
+            band = peak.nums("band_hz", nullable=True, length=2)
+            share, peak_hz = peak.num("share"), peak.num("peak_hz")
+            if band and all(math.isfinite(b) for b in band) and share is not None and peak_hz is not None:
+                lo, hi = band
                 ax.axvspan(max(lo, f[1]), hi, color="tab:blue", alpha=0.12, lw=0,
-                           label=f"residual band: {_percent(peak['share'])} of its variance")
-                title += (f"   residual peak {_hz(peak['peak_hz'])} Hz"
-                          f" ({_percent(peak['share'])} in {_hz(lo)}-{_hz(hi)} Hz)")
+                           label=f"residual band: {_percent(share)} of its variance")
+                title += f"   residual peak {_hz(peak_hz)} Hz ({_percent(share)} in {_hz(lo)}-{_hz(hi)} Hz)"
             for i, (fm, kind) in enumerate(modes):
                 if fm <= f[-1]:
                     ax.axvline(fm, color="tab:green", lw=0.9, ls=":",
@@ -133,26 +126,28 @@ def _draw_spectra(directory, out_dir, dpi, summary):
                 ax.legend(loc="lower left", fontsize=7)
     for ax in axes[-1]:
         ax.set_xlabel("frequency [Hz]")
-    fig.suptitle(f"{summary.get('experiment', '')}: power spectral densities (Welch, Hann segments)".strip(": "),
+    fig.suptitle(f"{summary.text('experiment', '')}: power spectral densities (Welch, Hann segments)".strip(": "),
                  fontsize=11)
     fig.tight_layout(rect=(0, 0, 1, 1 - 0.35 / fig.get_figheight()))
     return [common.save(fig, out_dir, "spectra.png", dpi)]
 
 
 def _draw_orders(directory, out_dir, dpi, summary):
-    header, rows = _read_csv(os.path.join(directory, "orders.csv"))
-    if not rows:
+    csv_table = common.read_table(os.path.join(directory, "orders.csv"))
+    if not csv_table.rows:
         return []
-    at = {name: i for i, name in enumerate(header)}
+    split_of, output_of, unit_of = csv_table.texts("split"), csv_table.texts("output"), csv_table.texts("unit")
+    window_of, cycle_of, order_of = csv_table.texts("window"), csv_table.texts("cycle"), \
+        csv_table.numbers("order", finite=True)
+    amplitudes = {kind: csv_table.numbers(f"{kind}_amplitude") for kind in ("measured", "simulated", "residual")}
     # {(split, output): {order: {kind: [amplitudes over cycles]}}}
     table, units, cycles = {}, {}, {}
-    for row in rows:
-        key = (row[at["split"]], row[at["output"]])
-        units[key[1]] = row[at["unit"]]
-        cycles.setdefault(key, set()).add((row[at["window"]], row[at["cycle"]]))
-        per_order = table.setdefault(key, {}).setdefault(float(row[at["order"]]), {})
+    for r, key in enumerate(zip(split_of, output_of)):
+        units[key[1]] = unit_of[r]
+        cycles.setdefault(key, set()).add((window_of[r], cycle_of[r]))
+        per_order = table.setdefault(key, {}).setdefault(order_of[r], {})
         for kind in ("measured", "simulated", "residual"):
-            per_order.setdefault(kind, []).append(_number(row[at[f"{kind}_amplitude"]]))
+            per_order.setdefault(kind, []).append(amplitudes[kind][r])
     splits = [s for s in ("estimation", "validation") if any(k[0] == s for k in table)]
     outputs = list(units)
     fig, axes = plt.subplots(len(outputs), len(splits), figsize=(7.5 * len(splits), 3.4 * len(outputs) + 0.6),
@@ -170,19 +165,20 @@ def _draw_orders(directory, out_dir, dpi, summary):
             ax.set_xticks(x)
             ax.set_xticklabels([f"{o:g}" for o in orders], fontsize=7)
             n = len(cycles.get((split, output), ()))
-            peak = (((summary.get("residual_spectrum") or {}).get(split) or {}).get(output) or {}).get("order")
+            peak = _residual_spectrum(summary, split, output).obj("order", nullable=True)
+            share, order, orders_share = peak.num("share"), peak.num("order"), peak.num("orders_share")
             title = f"{split}: {output}, RMS over {n} cycle{'s' if n != 1 else ''}"
-            if peak:
-                title += f"   residual: {_percent(peak['share'])} of its variance at order {peak['order']:g}"
-                if peak.get("orders_share") is not None:
-                    title += f", {_percent(peak['orders_share'])} up to order {peak.get('max_order', 0):g}"
+            if share is not None and order is not None:
+                title += f"   residual: {_percent(share)} of its variance at order {order:g}"
+                if orders_share is not None:
+                    title += f", {_percent(orders_share)} up to order {peak.num('max_order', 0.0):g}"
             ax.set_title(title, fontsize=9)
             ax.set_xlabel("order [per revolution of the angle channel's shaft]")
             ax.set_ylabel(f"amplitude of {output} [{units[output]}]")
             ax.grid(alpha=0.3, axis="y", which="both")
             if r == 0 and c == 0:
                 ax.legend(loc="upper right", fontsize=7)
-    fig.suptitle(f"{summary.get('experiment', '')}: order spectrum, cycle by cycle of the crank angle".strip(": "),
+    fig.suptitle(f"{summary.text('experiment', '')}: order spectrum, cycle by cycle of the crank angle".strip(": "),
                  fontsize=11)
     fig.tight_layout(rect=(0, 0, 1, 1 - 0.35 / fig.get_figheight()))
     return [common.save(fig, out_dir, "orders.png", dpi)]
@@ -190,7 +186,7 @@ def _draw_orders(directory, out_dir, dpi, summary):
 
 def draw(directory, out_dir, dpi):
     """Writes spectra.png (and orders.png for an engine) to out_dir; returns the names written."""
-    summary = _summary(directory)
+    summary = common.read_json_if(directory, "summary.json")
     written = []
     if os.path.isfile(os.path.join(directory, "spectra.csv")):
         written += _draw_spectra(directory, out_dir, dpi, summary)
