@@ -21,16 +21,16 @@ TEST_CASE("PSO on the CVT problem is bit-identical for 1, 2 and 3 threads", "[ps
         CHECK(runs.back().threads == threads);
     }
     for (std::size_t r = 1; r < runs.size(); ++r) {
-        CHECK(runs[r].pso.best == runs[0].pso.best);  // exact, not approximate
-        CHECK(runs[r].pso.best_cost == runs[0].pso.best_cost);
-        REQUIRE(runs[r].pso.history.size() == runs[0].pso.history.size());
-        for (std::size_t k = 0; k < runs[0].pso.history.size(); ++k) {
-            CHECK(runs[r].pso.history[k].best_cost == runs[0].pso.history[k].best_cost);
-            CHECK(runs[r].pso.history[k].evaluations == runs[0].pso.history[k].evaluations);
+        CHECK(runs[r].run.best == runs[0].run.best);  // exact, not approximate
+        CHECK(runs[r].run.best_cost == runs[0].run.best_cost);
+        REQUIRE(runs[r].run.history.size() == runs[0].run.history.size());
+        for (std::size_t k = 0; k < runs[0].run.history.size(); ++k) {
+            CHECK(runs[r].run.history[k].best_cost == runs[0].run.history[k].best_cost);
+            CHECK(runs[r].run.history[k].evaluations == runs[0].run.history[k].evaluations);
         }
     }
     // A different seed explores differently.
     FitOptions other;
     other.seed = 99;
-    CHECK(run_fit(problem, other).pso.best != runs[0].pso.best);
+    CHECK(run_fit(problem, other).run.best != runs[0].run.best);
 }

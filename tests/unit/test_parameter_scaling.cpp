@@ -229,14 +229,14 @@ TEST_CASE("log-scaled multistart and swarm give the same result on 1 and 2 threa
         CHECK(one.best_free == two.best_free);
         CHECK(one.run.best_cost == two.run.best_cost);
         CHECK(one.run.name == "multistart");
-        REQUIRE(one.multistart.starts.size() == 4);
+        REQUIRE(one.run.starts.size() == 4);
         double lowest = 1e300;
         for (std::size_t i = 0; i < 4; ++i) {
-            CHECK(one.multistart.starts[i].initial == two.multistart.starts[i].initial);
+            CHECK(one.run.starts[i].initial == two.run.starts[i].initial);
             // Starts reported as parameters, inside the range box (k_minus, the second free one).
-            CHECK(one.multistart.starts[i].initial[1] >= 1.0e2);
-            CHECK(one.multistart.starts[i].initial[1] <= 1.0e5);
-            lowest = std::min(lowest, one.multistart.starts[i].initial[1]);
+            CHECK(one.run.starts[i].initial[1] >= 1.0e2);
+            CHECK(one.run.starts[i].initial[1] <= 1.0e5);
+            lowest = std::min(lowest, one.run.starts[i].initial[1]);
         }
         // One start in each quarter of the three decades: the lowest below 10^2.75 (linear
         // sampling would put one there with a chance of 2 %).
