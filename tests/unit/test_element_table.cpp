@@ -430,6 +430,8 @@ TEST_CASE("a kind reads its entry and the table checks its fields' signs", "[mod
     CHECK_FALSE(net.gear_meshes[0].has_clearance);
 
     const auto gear = [](TextSource& s, NetworkSpec& n) { read_element<elements::GearMesh>(s, "stage", n); };
+    CHECK(read_error(TextSource({{"between", ""}, {"ratio", "0"}, {"k", "1000"}}), gear) ==
+          "ratio: must not be zero: a gear ratio (got 0)");
     CHECK(read_error(TextSource({{"between", ""}, {"ratio", "2"}, {"k", "-1"}}), gear) ==
           "k: cannot be negative: a mesh stiffness (got -1)");
     // A clearance law's k stands for k_minus and k_plus: the error names the key given.

@@ -21,8 +21,8 @@ inline constexpr int kGround = -1;  ///< node index meaning "the fixed base"
 
 /// The sign a field's physics allows: a negative stiffness or damping turns an
 /// oscillation into exponential growth; a clearance's σ and a cylinder dimension are
-/// divided by or must describe a real part.
-enum class SignRule { any, non_negative, positive };
+/// divided by or must describe a real part; a gear ratio of 0 joins nothing (θa − 0·θb).
+enum class SignRule { any, non_negative, positive, nonzero };
 
 /// One row of an element kind's field table. The unit is required: a kind that leaves
 /// it out does not compile.
@@ -45,15 +45,17 @@ inline bool violates_sign(SignRule rule, double v) {
         case SignRule::any: return false;
         case SignRule::non_negative: return !(v >= 0);
         case SignRule::positive: return !(v > 0);
+        case SignRule::nonzero: return !(v != 0);
     }
     return false;
 }
 
-/// How a broken sign rule is said: "must be positive: " or "cannot be negative: ".
+/// How a broken sign rule is said: "must be positive: ", "cannot be negative: ", "must not be zero: ".
 inline const char* sign_problem(SignRule rule) {
     switch (rule) {
         case SignRule::positive: return "must be positive: ";
         case SignRule::non_negative: return "cannot be negative: ";
+        case SignRule::nonzero: return "must not be zero: ";
         case SignRule::any: break;
     }
     return "";

@@ -62,7 +62,7 @@ struct GearMesh {
     /// f(info, field...) for each numeric field, of each of s, e... (a spec first, then bound elements) in step.
     template <class F, class Spec_, class... E>
     static void for_each_field(F&& f, Spec_& s, E&... e) {
-        f(FieldInfo{"ratio", nullptr, SignRule::any, "1"}, s.ratio, e.ratio...);
+        f(FieldInfo{"ratio", "a gear ratio", SignRule::nonzero, "1"}, s.ratio, e.ratio...);
         f(FieldInfo{"k", "a mesh stiffness", SignRule::non_negative, "N m/rad"}, s.k, e.k...);
         f(FieldInfo{"c", "a mesh damping coefficient", SignRule::non_negative, "N m s/rad"}, s.c, e.c...);
         for_each_clearance_law_field(f, s.has_clearance, s.smooth, s, e...);
