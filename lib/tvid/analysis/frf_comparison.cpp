@@ -6,29 +6,9 @@
 #include <stdexcept>
 
 #include "tvid/analysis/welch_spectrum.hpp"
+#include "tvid/model/parameter_units.hpp"
 
 namespace tvid {
-
-namespace {
-
-const char* input_unit_of(const NetworkSpec& spec, std::size_t input) {
-    for (const TorqueSpec& t : spec.torques)
-        if (static_cast<std::size_t>(t.input) == input) return "N m";
-    for (const SpeedSourceSpec& s : spec.speed_sources)
-        if (s.input >= 0 && static_cast<std::size_t>(s.input) == input) return "rad/s";
-    return "";
-}
-
-const char* output_unit_of(const OutputSpec& o) {
-    switch (o.kind) {
-        case OutputKind::speed: return "rad/s";
-        case OutputKind::angle: return "rad";
-        case OutputKind::torque: return "N m";
-    }
-    return "";
-}
-
-}  // namespace
 
 FrfComparison compare_frf(const IdentificationProblem& problem, const std::vector<double>& params, std::size_t input,
                           std::size_t output, std::size_t window, AngleDependence angle_dependence) {
@@ -36,8 +16,8 @@ FrfComparison compare_frf(const IdentificationProblem& problem, const std::vecto
     FrfComparison r;
     r.input = d.network.input_names.at(input);
     r.output = d.network.outputs.at(output).name;
-    r.input_unit = input_unit_of(d.network, input);
-    r.output_unit = output_unit_of(d.network.outputs[output]);
+    r.input_unit = input_unit(d.network, input);
+    r.output_unit = output_unit(d.network.outputs[output]);
     r.angle_dependence = angle_dependence;
     r.operating_point = window_operating_point(problem, params, window);
     const LinearNetwork sys = linearise_network(d.network, params, &d.angle_inputs, r.operating_point.x,

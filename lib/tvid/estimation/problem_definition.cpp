@@ -1,9 +1,11 @@
 #include "tvid/estimation/problem_definition.hpp"
 
 #include "tvid/channels/channel_delay.hpp"
+#include "tvid/model/parameter_units.hpp"
 
 #include <algorithm>
 #include <cmath>
+#include <string_view>
 #include <utility>
 
 namespace tvid {
@@ -39,9 +41,9 @@ double speed_limit(const ProblemDefinition& d, const Experiment& experiment) {
     };
     for (std::size_t k = 0; k < d.measured.size(); ++k)
         if (d.network.outputs[static_cast<std::size_t>(d.output_indices[k])].kind == OutputKind::speed) take(d.measured[k]);
-    for (const SpeedSourceSpec& s : d.network.speed_sources) {
-        if (s.input < 0) continue;
-        const std::size_t k = static_cast<std::size_t>(s.input);
+    // The measured speeds the model reads (a speed source's channel).
+    for (std::size_t k = 0; k < d.network.input_names.size(); ++k) {
+        if (std::string_view(input_unit(d.network, k)) != outputs::Speed::unit) continue;
         std::vector<double> v(d.inputs.samples());
         for (std::size_t i = 0; i < v.size(); ++i) v[i] = d.inputs.value(k, i);
         take(v);
