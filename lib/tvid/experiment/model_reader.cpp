@@ -1,5 +1,6 @@
 #include "tvid/experiment/model_reader.hpp"
 
+#include "tvid/io/atomic_file.hpp"
 #include "tvid/util/text.hpp"
 
 #include <algorithm>
@@ -126,6 +127,7 @@ private:
             NodeSpec n;
             n.name = m.text("name");
             if (n.name == "ground") m.fail("name", "'ground' is the fixed base; give the node another name");
+            if (const std::string why = plain_name_problem(n.name); !why.empty()) m.fail("name", why);
             if (net_.node_index(n.name) >= 0) m.fail("name", "a node named '" + n.name + "' already exists");
             if (m.has("J") && m.has("inverse_J")) m.fail("inverse_J", "give either J or inverse_J, not both");
             if (!m.has("J") && !m.has("inverse_J")) m.fail_missing("J", "(give exactly one of J or inverse_J)");
@@ -169,6 +171,7 @@ private:
                                   "order_torque", "speed_source", "speed_controller"});
             const std::string name = m.has("name") ? m.text("name") : type + std::to_string(i + 1);
             if (!names.insert(name).second) m.fail("name", "an element named '" + name + "' already exists");
+            if (const std::string why = plain_name_problem(name); !why.empty()) m.fail("name", why);
             if (type == "spring_damper") {
                 m.allow_only({"type", "name", "between", "k", "c"});
                 const auto [a, b] = between(m, true);
