@@ -1,5 +1,6 @@
 #include "tvid/experiment/channel_reader.hpp"
 
+#include "tvid/io/atomic_file.hpp"
 #include "tvid/util/text.hpp"
 
 #include <algorithm>
@@ -255,6 +256,7 @@ OutputBindings read_outputs(const YamlMap& outputs, NetworkSpec& network, const 
         outputs.allow_only(names);
     }
     for (const std::string& name : outputs.keys()) {
+        if (const std::string why = plain_name_problem(name); !why.empty()) outputs.fail(name, why);
         if (custom) {
             if (network.output_index(name) >= 0) outputs.fail(name, "output defined twice");
             network.outputs.push_back(read_custom_output(outputs, name, network));

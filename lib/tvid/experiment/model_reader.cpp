@@ -1,5 +1,6 @@
 #include "tvid/experiment/model_reader.hpp"
 
+#include "tvid/io/atomic_file.hpp"
 #include "tvid/util/text.hpp"
 
 #include <algorithm>
@@ -77,6 +78,7 @@ private:
             NodeSpec n;
             n.name = m.text("name");
             if (n.name == "ground") m.fail("name", "'ground' is the fixed base; give the node another name");
+            if (const std::string why = plain_name_problem(n.name); !why.empty()) m.fail("name", why);
             if (net_.node_index(n.name) >= 0) m.fail("name", "a node named '" + n.name + "' already exists");
             if (m.has("J") && m.has("inverse_J")) m.fail("inverse_J", "give either J or inverse_J, not both");
             if (!m.has("J") && !m.has("inverse_J")) m.fail_missing("J", "(give exactly one of J or inverse_J)");
@@ -136,6 +138,7 @@ private:
             const std::string type = m.choice("type", types);
             const std::string name = m.has("name") ? m.text("name") : type + std::to_string(i + 1);
             if (!names_.insert(name).second) m.fail("name", "an element named '" + name + "' already exists");
+            if (const std::string why = plain_name_problem(name); !why.empty()) m.fail("name", why);
             read_element_of_type(m, type, name);
         }
         if (net_.input_names.empty() && net_.angle_input_names.empty())

@@ -1,5 +1,6 @@
 #include "tvid/experiment/parameter_reader.hpp"
 
+#include "tvid/io/atomic_file.hpp"
 #include "tvid/util/text.hpp"
 
 #include <cmath>
@@ -145,6 +146,7 @@ std::vector<ParameterSetting> read_parameters(const YamlMap& parameters, const N
         const std::string& name = network.parameter_names[i];
         if (!parameters.has(name))
             parameters.fail_missing(name, "(model parameter " + name + " needs { init, min, max } or { value })");
+        if (const std::string why = plain_name_problem(name); !why.empty()) parameters.fail(name, why);
         if (!used[i]) parameters.fail(name, "is not used by any node, element or output of the model");
         const YAML::Node node = parameters.get(name);
         if (node.IsScalar()) {  // `name: 3.5` is shorthand for a fixed value

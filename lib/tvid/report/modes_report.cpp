@@ -1,3 +1,4 @@
+#include "tvid/io/csv_field.hpp"
 #include "tvid/report/modes_report.hpp"
 
 #include <algorithm>
@@ -128,15 +129,16 @@ std::string modes_csv(const ModesStudy& s) {
     const ModalAnalysis& m = s.modal;
     std::ostringstream out;
     out << "mode,kind,frequency_hz,damped_frequency_hz,damping_ratio,eigenvalue_re,eigenvalue_im,dominant_node";
-    for (const std::string& n : m.node_names) out << ",shape_" << n << ",magnitude_" << n << ",phase_deg_" << n;
-    for (const std::string& n : m.node_names) out << ",common_" << n;
+    for (const std::string& n : m.node_names)
+        out << ',' << csv_field("shape_" + n) << ',' << csv_field("magnitude_" + n) << ',' << csv_field("phase_deg_" + n);
+    for (const std::string& n : m.node_names) out << ',' << csv_field("common_" + n);
     out << '\n';
     for (std::size_t k = 0; k < m.modes.size(); ++k) {
         const TorsionalMode& mode = m.modes[k];
         out << k + 1 << ',' << mode_kind_name(mode.kind) << ',' << csv_cell(mode.frequency_hz) << ','
             << csv_cell(mode.damped_frequency_hz) << ',' << csv_cell(mode.damping_ratio) << ','
             << csv_cell(mode.eigenvalue.real()) << ',' << csv_cell(mode.eigenvalue.imag()) << ','
-            << m.node_names[mode.dominant_node];
+            << csv_field(m.node_names[mode.dominant_node]);
         for (std::size_t i = 0; i < m.node_names.size(); ++i)
             out << ',' << mode_cell(mode.shape[i].real()) << ',' << mode_cell(std::abs(mode.shape[i])) << ','
                 << mode_cell(phase_deg(mode.shape[i]), "%.2f");
@@ -172,8 +174,8 @@ void write_modes_report(const std::filesystem::path& dir, const ModesStudy& stud
     std::error_code ec;
     std::filesystem::create_directories(dir, ec);
     if (ec) throw std::runtime_error("cannot create directory " + dir.string() + ": " + ec.message());
-    write_file_atomically(dir / "modes.csv", modes_csv(study));
-    write_file_atomically(dir / "modes.json", json_text(modes_json(study, run)) + "\n");
+    write_output_file(dir, "modes.csv", modes_csv(study));
+    write_output_file(dir, "modes.json", json_text(modes_json(study, run)) + "\n");
 }
 
 json frf_json(const FrfComparison& f, const ModesRunInfo& run) {
@@ -242,8 +244,8 @@ void write_frf_report(const std::filesystem::path& dir, const FrfComparison& frf
     std::error_code ec;
     std::filesystem::create_directories(dir, ec);
     if (ec) throw std::runtime_error("cannot create directory " + dir.string() + ": " + ec.message());
-    write_file_atomically(dir / "frf.csv", frf_csv(frf));
-    write_file_atomically(dir / "frf.json", json_text(frf_json(frf, run)) + "\n");
+    write_output_file(dir, "frf.csv", frf_csv(frf));
+    write_output_file(dir, "frf.json", json_text(frf_json(frf, run)) + "\n");
 }
 
 std::string frf_summary_text(const FrfComparison& f) {
