@@ -14,6 +14,8 @@ namespace tvid {
 
 namespace {
 
+constexpr double kSmallestWeight = 1e-8, kLargestWeight = 1e8;  // an output's weight
+
 struct UnitFactor {
     const char* unit;
     double factor;
@@ -272,6 +274,11 @@ OutputBindings read_outputs(const YamlMap& outputs, NetworkSpec& network, const 
             if (m.has("weight")) {
                 const double w = m.number("weight");
                 if (!(w > 0) || !std::isfinite(w)) m.fail("weight", "an output's weight must be a positive number");
+                // Relative factors: beyond 1e8 one output's squared residual swamps the
+                // others past double precision, and a weight of 1e154 overflows the cost.
+                if (w < kSmallestWeight || w > kLargestWeight)
+                    m.fail("weight", "an output's weight must be between 1e-08 and 1e+08 (weights are relative; got " +
+                                         number_text(w) + ")");
                 out.channels.back().weight = w;
             }
             ScoringFilter& f = out.channels.back().scoring;

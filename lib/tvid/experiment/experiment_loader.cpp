@@ -19,6 +19,7 @@
 #include "tvid/experiment/yaml_reader.hpp"
 #include "tvid/io/input_file.hpp"
 #include "tvid/io/sha256.hpp"
+#include "tvid/model/steady_motion.hpp"
 #include "tvid/sim/observation_loops.hpp"
 #include "tvid/util/input_error.hpp"
 #include "tvid/util/text.hpp"
@@ -375,6 +376,10 @@ Experiment load_experiment(const std::filesystem::path& file, const std::vector<
                 top.fail("initial_state", "steady needs its node and speed: initial_state: { kind: steady, node: "
                                           "NAME, speed: RAD_PER_S or COLUMN }");
             ex.steady = read_steady_start(start, ex.network, ex.data);
+            if (const std::string held = held_to_ground(ex.network); !held.empty())
+                start.fail("kind", "steady on a line held to ground by " + held +
+                                       ": it cannot turn steadily, and at rest its start is the static equilibrium "
+                                       "(initial_state: equilibrium, measured or rest)");
         }
         if (engine && ex.initial_state != InitialStateKind::measured && ex.initial_state != InitialStateKind::steady)
             top.fail("initial_state", "a model with cylinders turns: it starts from the measured crank angle and "

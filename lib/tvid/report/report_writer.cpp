@@ -178,6 +178,8 @@ json identifiability_json(const IdentifiabilityReport& report) {
         parameters.push_back(json{{"name", p.name},
                                   {"std_error", json_number(p.std_error)},
                                   {"relative_std_error", json_number(p.relative_std_error)},
+                                  {"judged_std_error", json_number(p.judged_std_error)},
+                                  {"judged_against", p.judged_against},
                                   {"flag", to_string(p.flag)}});
         if (p.flag == IdentifiabilityFlag::undetermined) undetermined.push_back(p.name);
     }
@@ -211,7 +213,7 @@ json identifiability_json(const IdentifiabilityReport& report) {
 json fit_summary_json(const IdentificationProblem& problem, const FitResult& fit, const RunContext& context) {
     const Experiment& ex = problem.experiment();
     const json identifiability =
-        identifiability_json(assess_identifiability(fit.uncertainty, problem.free_names(), fit.best_free));
+        identifiability_json(assess_identifiability(problem, fit.uncertainty, fit.best_free));
     const double evals_per_s =
         fit.optimizer_seconds > 0 ? static_cast<double>(fit.run.evaluations) / fit.optimizer_seconds : 0.0;
     json optimizer{{"name", fit.run.name},

@@ -94,6 +94,10 @@ std::vector<ResidualSpectrumSummary> residual_spectrum_summary(const Experiment&
         s.output = ex.outputs[k].model_name;
         s.unit = output_unit_of(ex, k);
         if (k < spectra.outputs.size()) s.band = dominant_band(spectra.frequency_hz, spectra.outputs[k].residual);
+        s.segments = spectra.segments;
+        s.segment_length = spectra.segment_length;
+        s.gaps = spectra.gaps;
+        s.resolution_hz = spectra.resolution_hz;
         s.order = dominant_order(orders, k);
         s.engine = engine;
         out.push_back(std::move(s));
@@ -112,7 +116,11 @@ nlohmann::json split_residual_spectrum_json(const Experiment& ex, const SplitEva
             band = {{"peak_hz", json_number(s.band.peak_hz)},
                     {"band_hz", {json_number(s.band.band_low_hz), json_number(s.band.band_high_hz)}},
                     {"share", json_number(s.band.share)},
-                    {"variance", json_number(s.band.variance)}};
+                    {"variance", json_number(s.band.variance)},
+                    {"segments", s.segments},
+                    {"segment_length", s.segment_length},
+                    {"resolution_hz", json_number(s.resolution_hz)},
+                    {"gaps", s.gaps}};
         if (s.order.available)
             order = {{"order", json_number(s.order.order)},
                      {"amplitude", json_number(s.order.amplitude)},
