@@ -227,20 +227,28 @@ std::unique_ptr<PreparedBatch> prepare_batch(const BatchCommand& cmd, const Batc
     // The output directory: a fresh batch.csv, or the rows of an interrupted one (--resume).
     const std::filesystem::path dir = batch_directory(ex, cmd.output_dir);
     const std::filesystem::path table = dir / "batch.csv", summary_file = dir / "batch_summary.json";
-    std::error_code ec;
     if (!cmd.resume && !cmd.force && std::filesystem::exists(table))
         throw InputError(table.string(), 0, "",
                          "a batch is already here: use --resume to continue it or --force to start over");
-    OutputDirectoryLock lock = prepare_output_directory(dir, "batch directory");
-    // --resume continues only the batch that began here (same experiment, --set, --seed, recordings).
-    const BatchIdentity identity = batch_identity(settings, request.recordings, ex.config_sha256);
+    // The recordings' digests: what --resume compares, and (read through the input reader)
+    // the files this run reads, which no batch file may replace.
+    std::vector<std::string> digests = request.recordings.empty() ? std::vector<std::string>{ex.data.content_sha256()}
+                                                                  : recording_digests(request.recordings);
+    OutputDirectoryLock lock = prepare_output_directory(
+        dir, "batch directory",
+        {"batch.csv", "batch_summary.json", "matrix.csv", "matrix_long.csv", "parameter_stability.csv",
+         batch_identity_file(dir).filename().string()});
+    // --resume continues only the batch that began here (same experiment, --set, --seed,
+    // --no-validation, recordings and their content).
+    const BatchIdentity identity =
+        batch_identity(settings, request.recordings, ex.config_sha256, std::move(digests), request.validation);
     if (cmd.resume && std::filesystem::exists(table)) require_same_batch(dir, identity);
     std::map<std::size_t, BatchRow> rows = cmd.resume ? resumed_rows(table, columns, jobs, cmd.common.quiet)
                                                       : std::map<std::size_t, BatchRow>{};
     write_batch_identity(dir, identity);
-    std::filesystem::remove(summary_file, ec);  // its presence marks a complete batch
+    remove_output_file(dir, summary_file.filename().string());  // its presence marks a complete batch
     for (const char* stale : {"matrix.csv", "matrix_long.csv", "parameter_stability.csv"})
-        std::filesystem::remove(dir / stale, ec);  // written again at the end, if asked for
+        remove_output_file(dir, stale);  // written again at the end, if asked for
     std::vector<std::string> units;
     const std::vector<std::string> model_units = parameter_units(ex.network);
     for (std::size_t j : problem.free_indices()) units.push_back(j < model_units.size() ? model_units[j] : "");
@@ -341,11 +349,11 @@ int run_batch_command(const BatchCommand& cmd) {
                              "again with --resume to compute the matrix\n";
             return kInterruptedExit;
         }
-        write_file_atomically(dir / "matrix.csv", cross_matrix_csv(*cross));
-        write_file_atomically(dir / "matrix_long.csv", cross_matrix_long_csv(*cross));
+        write_output_file(dir, "matrix.csv", cross_matrix_csv(*cross));
+        write_output_file(dir, "matrix_long.csv", cross_matrix_long_csv(*cross));
     }
     const BatchStability stability = batch_stability(columns, ordered, prepared->units, cross ? &*cross : nullptr);
-    write_file_atomically(dir / "parameter_stability.csv", parameter_stability_csv(stability));
+    write_output_file(dir, "parameter_stability.csv", parameter_stability_csv(stability));
 
     const double cross_seconds = std::chrono::duration<double>(clock::now() - start).count() - seconds;
     BatchSummary summary = summarize_batch(columns, ordered, pending.size(), seconds, threads);
@@ -357,7 +365,7 @@ int run_batch_command(const BatchCommand& cmd) {
     json["outliers"] = outliers_json(stability);
     json["cross"] = cross ? cross_matrix_json(*cross) : nlohmann::json(nullptr);
     if (cross) json["cross"]["wall_time_s"] = cross_seconds;
-    write_file_atomically(prepared->summary_file, json_text(json) + "\n");
+    write_output_file(dir, prepared->summary_file.filename().string(), json_text(json) + "\n");
 
     if (cmd.common.json) {
         std::cout << json_text(json) << std::endl;

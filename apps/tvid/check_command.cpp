@@ -133,7 +133,7 @@ int write_reference(const CheckCommand& cmd) {
                   << " fails on that report itself; nothing was written\n";
         return 1;
     }
-    write_file_atomically(cmd.write_reference, text);
+    write_named_output_file(cmd.write_reference, text);
     if (!cmd.quiet)
         std::cout << "tvid check: wrote " << cmd.write_reference << " with " << result.rows.size() << " checks from "
                   << cmd.report_dir << "\n  " << reference["description"].get<std::string>() << '\n';

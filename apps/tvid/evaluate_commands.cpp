@@ -66,7 +66,10 @@ nlohmann::json traces_json(const Experiment& ex, const SplitEvaluation& split) {
 int run_simulate_command(const EvaluateCommand& cmd) {
     const Experiment ex = load_experiment(cmd.common.experiment, parse_overrides(cmd.common.overrides));
     const IdentificationProblem problem(ex);
-    const Evaluation ev = evaluate_parameters(problem, chosen_parameters(cmd, ex), resolve_thread_count(cmd.common.threads));
+    const std::vector<double> params = chosen_parameters(cmd, ex);
+    // Before the work: -o must be a place for a new file, not a FIFO or a file this run reads.
+    if (!cmd.output.empty()) check_output_target(cmd.output);
+    const Evaluation ev = evaluate_parameters(problem, params, resolve_thread_count(cmd.common.threads));
     std::string csv = trace_csv(ex, ev.estimation);
     if (!ev.validation.windows.empty()) {
         const std::string more = trace_csv(ex, ev.validation);
@@ -74,7 +77,7 @@ int run_simulate_command(const EvaluateCommand& cmd) {
     }
     // The CSV goes to -o, else to stdout (for a pipe); --json prints the same samples with
     // the metrics as JSON instead, and with -o the terminal gets the summary table.
-    if (!cmd.output.empty()) write_file_atomically(cmd.output, csv);
+    if (!cmd.output.empty()) write_named_output_file(cmd.output, csv);
     if (cmd.common.json) {
         nlohmann::json j = evaluation_json(ex, ev);
         j["traces"] = {{"estimation", traces_json(ex, ev.estimation)}, {"validation", traces_json(ex, ev.validation)}};
@@ -90,9 +93,11 @@ int run_simulate_command(const EvaluateCommand& cmd) {
 int run_validate_command(const EvaluateCommand& cmd) {
     const Experiment ex = load_experiment(cmd.common.experiment, parse_overrides(cmd.common.overrides));
     const IdentificationProblem problem(ex);
-    const Evaluation ev = evaluate_parameters(problem, chosen_parameters(cmd, ex), resolve_thread_count(cmd.common.threads));
+    const std::vector<double> params = chosen_parameters(cmd, ex);
+    if (!cmd.output.empty()) check_output_target(cmd.output);
+    const Evaluation ev = evaluate_parameters(problem, params, resolve_thread_count(cmd.common.threads));
     const nlohmann::json j = evaluation_json(ex, ev);
-    if (!cmd.output.empty()) write_file_atomically(cmd.output, json_text(j) + "\n");
+    if (!cmd.output.empty()) write_named_output_file(cmd.output, json_text(j) + "\n");
     // The table as `tvid fit` prints it; the JSON with --json.
     if (cmd.common.json) std::cout << json_text(j) << std::endl;
     else if (!cmd.common.quiet) std::cout << evaluation_summary_text("validate", ex, ev) << std::flush;

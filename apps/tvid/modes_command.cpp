@@ -69,7 +69,7 @@ int run_modes_command(const ModesCommand& cmd) {
     const LinearisationSetup s = prepare_linearisation(cmd);
     const std::filesystem::path dir =
         cmd.output_dir.empty() ? report_directory(s.ex, "") / "modes" : std::filesystem::path(cmd.output_dir);
-    const OutputDirectoryLock lock = prepare_output_directory(dir, "modes directory");
+    const OutputDirectoryLock lock = prepare_output_directory(dir, "modes directory", {"modes.csv", "modes.json"});
     const IdentificationProblem problem(s.ex);
     ModesStudy study;
     try {
@@ -103,7 +103,7 @@ int run_frf_command(const FrfCommand& cmd) {
     const std::size_t output = static_cast<std::size_t>(s.ex.output_indices[static_cast<std::size_t>(m)]);
     const std::filesystem::path dir =
         cmd.modes.output_dir.empty() ? report_directory(s.ex, "") / "frf" : std::filesystem::path(cmd.modes.output_dir);
-    const OutputDirectoryLock lock = prepare_output_directory(dir, "frf directory");
+    const OutputDirectoryLock lock = prepare_output_directory(dir, "frf directory", {"frf.csv", "frf.json"});
     const IdentificationProblem problem(s.ex);
     FrfComparison frf;
     try {

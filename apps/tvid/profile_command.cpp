@@ -66,9 +66,6 @@ std::string profile_text(const ProfileResult& p, const std::string& dir) {
 int run_profile_command(const ProfileCommand& cmd) {
     const Experiment ex = load_experiment(cmd.common.experiment, parse_overrides(cmd.common.overrides));
     const std::vector<double> start = cmd.params_file.empty() ? initial_parameters(ex) : read_parameter_file(cmd.params_file, ex);
-    const std::filesystem::path dir = cmd.output_dir.empty()
-                                          ? report_directory(ex, "") / ("profile-" + cmd.parameter)
-                                          : std::filesystem::path(cmd.output_dir);
     ProfileOptions options;
     options.parameter = cmd.parameter;
     options.points = cmd.points;
@@ -77,8 +74,13 @@ int run_profile_command(const ProfileCommand& cmd) {
     options.threads = cmd.common.threads;
     install_stop_signal_handlers();
     options.stop = &stop_request();
-    // The grid and the parameter are checked before the directory is claimed.
-    const OutputDirectoryLock lock = prepare_output_directory(dir, "profile directory");
+    // The parameter is checked before the directory is named after it and claimed: only a
+    // parameter of the experiment (a plain name, experiment/parameter_reader.cpp) names it.
+    check_profile_request(ex, options);
+    const std::filesystem::path dir = cmd.output_dir.empty()
+                                          ? report_directory(ex, "") / ("profile-" + cmd.parameter)
+                                          : std::filesystem::path(cmd.output_dir);
+    const OutputDirectoryLock lock = prepare_output_directory(dir, "profile directory", {"profile.csv", "profile.json"});
     const ProfileResult profile = profile_likelihood(ex, start, options);
     if (stop_requested()) {
         std::cerr << "tvid: interrupted; no profile written\n";

@@ -11,6 +11,7 @@
 #include "commands.hpp"
 #include "terminal.hpp"
 #include "tvid/estimation/forward_sensitivity.hpp"
+#include "tvid/util/parallel_region.hpp"
 #include "tvid/estimation/identification_problem.hpp"
 #include "tvid/estimation/parallel_evaluator.hpp"
 #include "tvid/experiment/experiment.hpp"
@@ -37,7 +38,7 @@ int run_sensitivity_command(const SensitivityCommand& cmd) {
     const std::filesystem::path dir =
         cmd.output_dir.empty() ? report_directory(ex, "") / "sensitivity" : std::filesystem::path(cmd.output_dir);
     // Before the work: an unusable place is bad input, and this run holds it until written.
-    const OutputDirectoryLock lock = prepare_output_directory(dir, "sensitivity directory");
+    const OutputDirectoryLock lock = prepare_output_directory(dir, "sensitivity directory", {"sensitivity.csv", "ranking.csv", "sensitivity.json"});
 
     std::vector<const Window*> windows;
     for (const Window& w : ex.estimation) windows.push_back(&w);
@@ -51,11 +52,15 @@ int run_sensitivity_command(const SensitivityCommand& cmd) {
     std::vector<WindowSensitivity> results(windows.size());
     const auto start = std::chrono::steady_clock::now();
     const auto n = static_cast<long long>(windows.size());
+    FirstException errors;
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
     for (long long i = 0; i < n; ++i) {
-        const auto w = static_cast<std::size_t>(i);
-        results[w] = evaluator.output_sensitivity(free.data(), *windows[w], omp_get_thread_num());
+        errors.run([&] {
+            const auto w = static_cast<std::size_t>(i);
+            results[w] = evaluator.output_sensitivity(free.data(), *windows[w], omp_get_thread_num());
+        });
     }
+    errors.rethrow();
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
     for (std::size_t w = 0; w < results.size(); ++w) {

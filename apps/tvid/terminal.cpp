@@ -150,7 +150,7 @@ std::string fit_summary_text(const IdentificationProblem& problem, const FitResu
         for (const ResidualSpectrumSummary& s : residual_spectrum_summary(ex, fit.evaluation.estimation))
             if (const std::string text = residual_spectrum_line(s); !text.empty()) out << "  " << text << '\n';
     const IdentifiabilityReport identifiability =
-        assess_identifiability(fit.uncertainty, problem.free_names(), fit.best_free);
+        assess_identifiability(problem, fit.uncertainty, fit.best_free);
     out << "  parameter        value            std error    relative\n";
     for (std::size_t i = 0; i < ex.parameters.size(); ++i) {
         const ParameterSetting& p = ex.parameters[i];
@@ -162,10 +162,15 @@ std::string fit_summary_text(const IdentificationProblem& problem, const FitResu
                 se = "undetermined";
                 continue;
             }
-            char buf[48];
+            char buf[128];
             std::snprintf(buf, sizeof buf, "%.3g", q.std_error);
             se = buf;
-            if (std::isfinite(q.relative_std_error)) {
+            if (q.judged_against != "its value" && std::isfinite(q.judged_std_error)) {
+                // A delay, offset or phase near 0: its error against its natural scale.
+                std::snprintf(buf, sizeof buf, "%.3g %% of %s%s", 100 * q.judged_std_error, q.judged_against.c_str(),
+                              q.flag == IdentifiabilityFlag::weak ? "  weak" : "");
+                relative = buf;
+            } else if (std::isfinite(q.relative_std_error)) {
                 std::snprintf(buf, sizeof buf, "%.3g %%%s", 100 * q.relative_std_error,
                               q.flag == IdentifiabilityFlag::weak ? "  weak" : "");
                 relative = buf;

@@ -2,17 +2,26 @@
 // each kind's field walk visits each field once, the binding hands every field in use to
 // the torque formulas, and those formulas give the same bits for double, the dual
 // numbers and every lane of a pack.
+// Each kind's file describes it: its type name, keys and reader, each field's unit, the
+// channel it reads, the outputs it offers and its linearisation; the output kinds' table
+// likewise.
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <iterator>
 #include <map>
 #include <numbers>
+#include <functional>
 #include <set>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "tvid/model/dual.hpp"
+#include "tvid/model/element_reading.hpp"
+#include "tvid/model/elements/composite_kinds.hpp"
 #include "tvid/model/network_model.hpp"
 #include "tvid/model/network_spec.hpp"
+#include "tvid/model/parameter_units.hpp"
 #include "tvid/simd/pack.hpp"
 
 using namespace tvid;
@@ -261,4 +270,188 @@ TEST_CASE("an order torque is A cos(k theta + phi) on its node and repeats every
         CHECK(model.output(0, x, u).derivative(0) == Approx(std::cos(2 * 0.4 + 0.5)));
         CHECK(model.output(0, x, u).derivative(1) == Approx(-3.0 * std::sin(2 * 0.4 + 0.5)));
     }
+}
+
+TEST_CASE("each kind declares its type name, keys, field units, channel and outputs", "[model][elements]") {
+    std::set<std::string> types;
+    for_each_element_kind([&](auto kind) {
+        using Kind = decltype(kind);
+        INFO(ElementRow<Kind>::name);
+        CHECK(std::string(Kind::type_name) == ElementRow<Kind>::name);
+        CHECK(types.insert(Kind::type_name).second);
+        const std::set<std::string> keys(std::begin(Kind::keys), std::end(Kind::keys));
+        CHECK(keys.size() == std::size(Kind::keys));  // no key twice
+        CHECK(keys.count("type") == 0);
+        CHECK(keys.count("name") == 0);
+        typename Kind::Spec spec{};
+        Kind::for_each_field(
+            [&](const FieldInfo& info, Field&) {
+                INFO(info.name);
+                REQUIRE(info.unit != nullptr);
+                CHECK(std::string(info.unit) != "");
+                CHECK(keys.count(info.name) == 1);  // the reader may read it
+                if (info.shorthand != nullptr) CHECK(keys.count(info.shorthand) == 1);
+            },
+            spec);
+        if (Kind::channel.unit != nullptr) CHECK(std::string(Kind::channel.unit) != "");
+        CHECK(element_has_output_side(ElementRow<Kind>::kind) ==
+              (Kind::outputs == ElementOutputs::torque_each_side));
+    });
+    for_each_composite_kind([&](auto kind) {
+        using Kind = decltype(kind);
+        INFO(Kind::type_name);
+        CHECK(types.insert(Kind::type_name).second);  // no composite hides a kind
+    });
+}
+
+TEST_CASE("every element says how it enters a linearisation, in either mode", "[model][elements]") {
+    const AllKindsNetwork net;
+    std::vector<std::string> names;
+    for (const NodeSpec& node : net.spec.nodes) names.push_back(node.name);
+    for (const AngleDependence mode : {AngleDependence::revolution_mean, AngleDependence::operating_point}) {
+        std::vector<double> added(net.spec.nodes.size(), 0.0);
+        std::vector<char> prescribed(net.spec.nodes.size(), 0);
+        const LinearisationPoint at{net.p, kState, mode, names, added, prescribed};
+        NetworkSpec lin = net.spec;
+        std::size_t notes = 0;
+        for_each_element_kind([&](auto kind) {
+            using Kind = decltype(kind);
+            auto& replaced = ElementRow<Kind>::list(lin);
+            for (std::size_t i = 0; i < replaced.size(); ++i) {
+                const LinearNote note = Kind::linearise(ElementRow<Kind>::list(net.spec)[i], replaced[i], at);
+                INFO(ElementRow<Kind>::name);
+                CHECK(std::set<std::string>{"exact", "operating_point", "revolution_mean", "excitation", "prescribed"}
+                          .count(note.method) == 1);
+                CHECK(!note.note.empty());
+                ++notes;
+            }
+        });
+        std::size_t elements = 0;
+        for (std::size_t count : element_counts(net.spec)) elements += count;
+        CHECK(notes == elements);
+        CHECK(prescribed == std::vector<char>{0, 0, 0, 1});  // the speed source's node
+        // The cylinder's reciprocating mass is averaged into its throw's inertia.
+        CHECK((added[2] > 0) == (mode == AngleDependence::revolution_mean));
+    }
+}
+
+TEST_CASE("the units of fields, inputs and outputs come from the tables", "[model][elements]") {
+    AllKindsNetwork net;
+    const std::vector<std::string> units = parameter_units(net.spec);
+    const auto unit_of = [&](const std::string& name) {
+        return units[static_cast<std::size_t>(net.spec.parameter_index(name))];
+    };
+    CHECK(unit_of("spring.k") == "N m/rad");
+    CHECK(unit_of("bearing.c") == "N m s/rad");
+    CHECK(unit_of("stop.mu") == "rad");
+    CHECK(unit_of("stop.sigma") == "1/rad");
+    CHECK(unit_of("stiff_gear.ratio") == "1");
+    CHECK(unit_of("cylinder.bore") == "m");
+    CHECK(unit_of("cylinder.p_atm") == "Pa");
+    CHECK(unit_of("ripple.phase") == "rad");
+    CHECK(unit_of("drive.offset") == "N m");
+    CHECK(unit_of("J_n0") == "kg m^2");
+    CHECK(std::string(input_unit(net.spec, 0)) == "N m");  // the torque reads u (and so does the speed source)
+    net.spec.torques.clear();
+    CHECK(std::string(input_unit(net.spec, 0)) == "rad/s");
+    CHECK(std::string(input_unit(net.spec, 5)) == "");
+
+    std::size_t position = 0;
+    std::set<std::string> keys;
+    for_each_output_kind([&](auto kind) {
+        using Kind = decltype(kind);
+        CHECK(static_cast<std::size_t>(OutputRow<Kind>::kind) == position++);
+        CHECK(std::string(output_kind_key(OutputRow<Kind>::kind)) == Kind::key);
+        CHECK(std::string(output_kind_unit(OutputRow<Kind>::kind)) == Kind::unit);
+        keys.insert(Kind::key);
+    });
+    CHECK(keys == std::set<std::string>{"speed", "angle", "torque"});
+}
+
+namespace {
+
+// An element entry as plain text values, with the nodes a, b and the parameter p; fail()
+// throws "key: problem".
+class TextSource final : public ElementSource {
+public:
+    explicit TextSource(std::map<std::string, std::string> values) : values_(std::move(values)) {}
+    bool has(const std::string& key) const override { return values_.count(key) > 0; }
+    Field field(const std::string& key) const override {
+        if (!has(key)) fail_missing(key);
+        return values_.at(key) == "p" ? Field::param(0) : Field::value(std::stod(values_.at(key)));
+    }
+    bool names_constant(const std::string& key) const override { return values_.at(key) != "w"; }
+    double number(const std::string& key) const override { return std::stod(values_.at(key)); }
+    std::string text(const std::string& key) const override { return values_.at(key); }
+    int node(const std::string& key) const override { return values_.at(key) == "a" ? 0 : 1; }
+    std::pair<int, int> between(bool) const override { return {0, 1}; }
+    std::string node_name(int node) const override { return node == 0 ? "a" : "b"; }
+    int time_input(const std::string&, const char*) override { return 0; }
+    int angle_input(const std::string&) override { return 0; }
+    bool claim_name(const std::string&) override { return true; }
+    [[noreturn]] void fail(const std::string& key, const std::string& problem) const override {
+        throw std::runtime_error(key + ": " + problem);
+    }
+    [[noreturn]] void fail_missing(const std::string& key, const std::string& = "") const override {
+        fail(key, "missing");
+    }
+
+private:
+    std::map<std::string, std::string> values_;
+};
+
+NetworkSpec two_nodes() {
+    NetworkSpec net;
+    net.parameter_names = {"p"};
+    net.input_names = {"u"};
+    net.nodes = {NodeSpec{"a", Field::value(1.0), false}, NodeSpec{"b", Field::value(1.0), false}};
+    return net;
+}
+
+std::string read_error(TextSource source, const std::function<void(TextSource&, NetworkSpec&)>& read) {
+    NetworkSpec net = two_nodes();
+    try {
+        read(source, net);
+    } catch (const std::runtime_error& e) {
+        return e.what();
+    }
+    return "";
+}
+
+}  // namespace
+
+TEST_CASE("a kind reads its entry and the table checks its fields' signs", "[model][elements]") {
+    NetworkSpec net = two_nodes();
+    TextSource mesh({{"between", ""}, {"ratio", "3"}, {"k", "1000"}, {"c", "p"}});
+    read_element<elements::GearMesh>(mesh, "stage", net);
+    REQUIRE(net.gear_meshes.size() == 1);
+    CHECK(net.gear_meshes[0].ratio.constant == 3.0);
+    CHECK(net.gear_meshes[0].c.parameter == 0);
+    CHECK_FALSE(net.gear_meshes[0].has_clearance);
+
+    const auto gear = [](TextSource& s, NetworkSpec& n) { read_element<elements::GearMesh>(s, "stage", n); };
+    CHECK(read_error(TextSource({{"between", ""}, {"ratio", "0"}, {"k", "1000"}}), gear) ==
+          "ratio: must not be zero: a gear ratio (got 0)");
+    CHECK(read_error(TextSource({{"between", ""}, {"ratio", "2"}, {"k", "-1"}}), gear) ==
+          "k: cannot be negative: a mesh stiffness (got -1)");
+    // A clearance law's k stands for k_minus and k_plus: the error names the key given.
+    const auto clearance = [](TextSource& s, NetworkSpec& n) { read_element<elements::Clearance>(s, "stop", n); };
+    CHECK(read_error(TextSource({{"between", ""}, {"k", "-5"}, {"mu", "0.01"}}), clearance) ==
+          "k: cannot be negative: a contact stiffness (got -5)");
+    // A kind's own rule against the others of its kind: one speed source per node.
+    const auto two_sources = [](TextSource& s, NetworkSpec& n) {
+        read_element<elements::SpeedSource>(s, "first", n);
+        read_element<elements::SpeedSource>(s, "second", n);
+    };
+    CHECK(read_error(TextSource({{"node", "b"}, {"speed", "10"}}), two_sources) ==
+          "node: node 'b' already has its speed prescribed by 'first'");
+    // A composite adds its parts: a reference node, a speed source and a spring-damper.
+    TextSource controller({{"node", "a"}, {"setpoint", "12"}, {"kp", "2"}, {"ki", "p"}});
+    elements::SpeedController::build(controller, "pi", net);
+    CHECK(net.nodes.back().name == "pi.reference");
+    REQUIRE(net.speed_sources.size() == 1);
+    CHECK(net.speed_sources[0].speed.constant == 12.0);
+    REQUIRE(net.spring_dampers.size() == 1);
+    CHECK(net.spring_dampers[0].k.parameter == 0);  // k = ki
+    CHECK(net.spring_dampers[0].c.constant == 2.0);  // c = kp
 }

@@ -1,6 +1,9 @@
 // Static equilibrium (Yoshida & Takamatsu eq. 18) of one- and several-node networks.
 #include <catch2/catch.hpp>
 
+#include <cmath>
+
+#include "tvid/model/damped_newton.hpp"
 #include "tvid/model/equilibrium.hpp"
 #include "tvid/model/presets.hpp"
 
@@ -66,4 +69,49 @@ TEST_CASE("a network without elastic ground connection has no equilibrium", "[eq
     const EquilibriumResult eq = solve_equilibrium(model, &t);
     CHECK_FALSE(eq.found);
     CHECK(eq.problem.find("singular") != std::string::npos);
+}
+
+TEST_CASE("the missing ground connection is named, with the starts that need none", "[equilibrium]") {
+    // a -s- b, and c held to ground: a and b float together.
+    NetworkSpec spec;
+    spec.input_names = {"T"};
+    for (const char* name : {"a", "b", "c"}) spec.nodes.push_back(NodeSpec{name, Field::value(1.0), false});
+    spec.spring_dampers.push_back(SpringDamperSpec{"s", 0, 1, Field::value(10.0), Field::value(0.0)});
+    spec.spring_dampers.push_back(SpringDamperSpec{"g", 2, kGround, Field::value(10.0), Field::value(0.0)});
+    NetworkModel<double> model(spec);
+    model.set_parameters(nullptr);
+    const double t = 1.0;
+    const EquilibriumResult eq = solve_equilibrium(model, &t);
+    CHECK_FALSE(eq.found);
+    CHECK(eq.problem.find("nodes a and b have no elastic connection to ground") != std::string::npos);
+    CHECK(eq.problem.find("steady") != std::string::npos);
+    CHECK(eq.problem.find("measured") != std::string::npos);
+}
+
+TEST_CASE("the shared damped Newton converges to rounding and steps by one rule", "[equilibrium]") {
+    CHECK(state_difference_step(0.0) == 1e-7);
+    CHECK(state_difference_step(-1000.0) == Approx(1e-7 + 1e-7));
+    // x² = 2 and y = x·3: converged to the last bits.
+    NewtonSystem system;
+    system.residual = [](const Eigen::VectorXd& z, Eigen::VectorXd& g) {
+        g[0] = z[0] * z[0] - 2.0;
+        g[1] = z[1] - 3.0 * z[0];
+    };
+    system.state_value = [](Eigen::Index j, const Eigen::VectorXd& z) { return z[j]; };
+    Eigen::VectorXd start(2);
+    start << 1.0, 0.0;
+    const NewtonResult r = solve_damped_newton(system, start);
+    REQUIRE(r.status == NewtonStatus::converged);
+    CHECK(r.z[0] == Approx(std::sqrt(2.0)).epsilon(1e-15));
+    CHECK(r.z[1] == Approx(3.0 * std::sqrt(2.0)).epsilon(1e-15));
+    // A residual that does not depend on the second unknown: singular, and that unknown named.
+    system.residual = [](const Eigen::VectorXd& z, Eigen::VectorXd& g) {
+        g[0] = z[0] - 1.0;
+        g[1] = 2.0 * z[0];
+    };
+    const NewtonResult s = solve_damped_newton(system, start);
+    CHECK(s.status == NewtonStatus::singular);
+    REQUIRE(s.free_unknowns.size() == 2);
+    CHECK(s.free_unknowns[0] == 0);
+    CHECK(s.free_unknowns[1] == 1);
 }

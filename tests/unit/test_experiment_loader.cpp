@@ -1305,9 +1305,10 @@ TEST_CASE("a speed source, a speed controller and a steady start are read with t
         CHECK(d.inputs.count() == ex.network.input_names.size() + 1);
     }
     SECTION("a PI controller is a reference node, its speed source and a spring-damper") {
-        const Experiment ex = s.load(with(
+        // Without the mount to ground: a line held to ground has no steady motion.
+        const Experiment ex = s.load(with(with(
             inserted(kCustom, 14, "    - { type: speed_controller, name: pi, node: load, setpoint: 40, kp: 0.2, ki: 3 }"), 31,
-            "initial_state: { kind: steady, node: motor, speed: w, samples: 5 }"));
+            "initial_state: { kind: steady, node: motor, speed: w, samples: 5 }"), 14, ""));
         REQUIRE(ex.network.nodes.size() == 3);
         CHECK(ex.network.nodes[2].name == "pi.reference");
         REQUIRE(ex.network.speed_sources.size() == 1);
@@ -1327,7 +1328,7 @@ TEST_CASE("a speed source, a speed controller and a steady start are read with t
         CHECK(ex.steady.samples == 5);
     }
     SECTION("a steady start at a constant speed") {
-        const Experiment ex = s.load(with(kCustom, 30, "initial_state: { kind: steady, node: load, speed: 12.5 }"));
+        const Experiment ex = s.load(with(with(kCustom, 30, "initial_state: { kind: steady, node: load, speed: 12.5 }"), 14, ""));
         CHECK(ex.steady.node == 1);
         CHECK(ex.steady.speed == 12.5);
         CHECK(ex.steady.speed_column.empty());
@@ -1362,6 +1363,10 @@ TEST_CASE("speed sources, controllers and steady starts refuse bad keys naming t
     SECTION("a steady start on a column that is not there") {
         expect_error(with(kCustom, 30, "initial_state: { kind: steady, node: motor, speed: wx }"), 30,
                      "initial_state.speed", "no column named 'wx'");
+    }
+    SECTION("a steady start on a line held to ground") {
+        expect_error(with(kCustom, 30, "initial_state: { kind: steady, node: load, speed: 0 }"), 30,
+                     "initial_state.kind", "held to ground by 'mount' (node motor to ground)");
     }
     SECTION("steady written as a word") {
         expect_error(with(kCustom, 30, "initial_state: steady"), 30, "initial_state", "needs its node and speed");

@@ -158,3 +158,28 @@ TEST_CASE("CVT with rho1 fixed: the other eight parameters are identifiable", "[
     }
     CHECK(r.warning().find("parameter directions") == std::string::npos);
 }
+
+TEST_CASE("a delay, offset or phase near 0 is judged against its natural scale, not its value", "[identifiability]") {
+    // A delay of 5 µs ± 12.5 µs at 1 kHz: 250 % of its value, 1.25 % of a sample period.
+    ParameterUncertainty u;
+    u.available = true;
+    u.rank = 2;
+    u.condition_number = 10;
+    u.std_error = {1.25e-5, 1.25e-5};
+    u.determined = {true, true};
+    u.correlation = {{1, 0}, {0, 1}};
+    const std::vector<ParameterScaleRule> rules = {{1e-3, "a sample period (0.001 s)"}, {}};
+    const auto r = assess_identifiability(u, {"d", "c"}, {5e-6, 5e-6}, rules);
+    REQUIRE(r.parameters.size() == 2);
+    CHECK(r.parameters[0].relative_std_error == Approx(2.5));
+    CHECK(r.parameters[0].judged_std_error == Approx(0.0125));
+    CHECK(r.parameters[0].judged_against == "a sample period (0.001 s)");
+    CHECK(r.parameters[0].flag == IdentifiabilityFlag::ok);
+    CHECK(r.parameters[1].flag == IdentifiabilityFlag::weak);  // an ordinary parameter: relative
+    CHECK(r.warning() == "weakly determined (relative std error > 50 %): c 250 %");
+    // A delay well away from 0 is judged by its value again: 3 ms ± 2 ms is weak.
+    u.std_error = {2e-3, 1e-7};
+    const auto far = assess_identifiability(u, {"d", "c"}, {3e-3, 5e-6}, rules);
+    CHECK(far.parameters[0].judged_against == "its value");
+    CHECK(far.parameters[0].flag == IdentifiabilityFlag::weak);
+}

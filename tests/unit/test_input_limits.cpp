@@ -201,7 +201,7 @@ TEST_CASE("only tvid's own temporary files are swept from an output directory", 
     (void)prepare_output_directory(dir, "report directory");
     CHECK(fs::exists(dir / "notes.tmp.2024"));
     CHECK_FALSE(fs::exists(dir / "summary.json.tvid-tmp.99999"));
-    write_file_atomically(dir / "x.txt", "x");
+    write_output_file(dir, "x.txt", "x");
     CHECK(tvid::test::read_text(dir / "x.txt") == "x");
 }
 

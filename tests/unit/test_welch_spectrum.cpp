@@ -174,3 +174,31 @@ TEST_CASE("H1 over several records pools their segments: each record weighs by i
     CHECK(with_short.segments == estimate_frf_h1(x1, y1, 1000.0, settings).segments);
     CHECK(with_short.frequency_hz.size() == 65);
 }
+
+TEST_CASE("one Welch segment has no coherence", "[spectra]") {
+    std::vector<double> x(31), y(31);
+    for (std::size_t i = 0; i < x.size(); ++i) {
+        x[i] = std::sin(0.3 * static_cast<double>(i)) + 0.1 * std::cos(1.7 * static_cast<double>(i * i));
+        y[i] = 0.5 * x[i] + 0.2 * std::sin(2.1 * static_cast<double>(i));
+    }
+    const tvid::FrfEstimate one = tvid::estimate_frf_h1(x, y, 1000.0);
+    REQUIRE(one.segments == 1);
+    for (double c : one.coherence) CHECK(std::isnan(c));
+    const tvid::FrfEstimate two = tvid::estimate_frf_h1(x, y, 1000.0, {16, 0.5});
+    REQUIRE(two.segments >= 2);
+    for (double c : two.coherence) CHECK(std::isfinite(c));
+}
+
+TEST_CASE("a recording is cut at its gaps: steps above 1.5 times the median", "[spectra]") {
+    // 0 … 1 s and 2 … 3 s at 1 kHz, a jittered step of 1.4 ms left whole.
+    std::vector<double> t;
+    for (int i = 0; i <= 1000; ++i) t.push_back(i * 1e-3);
+    t[500] += 0.4e-3;
+    for (int i = 2000; i <= 3000; ++i) t.push_back(i * 1e-3);
+    const double step = tvid::median_time_step(t);
+    CHECK(step == Approx(1e-3).epsilon(1e-9));
+    const auto records = tvid::gap_free_records(t, step);
+    REQUIRE(records.size() == 2);
+    CHECK(records[0] == std::pair<std::size_t, std::size_t>{0, 1001});
+    CHECK(records[1] == std::pair<std::size_t, std::size_t>{1001, 2002});
+}

@@ -1,4 +1,5 @@
 #include "tvid/analysis/evaluation.hpp"
+#include "tvid/util/parallel_region.hpp"
 
 #include <omp.h>
 
@@ -60,8 +61,9 @@ Evaluation evaluate_parameters(const IdentificationProblem& problem, const std::
 
     std::vector<WindowTrace> estimation(n_est), validation(n_val);
     const auto n_tasks = static_cast<long long>(tasks);
+    FirstException errors;
 #pragma omp parallel for schedule(dynamic, 1) num_threads(team)
-    for (long long task = 0; task < n_tasks; ++task) {
+    for (long long task = 0; task < n_tasks; ++task) try {
         ProblemWorkspace& ws = *workspaces[static_cast<std::size_t>(omp_get_thread_num())];
         const auto i = static_cast<std::size_t>(task);
         if (i == 0)
@@ -70,7 +72,10 @@ Evaluation evaluate_parameters(const IdentificationProblem& problem, const std::
             estimation[i - 1] = problem.trace(params, ex.estimation[i - 1], ws);
         else
             validation[i - 1 - n_est] = problem.trace(params, ex.validation[i - 1 - n_est], ws);
+    } catch (...) {
+        errors.capture();
     }
+    errors.rethrow();
     ev.estimation = assemble_split(problem, std::move(estimation), "estimation", ev.output_offsets);
     ev.validation = assemble_split(problem, std::move(validation), "validation", ev.output_offsets);
     return ev;

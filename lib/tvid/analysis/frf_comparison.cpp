@@ -2,33 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <span>
 #include <stdexcept>
 
 #include "tvid/analysis/welch_spectrum.hpp"
+#include "tvid/model/parameter_units.hpp"
 
 namespace tvid {
-
-namespace {
-
-const char* input_unit_of(const NetworkSpec& spec, std::size_t input) {
-    for (const TorqueSpec& t : spec.torques)
-        if (static_cast<std::size_t>(t.input) == input) return "N m";
-    for (const SpeedSourceSpec& s : spec.speed_sources)
-        if (s.input >= 0 && static_cast<std::size_t>(s.input) == input) return "rad/s";
-    return "";
-}
-
-const char* output_unit_of(const OutputSpec& o) {
-    switch (o.kind) {
-        case OutputKind::speed: return "rad/s";
-        case OutputKind::angle: return "rad";
-        case OutputKind::torque: return "N m";
-    }
-    return "";
-}
-
-}  // namespace
 
 FrfComparison compare_frf(const IdentificationProblem& problem, const std::vector<double>& params, std::size_t input,
                           std::size_t output, std::size_t window, AngleDependence angle_dependence) {
@@ -36,8 +17,8 @@ FrfComparison compare_frf(const IdentificationProblem& problem, const std::vecto
     FrfComparison r;
     r.input = d.network.input_names.at(input);
     r.output = d.network.outputs.at(output).name;
-    r.input_unit = input_unit_of(d.network, input);
-    r.output_unit = output_unit_of(d.network.outputs[output]);
+    r.input_unit = input_unit(d.network, input);
+    r.output_unit = output_unit(d.network.outputs[output]);
     r.angle_dependence = angle_dependence;
     r.operating_point = window_operating_point(problem, params, window);
     const LinearNetwork sys = linearise_network(d.network, params, &d.angle_inputs, r.operating_point.x,
@@ -49,28 +30,51 @@ FrfComparison compare_frf(const IdentificationProblem& problem, const std::vecto
     if (measured_index == d.output_indices.size())
         throw std::runtime_error("output " + r.output + " is not measured: there is no H1 to compare with");
 
-    // Every estimation window on one frequency grid: the segment of the shortest.
-    std::size_t shortest = 0;
+    // Every estimation window on one frequency grid, each cut at the recording's gaps (a
+    // step above kGapStepFactor times the median step): no segment crosses a window's end
+    // or a gap, and the sample rate leaves the gaps out.
+    const std::vector<double>& time = d.inputs.time();
+    const double median_step = median_time_step(time);
+    std::vector<std::pair<std::size_t, std::size_t>> records;  // [first, last + 1) sample ranges
+    std::size_t shortest = 0, longest = 0;
     for (const Window& w : d.estimation) {
         const std::size_t n = w.last + 1 - w.first;
         shortest = shortest == 0 ? n : std::min(shortest, n);
         r.windows.push_back(w.label);
+        const std::span<const double> span(time.data() + w.first, n);
+        const auto pieces = gap_free_records(span, median_step);
+        r.gaps += pieces.size() - 1;
+        for (const auto& [from, to] : pieces) {
+            records.emplace_back(w.first + from, w.first + to);
+            longest = std::max(longest, to - from);
+        }
     }
-    const std::vector<double>& time = d.inputs.time();
-    const Window& w0 = d.estimation.front();
-    r.sample_rate_hz = static_cast<double>(w0.last - w0.first) / (time[w0.last] - time[w0.first]);
+    // The sample rate of the first window's gap-free records.
+    double steps = 0.0, span = 0.0;
+    for (const auto& [from, to] : gap_free_records(
+             std::span<const double>(time.data() + d.estimation.front().first,
+                                     d.estimation.front().last + 1 - d.estimation.front().first),
+             median_step)) {
+        const std::size_t at = d.estimation.front().first;
+        steps += static_cast<double>(to - from - 1);
+        span += time[at + to - 1] - time[at + from];
+    }
+    r.sample_rate_hz = steps / span;
     r.segment_length = welch_segment_length(shortest);
-    if (r.segment_length < 8) throw std::runtime_error("the estimation windows are too short for a spectrum (under 8 samples)");
+    while (r.segment_length > longest && r.segment_length / 2 >= 8) r.segment_length /= 2;
+    if (r.segment_length < 8 || !(r.sample_rate_hz > 0) || !std::isfinite(r.sample_rate_hz))
+        throw std::runtime_error("the estimation windows are too short for a spectrum (under 8 samples)");
+    r.resolution_hz = r.sample_rate_hz / static_cast<double>(r.segment_length);
 
-    // H1 over the windows, their segments pooled (no segment crosses a window gap).
+    // H1 over the records, their segments pooled.
     const WelchSettings settings{r.segment_length, 0.5};
     auto ws = problem.make_workspace();  // the channels as `params` delay them
     problem.use_parameters(params, *ws);
     std::vector<std::vector<double>> in, out;
-    for (const Window& w : d.estimation) {
+    for (const auto& [from, to] : records) {
         in.emplace_back();
         out.emplace_back();
-        for (std::size_t i = w.first; i <= w.last; ++i) {
+        for (std::size_t i = from; i < to; ++i) {
             in.back().push_back(ws->inputs->value(input, i));
             out.back().push_back((*ws->measured[measured_index])[i]);
         }
@@ -96,6 +100,15 @@ FrfComparison compare_frf(const IdentificationProblem& problem, const std::vecto
     // Each oscillating mode's half-power band, ±ζ·f_n around its damped frequency, in 8 steps.
     for (const TorsionalMode& m : modal.modes) {
         if (m.kind != ModeKind::oscillating) continue;
+        if (!(m.damping_ratio > 0.0)) {
+            // Undamped: |H| is infinite at f_n, where the solve would return rounding. The
+            // curve approaches it from both sides instead, and the resonance is stated.
+            r.undamped_hz.push_back(m.frequency_hz);
+            for (const double offset : {1e-2, 3e-3, 1e-3, 3e-4, 1e-4})
+                for (const double f : {m.frequency_hz * (1 - offset), m.frequency_hz * (1 + offset)})
+                    if (f > lo && f < hi) r.curve_frequency_hz.push_back(f);
+            continue;
+        }
         for (int step = -8; step <= 8; ++step) {
             const double f = m.damped_frequency_hz + step * m.damping_ratio * m.frequency_hz / 8.0;
             if (f > lo && f < hi) r.curve_frequency_hz.push_back(f);
@@ -105,7 +118,16 @@ FrfComparison compare_frf(const IdentificationProblem& problem, const std::vecto
     std::sort(r.curve_frequency_hz.begin(), r.curve_frequency_hz.end());
     r.curve_frequency_hz.erase(std::unique(r.curve_frequency_hz.begin(), r.curve_frequency_hz.end()),
                                r.curve_frequency_hz.end());
+    // No point at an undamped resonance itself (within 1e-6 of it: the solve there is rounding).
+    const auto at_undamped = [&](double f) {
+        for (const double fn : r.undamped_hz)
+            if (std::abs(f - fn) <= 1e-6 * fn) return true;
+        return false;
+    };
+    std::erase_if(r.curve_frequency_hz, at_undamped);
     r.curve = frequency_response(sys, input, output, r.curve_frequency_hz);
+    for (std::size_t k = 0; k < r.frequency_hz.size(); ++k)
+        if (at_undamped(r.frequency_hz[k])) r.model[k] = std::numeric_limits<double>::infinity();
     return r;
 }
 

@@ -21,7 +21,9 @@ struct FrfComparison {
     AngleDependence angle_dependence = AngleDependence::revolution_mean;
     double sample_rate_hz = 0.0;
     std::size_t segment_length = 0;       ///< Welch's segment (samples)
-    std::size_t segments = 0;             ///< Welch's segments over every window
+    std::size_t segments = 0;             ///< Welch's segments over every window (coherence: NaN with 1)
+    double resolution_hz = 0.0;           ///< sample_rate_hz / segment_length
+    std::size_t gaps = 0;                 ///< gaps in the recording the windows were cut at
     bool measured = false;                ///< whether the measured H1 is there
     std::vector<std::string> windows;     ///< the estimation windows' labels
     std::vector<double> frequency_hz;     ///< k·fs/segment_length, k ≥ 1
@@ -33,6 +35,10 @@ struct FrfComparison {
     /// peaks are resolved (for a figure).
     std::vector<double> curve_frequency_hz;
     std::vector<std::complex<double>> curve;
+    /// The undamped modes' natural frequencies in the band, where |H| is infinite: the
+    /// curve approaches each from both sides (to 1e-4 of f_n) and holds no point there; a
+    /// grid point there has an infinite model response.
+    std::vector<double> undamped_hz;
 };
 
 /// The comparison for model input `input` (an index into the network's input_names) and

@@ -1,9 +1,14 @@
 #include "tvid/analysis/identifiability.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <limits>
+#include <numbers>
+
+#include "tvid/util/text.hpp"
 
 namespace tvid {
 
@@ -129,8 +134,56 @@ ParameterCombination describe_null_direction(const std::vector<double>& directio
     return c;
 }
 
-IdentifiabilityReport assess_identifiability(const ParameterUncertainty& u, const std::vector<std::string>& names,
+std::vector<ParameterScaleRule> parameter_scale_rules(const IdentificationProblem& problem) {
+    const NetworkSpec& network = problem.definition().network;
+    enum class Zero { none, delay, offset, phase };
+    std::vector<Zero> kind(network.parameter_names.size(), Zero::none);
+    const auto mark = [&](const Field& f, Zero z) {
+        if (f.is_parameter() && kind[static_cast<std::size_t>(f.parameter)] == Zero::none)
+            kind[static_cast<std::size_t>(f.parameter)] = z;
+    };
+    for (int p : network.delay_parameters) mark(Field::param(p), Zero::delay);
+    for (const OutputSpec& o : network.outputs) mark(o.offset, Zero::offset);
+    for_each_element_field(network, [&](const FieldInfo& info, const Field& field) {
+        if (std::strcmp(info.name, "offset") == 0) mark(field, Zero::offset);
+        else if (std::strcmp(info.name, "phase") == 0) mark(field, Zero::phase);
+    });
+    const std::vector<double>& time = problem.inputs().time();
+    const double period =
+        time.size() > 1 ? (time.back() - time.front()) / static_cast<double>(time.size() - 1) : 0.0;
+    std::vector<ParameterScaleRule> rules;
+    for (std::size_t j = 0; j < problem.dimension(); ++j) {
+        ParameterScaleRule r;
+        const double width = problem.range_upper()[j] - problem.range_lower()[j];
+        switch (kind[problem.free_indices()[j]]) {
+            case Zero::none: break;
+            case Zero::delay:
+                r.scale = period;
+                r.what = "a sample period (" + number_text(period) + " s)";
+                break;
+            case Zero::offset:
+                r.scale = width;
+                r.what = "its range (" + number_text(width) + ")";
+                break;
+            case Zero::phase:
+                r.scale = std::min(width, 2 * std::numbers::pi);
+                r.what = r.scale < width ? "one turn (2π rad)" : "its range (" + number_text(width) + " rad)";
+                break;
+        }
+        if (!(r.scale > 0) || !std::isfinite(r.scale)) r = {};
+        rules.push_back(r);
+    }
+    return rules;
+}
+
+IdentifiabilityReport assess_identifiability(const IdentificationProblem& problem, const ParameterUncertainty& u,
                                              const std::vector<double>& values) {
+    return assess_identifiability(u, problem.free_names(), values, parameter_scale_rules(problem));
+}
+
+IdentifiabilityReport assess_identifiability(const ParameterUncertainty& u, const std::vector<std::string>& names,
+                                             const std::vector<double>& values,
+                                             const std::vector<ParameterScaleRule>& rules) {
     IdentifiabilityReport r;
     const double nan = std::numeric_limits<double>::quiet_NaN();
     r.available = u.available;
@@ -145,8 +198,15 @@ IdentifiabilityReport assess_identifiability(const ParameterUncertainty& u, cons
         p.value = values[j];
         p.std_error = u.std_error[j];
         p.relative_std_error = u.determined[j] && values[j] != 0.0 ? u.std_error[j] / std::abs(values[j]) : nan;
+        p.judged_std_error = p.relative_std_error;
+        if (j < rules.size() && rules[j].scale > 0) {
+            // A meaningful zero: against the larger of the value and the natural scale.
+            const double against = std::max(std::abs(values[j]), rules[j].scale);
+            p.judged_std_error = u.determined[j] ? u.std_error[j] / against : nan;
+            p.judged_against = against > rules[j].scale ? "its value" : rules[j].what;
+        }
         if (!u.determined[j]) p.flag = IdentifiabilityFlag::undetermined;
-        else if (p.relative_std_error > kWeakRelativeError) p.flag = IdentifiabilityFlag::weak;
+        else if (p.judged_std_error > kWeakRelativeError) p.flag = IdentifiabilityFlag::weak;
         r.parameters.push_back(p);
     }
     for (std::size_t a = 0; a < names.size(); ++a)
@@ -168,7 +228,9 @@ std::string IdentifiabilityReport::warning() const {
     }
     std::vector<std::string> weak;
     for (const ParameterIdentifiability& p : parameters)
-        if (p.flag == IdentifiabilityFlag::weak) weak.push_back(p.name + " " + percent_text(p.relative_std_error));
+        if (p.flag == IdentifiabilityFlag::weak)
+            weak.push_back(p.name + " " + percent_text(p.judged_std_error) +
+                           (p.judged_against == "its value" ? "" : " of " + p.judged_against));
     if (!weak.empty()) {
         if (!line.empty()) line += "; ";
         line += "weakly determined (relative std error > " + percent_text(kWeakRelativeError) + "): ";

@@ -24,11 +24,24 @@ constexpr double kStrongCorrelation = 0.95;
 enum class IdentifiabilityFlag { ok, weak, undetermined };
 const char* to_string(IdentifiabilityFlag flag);
 
+/// What a parameter's standard error is judged against. Most parameters scale: their
+/// error counts relative to their value. A delay, an offset or a phase has a meaningful
+/// zero instead (a delay of 5 µs ± 12 µs is well determined at 1 kHz): its error counts
+/// against the larger of its value and a natural scale of its own.
+struct ParameterScaleRule {
+    double scale = 0.0;        ///< the natural scale; 0: relative to the value
+    std::string what;          ///< e.g. "a sample period (0.001 s)", "its range (5)"
+};
+
 struct ParameterIdentifiability {
     std::string name;
     double value = 0.0;
     double std_error = 0.0;             ///< NaN when undetermined
     double relative_std_error = 0.0;    ///< std_error / |value|; NaN when undetermined or value = 0
+    /// std_error over what it is judged against (|value|, or for a parameter with a
+    /// natural scale the larger of |value| and that scale); the flag reads this.
+    double judged_std_error = 0.0;
+    std::string judged_against = "its value";  ///< what judged_std_error divides by
     IdentifiabilityFlag flag = IdentifiabilityFlag::ok;
 };
 
@@ -64,9 +77,21 @@ struct IdentifiabilityReport {
     std::string warning() const;
 };
 
-/// `names` and `values`: the free parameters at the optimum, in the order of `uncertainty`.
+/// `names` and `values`: the free parameters at the optimum, in the order of `uncertainty`;
+/// `rules`: how each is judged (empty, or a rule with scale 0: relative to its value).
 IdentifiabilityReport assess_identifiability(const ParameterUncertainty& uncertainty,
-                                             const std::vector<std::string>& names, const std::vector<double>& values);
+                                             const std::vector<std::string>& names, const std::vector<double>& values,
+                                             const std::vector<ParameterScaleRule>& rules = {});
+
+/// The rule of each free parameter of `problem`: a channel's delay against one (mean)
+/// sample period; an offset (of an output or an element) or a phase against the width of
+/// its search range (`range:`, else its bounds; a phase at most one turn); every other
+/// parameter relative to its value.
+std::vector<ParameterScaleRule> parameter_scale_rules(const IdentificationProblem& problem);
+
+/// assess_identifiability for `problem`'s free parameters at `values`, each by its rule.
+IdentifiabilityReport assess_identifiability(const IdentificationProblem& problem, const ParameterUncertainty& uncertainty,
+                                             const std::vector<double>& values);
 
 /// The combination a null direction describes (members, exponents, text).
 ParameterCombination describe_null_direction(const std::vector<double>& direction,

@@ -2,109 +2,43 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
+#include <utility>
 
 #include "tvid/model/dual.hpp"
 #include "tvid/model/network_model.hpp"
-#include "tvid/model/slider_crank.hpp"
 #include "tvid/model/state_jacobian.hpp"
 
 namespace tvid {
 
 namespace {
 
-double linear_field_value(const Field& f, const std::vector<double>& p) {
-    return f.is_parameter() ? p[static_cast<std::size_t>(f.parameter)] : f.constant;
-}
-
-std::string linear_number(double v) {
-    char text[32];
-    std::snprintf(text, sizeof text, "%.6g", v);
-    return text;
-}
-
-// mean over φ of s'(φ)² for crank radius r and rod length l: the reciprocating mass's
-// inertia per kg over a revolution (s' is 2π-periodic; the trapezoid rule on a periodic
-// smooth function converges spectrally).
-double mean_lever_squared(double r, double l) {
-    constexpr int kPoints = 3600;
-    constexpr double kTwoPi = 6.283185307179586;
-    double sum = 0.0;
-    for (int k = 0; k < kPoints; ++k) {
-        const double ds = slider_crank(kTwoPi * k / kPoints, r, l).ds;
-        sum += ds * ds;
-    }
-    return sum / kPoints;
-}
-
-// The spec the linearisation evaluates: in revolution_mean mode the angle-dependent
-// elements are replaced by their means over a revolution, and the notes say how each
-// element entered.
+// The spec the linearisation evaluates: each kind says how its elements enter
+// (elements/NAME.hpp's linearise: a note, and in revolution_mean mode the angle-dependent
+// elements replaced by their means over a revolution, with the inertia they add to their
+// nodes), and which nodes' speeds are prescribed.
 NetworkSpec linearisation_spec(const NetworkSpec& spec, const std::vector<double>& p, AngleDependence mode,
-                               const std::vector<double>& x, std::vector<ElementLinearisation>& notes) {
+                               const std::vector<double>& x, std::vector<ElementLinearisation>& notes,
+                               std::vector<char>& prescribed) {
     NetworkSpec lin = spec;
     const std::size_t n = spec.nodes.size();
-    const auto node_name = [&](int i) { return i == kGround ? std::string("ground") : spec.nodes[static_cast<std::size_t>(i)].name; };
-    const auto twist_at = [&](int a, int b, double ratio) {
-        return x[static_cast<std::size_t>(a)] - (b == kGround ? 0.0 : ratio * x[static_cast<std::size_t>(b)]);
-    };
+    std::vector<std::string> node_names;
+    for (const NodeSpec& s : spec.nodes) node_names.push_back(s.name);
     std::vector<double> added_inertia(n, 0.0);
-    for (const auto& e : spec.spring_dampers)
-        notes.push_back({e.name, "spring_damper", "exact", "linear"});
-    for (const auto& e : spec.clearances)
-        notes.push_back({e.name, "clearance", "operating_point",
-                         std::string(e.smooth ? "smooth" : "non-smooth") + " clearance law linearised at the twist " +
-                             linear_number(twist_at(e.a, e.b, 1.0)) + " rad between " + node_name(e.a) + " and " +
-                             node_name(e.b)});
-    for (const auto& e : spec.frictions) notes.push_back({e.name, "friction", "exact", "linear"});
-    for (const auto& e : spec.gear_meshes) {
-        if (e.has_clearance)
-            notes.push_back({e.name, "gear_mesh", "operating_point",
-                             "backlash law linearised at the mesh twist " +
-                                 linear_number(twist_at(e.a, e.b, linear_field_value(e.ratio, p))) + " rad"});
-        else
-            notes.push_back({e.name, "gear_mesh", "exact", "linear (ratio " + linear_number(linear_field_value(e.ratio, p)) + ")"});
-    }
-    for (const auto& e : spec.torques) notes.push_back({e.name, "torque", "exact", "an input: B's column"});
-    for (std::size_t i = 0; i < spec.cylinders.size(); ++i) {
-        const CylinderSpec& c = spec.cylinders[i];
-        const double m = linear_field_value(c.mass, p);
-        if (mode == AngleDependence::revolution_mean) {
-            const double added = m * mean_lever_squared(linear_field_value(c.crank_radius, p), linear_field_value(c.rod_length, p));
-            added_inertia[static_cast<std::size_t>(c.node)] += added;
-            // No reciprocating mass, no gas torque: their angle-dependent parts average out.
-            lin.cylinders[i].mass = Field::value(0.0);
-            lin.cylinders[i].bore = Field::value(0.0);
-            notes.push_back({c.name, "cylinder", "revolution_mean",
-                             "reciprocating inertia at its mean over a revolution, m*mean(s'^2) = " + linear_number(added) +
-                                 " kg m^2 added to " + node_name(c.node) +
-                                 "; the gas torque is an excitation (its angle stiffness averages to zero over a cycle)"});
-        } else {
-            notes.push_back({c.name, "cylinder", "operating_point",
-                             "slider crank at the operating point's crank angle " +
-                                 linear_number(x[static_cast<std::size_t>(c.node)] + c.phase) +
-                                 " rad: inertia m*s'^2 there, and the gas pressure's slope there as a stiffness"});
+    prescribed.assign(n, 0);
+    const LinearisationPoint at{p, x, mode, node_names, added_inertia, prescribed};
+    for_each_element_kind([&](auto kind) {
+        using Kind = decltype(kind);
+        const auto& elements = ElementRow<Kind>::list(spec);
+        auto& replaced = ElementRow<Kind>::list(lin);
+        for (std::size_t i = 0; i < elements.size(); ++i) {
+            LinearNote note = Kind::linearise(elements[i], replaced[i], at);
+            notes.push_back({elements[i].name, Kind::type_name, std::move(note.method), std::move(note.note)});
         }
-    }
-    for (std::size_t i = 0; i < spec.order_torques.size(); ++i) {
-        const OrderTorqueSpec& o = spec.order_torques[i];
-        if (mode == AngleDependence::revolution_mean) {
-            lin.order_torques[i].amplitude = Field::value(0.0);
-            notes.push_back({o.name, "order_torque", "excitation",
-                             "an excitation: its angle stiffness averages to zero over a revolution"});
-        } else {
-            notes.push_back({o.name, "order_torque", "operating_point",
-                             "its slope -A k sin(k theta + phi) at the operating point as a stiffness to ground"});
-        }
-    }
-    for (const auto& e : spec.speed_sources)
-        notes.push_back({e.name, "speed_source", "prescribed",
-                         "prescribes the speed of " + node_name(e.node) +
-                             ": that node is held to the input (no speed state), its angle follows it"});
+    });
     for (std::size_t i = 0; i < n; ++i) {
         if (added_inertia[i] == 0.0) continue;
         const NodeSpec& s = spec.nodes[i];
-        const double v = linear_field_value(s.inertia, p);
+        const double v = at.value(s.inertia);
         lin.nodes[i].inertia = Field::value((s.inverse ? 1.0 / v : v) + added_inertia[i]);
         lin.nodes[i].inverse = false;
     }
@@ -135,15 +69,13 @@ LinearNetwork linearise_network(const NetworkSpec& spec, const std::vector<doubl
     sys.angle_dependence = angle_dependence;
     const std::size_t n = spec.nodes.size();
     const std::size_t full = 2 * n;
-    const NetworkSpec lin = linearisation_spec(spec, params, angle_dependence, x, sys.elements);
+    const NetworkSpec lin = linearisation_spec(spec, params, angle_dependence, x, sys.elements, sys.prescribed);
 
     NetworkModel<double> model(lin);
     model.set_crank_angle_inputs(angle_inputs);
     model.set_parameters(params.data());
 
     for (const NodeSpec& s : spec.nodes) sys.node_names.push_back(s.name);
-    sys.prescribed.assign(n, 0);
-    for (const SpeedSourceSpec& s : spec.speed_sources) sys.prescribed[static_cast<std::size_t>(s.node)] = 1;
     for (std::size_t i = 0; i < n; ++i) {
         sys.states.push_back(i);
         sys.state_names.push_back("theta:" + spec.nodes[i].name);

@@ -15,26 +15,12 @@
 #include <Eigen/Dense>
 
 #include "tvid/channels/crank_angle_channels.hpp"
+#include "tvid/model/element_traits.hpp"
 #include "tvid/model/network_spec.hpp"
 
 namespace tvid {
 
-/// How the elements that depend on a node's absolute angle (a cylinder's slider crank and
-/// gas torque, an order torque) are linearised.
-enum class AngleDependence {
-    revolution_mean,  ///< at their mean over a revolution (a cycle): the cylinder's inertia m·mean(s'²), excitations no stiffness
-    operating_point,  ///< at the operating point's angle, as the equations are there
-};
-
 const char* angle_dependence_name(AngleDependence a);
-
-/// How one element entered the linearisation.
-struct ElementLinearisation {
-    std::string element;  ///< its name
-    std::string kind;     ///< spring_damper, clearance, …
-    std::string method;   ///< exact, operating_point, revolution_mean, excitation, prescribed
-    std::string note;     ///< a sentence for the engineer
-};
 
 struct LinearNetwork {
     Eigen::MatrixXd A, B, C, D;

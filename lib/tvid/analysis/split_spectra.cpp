@@ -20,20 +20,39 @@ struct SpectrumStretch {
     std::size_t size() const { return end - begin; }
 };
 
-std::vector<SpectrumStretch> finite_stretches(const SplitEvaluation& split, std::size_t outputs) {
+// The median time step over every window's scored samples: a longer step than
+// kGapStepFactor times it is a gap in the recording.
+double split_median_step(const SplitEvaluation& split) {
+    std::vector<double> time;
+    for (const WindowEvaluation& w : split.windows) {
+        const std::vector<double>& t = w.trace.time;
+        for (std::size_t i = 0; i + 1 < t.size(); ++i) time.push_back(t[i + 1] - t[i]);
+    }
+    if (time.empty()) return 0.0;
+    const auto middle = time.begin() + static_cast<std::ptrdiff_t>(time.size() / 2);
+    std::nth_element(time.begin(), middle, time.end());
+    return *middle;
+}
+
+std::vector<SpectrumStretch> finite_stretches(const SplitEvaluation& split, std::size_t outputs, std::size_t& gaps) {
     std::vector<SpectrumStretch> stretches;
+    const double step = split_median_step(split);
+    gaps = 0;
     for (const WindowEvaluation& w : split.windows) {
         const WindowTrace& tr = w.trace;
         if (tr.status != SimulationStatus::ok || tr.measured.size() < outputs || tr.simulated.size() < outputs) continue;
-        const std::size_t n = tr.time.size();
-        std::size_t begin = 0;
-        for (std::size_t i = 0; i <= n; ++i) {
-            bool finite = i < n;
-            for (std::size_t k = 0; finite && k < outputs; ++k)
-                finite = std::isfinite(tr.measured[k][i]) && std::isfinite(tr.simulated[k][i]);
-            if (finite) continue;
-            if (i > begin + 1) stretches.push_back({&tr, begin, i});
-            begin = i + 1;
+        const auto records = gap_free_records(tr.time, step);
+        gaps += records.size() - 1;
+        for (const auto& [from, to] : records) {
+            std::size_t begin = from;
+            for (std::size_t i = from; i <= to; ++i) {
+                bool finite = i < to;
+                for (std::size_t k = 0; finite && k < outputs; ++k)
+                    finite = std::isfinite(tr.measured[k][i]) && std::isfinite(tr.simulated[k][i]);
+                if (finite) continue;
+                if (i > begin + 1) stretches.push_back({&tr, begin, i});
+                begin = i + 1;
+            }
         }
     }
     return stretches;
@@ -49,7 +68,7 @@ void accumulate(std::vector<double>& sum, const Spectrum& s) {
 SplitSpectra split_spectra(const SplitEvaluation& split, std::size_t outputs) {
     SplitSpectra out;
     out.split = split.split;
-    const std::vector<SpectrumStretch> stretches = finite_stretches(split, outputs);
+    const std::vector<SpectrumStretch> stretches = finite_stretches(split, outputs, out.gaps);
     std::size_t total = 0, longest = 0;
     double span = 0.0;
     for (const SpectrumStretch& s : stretches) {
@@ -89,6 +108,7 @@ SplitSpectra split_spectra(const SplitEvaluation& split, std::size_t outputs) {
     }
     out.sample_rate_hz = fs;
     out.segment_length = length;
+    out.resolution_hz = fs / static_cast<double>(length);
     for (OutputSpectra& o : out.outputs)
         for (std::vector<double>* d : {&o.measured, &o.simulated, &o.residual})
             for (double& v : *d) v /= static_cast<double>(out.segments);

@@ -8,7 +8,9 @@
 // averaged together, so each window counts by its number of segments. The segment length
 // is the Welch default for the split's samples (the largest power of two ≤ N/8, at least
 // 64), halved until the longest stretch holds one segment; a stretch shorter than a
-// segment contributes nothing. The sample rate is the stretches' mean (samples − 1)/span.
+// segment contributes nothing. A gap in the recording (a time step above kGapStepFactor
+// times the median step: rows missing) ends a stretch too, so no segment runs across it
+// and the sample rate, the stretches' mean (samples − 1)/span, leaves it out.
 
 #include <cstddef>
 #include <string>
@@ -29,6 +31,8 @@ struct SplitSpectra {
     std::size_t segment_length = 0;
     std::size_t segments = 0;           ///< 0: no stretch long enough, no spectra
     std::size_t samples = 0;            ///< in the stretches that contributed
+    std::size_t gaps = 0;               ///< gaps in the recording the stretches were split at
+    double resolution_hz = 0.0;         ///< sample_rate_hz / segment_length
     std::vector<double> frequency_hz;
     std::vector<OutputSpectra> outputs;  ///< per compared output
 };

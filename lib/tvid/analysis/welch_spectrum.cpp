@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
+#include <limits>
 #include <numbers>
 #include <stdexcept>
 #include <unsupported/Eigen/FFT>
@@ -80,6 +82,29 @@ std::size_t welch_segment_length(std::size_t n, const WelchSettings& settings) {
     return length;
 }
 
+double median_time_step(std::span<const double> time) {
+    if (time.size() < 2) return 0.0;
+    std::vector<double> steps(time.size() - 1);
+    for (std::size_t i = 0; i + 1 < time.size(); ++i) steps[i] = time[i + 1] - time[i];
+    const auto middle = steps.begin() + static_cast<std::ptrdiff_t>(steps.size() / 2);
+    std::nth_element(steps.begin(), middle, steps.end());
+    return *middle;
+}
+
+std::vector<std::pair<std::size_t, std::size_t>> gap_free_records(std::span<const double> time, double median_step) {
+    std::vector<std::pair<std::size_t, std::size_t>> records;
+    if (time.empty()) return records;
+    const double gap = kGapStepFactor * median_step;
+    std::size_t begin = 0;
+    for (std::size_t i = 1; i < time.size(); ++i)
+        if (median_step > 0.0 && time[i] - time[i - 1] > gap) {
+            records.emplace_back(begin, i);
+            begin = i;
+        }
+    records.emplace_back(begin, time.size());
+    return records;
+}
+
 Spectrum welch_psd(std::span<const double> x, double sample_rate_hz, const WelchSettings& settings) {
     Spectrum result;
     if (x.size() < 2 || !valid_rate(sample_rate_hz)) return result;
@@ -142,7 +167,9 @@ FrfEstimate estimate_frf_h1(std::span<const std::span<const double>> inputs,
     for (std::size_t k = 0; k < bins; ++k) {
         result.h1[k] = sxx[k] > 0.0 ? sxy[k] / sxx[k] : std::complex<double>(0.0, 0.0);
         const double denominator = sxx[k] * syy[k];
-        result.coherence[k] = denominator > 0.0 ? std::min(1.0, std::norm(sxy[k]) / denominator) : 0.0;
+        result.coherence[k] = result.segments < 2   ? std::numeric_limits<double>::quiet_NaN()
+                              : denominator > 0.0 ? std::min(1.0, std::norm(sxy[k]) / denominator)
+                                                  : 0.0;
     }
     return result;
 }

@@ -12,6 +12,7 @@
 #include <complex>
 #include <cstddef>
 #include <span>
+#include <utility>
 #include <vector>
 
 namespace tvid {
@@ -42,7 +43,8 @@ struct FrfEstimate {
 };
 
 /// `input` and `output` must have the same length (std::invalid_argument otherwise).
-/// Where S_xx = 0, H1 is 0; where S_xx S_yy = 0, the coherence is 0.
+/// Where S_xx = 0, H1 is 0; where S_xx S_yy = 0, the coherence is 0. From a single
+/// segment the coherence is 1 whatever the signals: it is NaN (undefined) then.
 FrfEstimate estimate_frf_h1(std::span<const double> input, std::span<const double> output, double sample_rate_hz,
                             const WelchSettings& settings = {});
 
@@ -56,5 +58,16 @@ FrfEstimate estimate_frf_h1(std::span<const std::span<const double>> inputs,
 
 /// The segment length `settings` gives for n samples (the default rule when 0; at most n).
 std::size_t welch_segment_length(std::size_t n, const WelchSettings& settings = {});
+
+/// A time step longer than this many times the median step is a gap in the recording
+/// (rows missing): no spectral segment crosses it, and it enters no sample rate.
+inline constexpr double kGapStepFactor = 1.5;
+
+/// The median of the steps time[i+1] − time[i] for i in [begin, end − 1) (0 with fewer than 2 samples).
+double median_time_step(std::span<const double> time);
+
+/// [begin, end) index ranges of `time` with no gap inside (a step above
+/// kGapStepFactor × `median_step`): every spectral estimate takes its records from these.
+std::vector<std::pair<std::size_t, std::size_t>> gap_free_records(std::span<const double> time, double median_step);
 
 }  // namespace tvid

@@ -6,6 +6,7 @@
 #include <mutex>
 #include <thread>
 
+#include "tvid/util/parallel_region.hpp"
 #include "tvid/estimation/parallel_evaluator.hpp"
 #include "tvid/util/stop_request.hpp"
 
@@ -33,10 +34,7 @@ void run_batch_jobs(const BatchSettings& settings, const std::vector<BatchJob>& 
             }
         }
     };
-    std::vector<std::thread> pool;
-    for (std::size_t t = 1; t < workers; ++t) pool.emplace_back(work);
-    work();  // this thread works too
-    for (std::thread& t : pool) t.join();
+    run_on_threads(static_cast<int>(workers), work);  // this thread works too
     if (error) std::rethrow_exception(error);
 }
 

@@ -9,6 +9,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "tvid/io/csv_field.hpp"
 #include "tvid/io/atomic_file.hpp"
 #include "tvid/io/input_file.hpp"
 
@@ -68,14 +69,7 @@ std::string batch_csv_line(const BatchRow& cells) {
     std::string line;
     for (std::size_t i = 0; i < cells.size(); ++i) {
         if (i) line += ',';
-        const std::string& c = cells[i];
-        if (c.find_first_of(",\"\r\n") == std::string::npos) {
-            line += c;
-            continue;
-        }
-        line += '"';
-        for (char ch : c) line.append(ch == '"' ? "\"\"" : std::string(1, ch));
-        line += '"';
+        line += csv_field(cells[i]);
     }
     return line + '\n';
 }
@@ -98,7 +92,7 @@ double batch_cell_value(const std::string& cell) {
 std::optional<BatchFile> read_batch_file(const std::filesystem::path& file) {
     std::error_code ec;
     if (!std::filesystem::exists(file, ec)) return std::nullopt;
-    const std::string text = read_input_file(file, "batch table", kMaxRecordingBytes);
+    const std::string text = read_earlier_output(file, "batch table", kMaxRecordingBytes);
 
     // RFC 4180 records: a record ends at a line break outside quotes.
     BatchFile out;
@@ -147,7 +141,7 @@ void BatchAppender::append(const BatchRow& row) {
 }
 
 void BatchAppender::rewrite(std::string content) {
-    write_file_atomically(file_, content);
+    write_named_output_file(file_, content);
     content_ = std::move(content);
 }
 

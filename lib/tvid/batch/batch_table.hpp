@@ -73,7 +73,7 @@ struct BatchFile {
 std::optional<BatchFile> read_batch_file(const std::filesystem::path& file);
 
 /// Keeps batch.csv on disk as rows are added: every change rewrites the whole file
-/// through write_file_atomically (a temporary file, synced, renamed over batch.csv), so a
+/// through write_output_file (a temporary file, synced, renamed over batch.csv), so a
 /// batch killed at any moment leaves the file as it was before or after a row, never torn,
 /// and keeps every job that had finished. (Rows are few; rewriting them costs nothing next
 /// to a fit.)

@@ -9,6 +9,7 @@
 #include <memory>
 #include <thread>
 
+#include "tvid/util/parallel_region.hpp"
 #include "tvid/analysis/evaluation.hpp"
 #include "tvid/estimation/parallel_evaluator.hpp"
 #include "tvid/util/stop_request.hpp"
@@ -32,10 +33,7 @@ void for_each_task(std::size_t count, std::size_t workers, const Task& task) {
             task(k);
         }
     };
-    std::vector<std::thread> pool;
-    for (std::size_t t = 1; t < std::min(workers, count); ++t) pool.emplace_back(work);
-    work();
-    for (std::thread& t : pool) t.join();
+    run_on_threads(static_cast<int>(std::max<std::size_t>(1, std::min(workers, count))), work);
 }
 
 // A validated job: its experiment with its own windows, estimation only (the validation

@@ -14,6 +14,7 @@
 #include "tvid/estimation/window_score.hpp"
 #include "tvid/sim/batch_rk4.hpp"
 #include "tvid/sim/state_size_dispatch.hpp"
+#include "tvid/util/parallel_region.hpp"
 
 namespace tvid {
 
@@ -112,6 +113,15 @@ public:
 
     bool stopped() const { return stopped_; }
 
+    /// A thread failed: every take() returns false from now on.
+    void abandon() {
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            stopped_ = true;
+        }
+        changed_.notify_all();
+    }
+
 private:
     bool pop(std::size_t k, Group& group, std::size_t& stage) {
         std::vector<std::size_t>& r = ready_[k];
@@ -178,10 +188,15 @@ public:
             // The first window's starts, on all threads; then the stages.
             const auto n = static_cast<long long>(count);
             const int threads = static_cast<int>(workspaces_.size());
+            FirstException errors;
 #pragma omp parallel for schedule(dynamic, 4) num_threads(threads)
-            for (long long c = 0; c < n; ++c)
+            for (long long c = 0; c < n; ++c) try {
                 if (s.live[static_cast<std::size_t>(c)])
                     start_window(static_cast<std::size_t>(c), 0, *workspaces_[static_cast<std::size_t>(omp_get_thread_num())]->scalar);
+            } catch (...) {
+                errors.capture();
+            }
+            errors.rethrow();
             StageQueues queues(stages_.size());
             for (std::size_t c = 0; c < count; ++c)
                 if (s.live[c]) queues.add(c);
@@ -191,11 +206,17 @@ public:
                 std::vector<std::size_t> next;
                 Group group;
                 std::size_t stage = 0;
-                while (queues.take(group, stage, stop_)) {
-                    march_stage(ws, group, stage, next);
-                    queues.done(group, stage, next);
+                try {
+                    while (queues.take(group, stage, stop_)) {
+                        march_stage(ws, group, stage, next);
+                        queues.done(group, stage, next);
+                    }
+                } catch (...) {
+                    errors.capture();
+                    queues.abandon();  // the others wait for no group of this thread
                 }
             }
+            errors.rethrow();
             complete = !queues.stopped();
         }
         for (std::size_t c = 0; c < count; ++c) {

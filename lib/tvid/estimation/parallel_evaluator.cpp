@@ -1,4 +1,5 @@
 #include "tvid/estimation/parallel_evaluator.hpp"
+#include "tvid/util/parallel_region.hpp"
 
 #include <omp.h>
 
@@ -38,8 +39,9 @@ void ParallelEvaluator::evaluate_bounded(const double* candidates, std::size_t c
         return;
     }
     const auto n = static_cast<long long>(count);
+    FirstException errors;
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads_)
-    for (long long i = 0; i < n; ++i) {
+    for (long long i = 0; i < n; ++i) try {
         if (stop_ && stop_->load(std::memory_order_relaxed)) {
             costs[i] = inf;
             skipped.store(true, std::memory_order_relaxed);
@@ -47,7 +49,10 @@ void ParallelEvaluator::evaluate_bounded(const double* candidates, std::size_t c
         }
         ProblemWorkspace& ws = *workspaces_[static_cast<std::size_t>(omp_get_thread_num())];
         costs[i] = problem_->cost(candidates + static_cast<std::size_t>(i) * dimension, ws, bounds ? bounds[i] : inf);
+    } catch (...) {
+        errors.capture();
     }
+    errors.rethrow();
     stopped_ = skipped.load();
 }
 

@@ -1,9 +1,11 @@
 #include "tvid/estimation/problem_definition.hpp"
 
 #include "tvid/channels/channel_delay.hpp"
+#include "tvid/model/parameter_units.hpp"
 
 #include <algorithm>
 #include <cmath>
+#include <string_view>
 #include <utility>
 
 namespace tvid {
@@ -29,8 +31,19 @@ std::vector<double> shifted(const std::vector<double>& v, const std::vector<doub
 }
 }  // namespace
 
+// The channels as recorded (unit-scaled, not shifted by any delay): what is derived from
+// a channel (the outputs' spreads, the speed limit) reads these, so it depends on no
+// delay, neither a number nor a parameter's init or candidate value. A delay moves
+// samples; the spread over a window must not change with it.
+namespace {
+struct Unshifted {
+    std::vector<std::vector<double>> inputs;   ///< the time inputs, in InputChannels order (no rates)
+    std::vector<std::vector<double>> outputs;  ///< the measured outputs
+};
+}  // namespace
+
 // kSpeedLimitFactor times the largest speed the recording measures, or infinity.
-double speed_limit(const ProblemDefinition& d, const Experiment& experiment) {
+double speed_limit(const ProblemDefinition& d, const Experiment& experiment, const Unshifted& u) {
     double largest = 0.0;
     bool measured = false;
     const auto take = [&](const std::vector<double>& v) {
@@ -38,16 +51,15 @@ double speed_limit(const ProblemDefinition& d, const Experiment& experiment) {
         measured = true;
     };
     for (std::size_t k = 0; k < d.measured.size(); ++k)
-        if (d.network.outputs[static_cast<std::size_t>(d.output_indices[k])].kind == OutputKind::speed) take(d.measured[k]);
-    for (const SpeedSourceSpec& s : d.network.speed_sources) {
-        if (s.input < 0) continue;
-        const std::size_t k = static_cast<std::size_t>(s.input);
-        std::vector<double> v(d.inputs.samples());
-        for (std::size_t i = 0; i < v.size(); ++i) v[i] = d.inputs.value(k, i);
-        take(v);
-    }
+        if (d.network.outputs[static_cast<std::size_t>(d.output_indices[k])].kind == OutputKind::speed)
+            take(u.outputs[k]);
+    // The measured speeds the model reads (a speed source's channel).
+    for (std::size_t k = 0; k < d.network.input_names.size() && k < u.inputs.size(); ++k)
+        if (std::string_view(input_unit(d.network, k)) == outputs::Speed::unit) take(u.inputs[k]);
     if (experiment.initial_state == InitialStateKind::steady) {
-        if (!d.steady_speed.empty()) take(d.steady_speed);
+        if (d.steady_speed_input >= 0) take(u.inputs[static_cast<std::size_t>(d.steady_speed_input)]);
+        else if (d.steady_speed_output >= 0) take(u.outputs[static_cast<std::size_t>(d.steady_speed_output)]);
+        else if (!d.steady_speed.empty()) take(d.steady_speed);
         else take({experiment.steady.speed});
     }
     if (!measured || !(largest > 0)) return std::numeric_limits<double>::infinity();
@@ -71,11 +83,11 @@ double spread(const std::vector<double>& v, const std::vector<Window>& windows) 
 
 // Each output's factor in the cost: its weight, over its measured spread when normalized
 // (an output that does not vary in the estimation windows keeps its weight alone).
-void set_output_scales(ProblemDefinition& d, const Experiment& experiment) {
+void set_output_scales(ProblemDefinition& d, const Experiment& experiment, const Unshifted& u) {
     const OutputNormalization n = experiment.estimation_settings.normalize;
     d.normalized = n == OutputNormalization::spread || (n == OutputNormalization::automatic && d.measured.size() > 1);
     for (std::size_t k = 0; k < d.measured.size(); ++k) {
-        const double s = spread(d.measured[k], d.estimation);
+        const double s = spread(u.outputs[k], d.estimation);
         d.output_spread.push_back(s);
         const double w = experiment.outputs[k].weight;
         d.output_scale.push_back(d.normalized && s > 0 && std::isfinite(s) ? w / s : w);
@@ -86,13 +98,15 @@ void set_output_scales(ProblemDefinition& d, const Experiment& experiment) {
 
 // The time inputs, shifted by their delays, then the rates of those the model
 // differentiates (a rate of a delay parameter's input is the recording's rate, shifted).
-static void read_time_inputs(ProblemDefinition& d, const Experiment& experiment, const std::vector<double>& time) {
+static void read_time_inputs(ProblemDefinition& d, const Experiment& experiment, const std::vector<double>& time,
+                             Unshifted& unshifted) {
     std::vector<std::vector<double>> values, recorded;
     std::vector<int> delay_parameter;
     for (const ChannelBinding& in : experiment.inputs) {
         if (in.by_angle) continue;
         recorded.push_back(scaled(experiment.data.column(in.column), in.scale));
         values.push_back(shifted(recorded.back(), time, delay_value(in, experiment)));
+        unshifted.inputs.push_back(recorded.back());
         delay_parameter.push_back(in.delay.parameter);
     }
     for (int k : experiment.network.input_rates) {  // after the inputs, as NetworkSpec::input_rates places them
@@ -114,12 +128,34 @@ static void read_time_inputs(ProblemDefinition& d, const Experiment& experiment,
     d.inputs = InputChannels(time, std::move(values));
 }
 
+// A steady start's speed column, read as the first channel bound to it reads it (unit,
+// scale, delay), else as recorded.
+static void read_steady_speed(ProblemDefinition& d, const Experiment& experiment) {
+    const std::string& column = d.steady.speed_column;
+    int input = 0;
+    for (const ChannelBinding& in : experiment.inputs) {
+        if (in.by_angle) continue;
+        if (in.column == column) {
+            d.steady_speed_input = input;
+            return;
+        }
+        ++input;
+    }
+    for (std::size_t k = 0; k < experiment.outputs.size(); ++k)
+        if (experiment.outputs[k].column == column) {
+            d.steady_speed_output = static_cast<int>(k);
+            return;
+        }
+    d.steady_speed = experiment.data.column(column);
+}
+
 ProblemDefinition problem_definition(const Experiment& experiment) {
     ProblemDefinition d;
     d.network = experiment.network;
     const CsvTable& data = experiment.data;
     const std::vector<double>& time = data.column(experiment.time_column);
-    read_time_inputs(d, experiment, time);
+    Unshifted unshifted;
+    read_time_inputs(d, experiment, time, unshifted);
     std::vector<std::vector<double>> angle_values;
     for (const ChannelBinding& in : experiment.inputs)
         if (in.by_angle)
@@ -128,6 +164,7 @@ ProblemDefinition problem_definition(const Experiment& experiment) {
     for (const ChannelBinding& out : experiment.outputs) {
         std::vector<double> recorded = scaled(data.column(out.column), out.scale);
         d.measured.push_back(shifted(recorded, time, delay_value(out, experiment)));
+        unshifted.outputs.push_back(recorded);
         d.output_delay.push_back(out.delay.parameter);
         if (out.delay.is_parameter()) {
             std::vector<double> slope = sample_slopes(recorded, time);
@@ -140,13 +177,13 @@ ProblemDefinition problem_definition(const Experiment& experiment) {
     d.initial_state = experiment.initial_state;
     d.initial_speed_output = experiment.initial_speed_output;
     d.steady = experiment.steady;
-    if (!d.steady.speed_column.empty()) d.steady_speed = data.column(d.steady.speed_column);
+    if (!d.steady.speed_column.empty()) read_steady_speed(d, experiment);
     d.crank_angle = experiment.crank_angle;
     d.angle_node = experiment.angle_node;
     d.simulation = experiment.simulation;
-    d.speed_limit = speed_limit(d, experiment);
+    d.speed_limit = speed_limit(d, experiment, unshifted);
     d.cost = experiment.estimation_settings.cost;
-    set_output_scales(d, experiment);
+    set_output_scales(d, experiment, unshifted);
     d.jacobian = experiment.estimation_settings.jacobian;
     return d;
 }

@@ -28,7 +28,15 @@ struct ProblemDefinition {
     InitialStateKind initial_state = InitialStateKind::equilibrium;
     int initial_speed_output = -1;               ///< measured start: the measured output of the speed
     SteadyStartSpec steady;                      ///< steady start: its node, speed and averaging
-    std::vector<double> steady_speed;            ///< and its speed column per sample, when it reads one
+    /// And its speed column per sample, when it reads one: read exactly as a channel bound
+    /// to that column reads it (its unit, scale and delay), so the start agrees with the
+    /// model's channel. The first input bound to the column (steady_speed_input, an index
+    /// into `inputs`: a workspace reads it shifted by a delay parameter's current value),
+    /// else the first output (steady_speed_output, an index into `measured`), else the
+    /// column as recorded in steady_speed [rad/s].
+    std::vector<double> steady_speed;
+    int steady_speed_input = -1;
+    int steady_speed_output = -1;
     std::vector<double> crank_angle;             ///< measured crank angle per sample [rad], or empty
     int angle_node = -1;                         ///< the node whose angle crank_angle measures
     SimulationSettings simulation;
@@ -40,7 +48,11 @@ struct ProblemDefinition {
     /// Each measured output's residual is multiplied by output_scale[k] in the cost: its
     /// weight, divided by its spread when `normalized`.
     std::vector<double> output_scale;
-    std::vector<double> output_spread;           ///< the measured spread in the estimation windows
+    /// The measured spread in the estimation windows, of the channel as recorded (not
+    /// shifted by its delay): it depends neither on a delay parameter's init nor on a
+    /// candidate's delay, so equal parameters cost the same, and a delay parameter at d
+    /// scores as `delay: d` does. The speed limit reads the channels the same way.
+    std::vector<double> output_spread;
     bool normalized = false;
     /// Each measured output's detrend and high-pass within a window (residual_filter.hpp);
     /// `filtered` when any output has one.

@@ -8,6 +8,7 @@
 
 #include "tvid/estimation/parallel_evaluator.hpp"
 #include "tvid/estimation/window_score.hpp"
+#include "tvid/util/parallel_region.hpp"
 
 namespace tvid {
 
@@ -93,12 +94,16 @@ void ResidualEvaluator::residuals_side_by_side(std::size_t count, const double* 
     if (count > evaluated_.size()) throw std::logic_error("ResidualEvaluator: more points side by side than threads");
     for (EvaluatedPoint& e : evaluated_) e.valid = false;
     const auto points = static_cast<long long>(count);
+    FirstException errors;
 #pragma omp parallel for schedule(static, 1) num_threads(threads_)
-    for (long long kk = 0; kk < points; ++kk) {
+    for (long long kk = 0; kk < points; ++kk) try {
         const auto k = static_cast<std::size_t>(kk);
         ok[k] = !stop_requested() && evaluate_into(k, x[k], *workspaces_[static_cast<std::size_t>(omp_get_thread_num())]);
         if (ok[k]) std::copy(evaluated_[k].residuals.begin(), evaluated_[k].residuals.end(), r[k]);
+    } catch (...) {
+        errors.capture();
     }
+    errors.rethrow();
     simulations_ += points;
     const bool stop = stop_requested();
     for (std::size_t k = 0; k < count; ++k) stopped[k] = !ok[k] && stop;
@@ -169,8 +174,9 @@ bool ResidualEvaluator::sensitivity_jacobian(const double* x, const double* r,
     const std::size_t width = (m + blocks - 1) / blocks;
     std::vector<char> ok(blocks, 1);
     const auto count = static_cast<long long>(blocks);
+    FirstException errors;
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads_)
-    for (long long b = 0; b < count; ++b) {
+    for (long long b = 0; b < count; ++b) try {
         if (stop_requested()) {
             ok[static_cast<std::size_t>(b)] = 0;
             continue;
@@ -179,7 +185,10 @@ bool ResidualEvaluator::sensitivity_jacobian(const double* x, const double* r,
         const std::size_t j0 = static_cast<std::size_t>(b) * width, j1 = std::min(m, j0 + width);
         ok[static_cast<std::size_t>(b)] =
             j0 >= j1 || sensitivity_.jacobian_columns(x, j0, j1, ws, J, &starts, &start_slopes_) ? 1 : 0;
+    } catch (...) {
+        errors.capture();
     }
+    errors.rethrow();
     simulations_ += count;
     slopes_valid_ = std::all_of(ok.begin(), ok.end(), [](char c) { return c != 0; });
     if (!slopes_valid_ || problem_->input_delay_columns().empty()) return slopes_valid_;
@@ -192,8 +201,9 @@ bool ResidualEvaluator::finite_difference_columns(const double* x, const double*
     std::vector<double> step(m);
     std::vector<char> ok(m, 1);
     const auto columns = static_cast<long long>(which.size());
+    FirstException errors;
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads_)
-    for (long long jj = 0; jj < columns; ++jj) {
+    for (long long jj = 0; jj < columns; ++jj) try {
         const std::size_t j = which[static_cast<std::size_t>(jj)];
         if (stop_requested()) {
             ok[j] = 0;
@@ -217,7 +227,10 @@ bool ResidualEvaluator::finite_difference_columns(const double* x, const double*
         }
         ws.shooting_guesses.clear();
         ok[j] = good ? 1 : 0;
+    } catch (...) {
+        errors.capture();
     }
+    errors.rethrow();
     simulations_ += 2 * columns;
     for (std::size_t j : which) {
         if (!ok[j] || !(step[j] > 0)) return false;

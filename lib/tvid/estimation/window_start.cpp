@@ -61,10 +61,16 @@ bool WindowStarts::initial_state(const Window& w, ProblemWorkspace& ws, std::str
                 for (std::size_t i = start; i < end; ++i) sum += ws.inputs->value(k, i);
                 ws.u0[k] = sum / m;
             }
+            // The speed column as its channel reads it (ProblemDefinition::steady_speed_input).
             double speed = s.speed;
-            if (!d_->steady_speed.empty()) {
+            const auto column = [&](std::size_t i) {
+                if (d_->steady_speed_input >= 0) return ws.inputs->value(static_cast<std::size_t>(d_->steady_speed_input), i);
+                if (d_->steady_speed_output >= 0) return (*ws.measured[static_cast<std::size_t>(d_->steady_speed_output)])[i];
+                return d_->steady_speed[i];
+            };
+            if (d_->steady_speed_input >= 0 || d_->steady_speed_output >= 0 || !d_->steady_speed.empty()) {
                 double sum = 0.0;
-                for (std::size_t i = start; i < end; ++i) sum += d_->steady_speed[i];
+                for (std::size_t i = start; i < end; ++i) sum += column(i);
                 speed = sum / m;
             }
             const double angle = !d_->crank_angle.empty() && d_->angle_node == s.node ? d_->crank_angle[start] : 0.0;

@@ -1,5 +1,6 @@
 #include "tvid/experiment/channel_reader.hpp"
 
+#include "tvid/io/atomic_file.hpp"
 #include "tvid/util/text.hpp"
 
 #include <algorithm>
@@ -12,6 +13,8 @@
 namespace tvid {
 
 namespace {
+
+constexpr double kSmallestWeight = 1e-8, kLargestWeight = 1e8;  // an output's weight
 
 struct UnitFactor {
     const char* unit;
@@ -94,36 +97,77 @@ ChannelBinding read_binding(const YamlMap& section, const std::string& name, con
     return b;
 }
 
+// "speed: NODE", "torque: ELEMENT": how each output kind is written (model/output_kinds.hpp).
+std::vector<std::string> output_forms() {
+    std::vector<std::string> forms;
+    for_each_output_kind([&](auto kind) {
+        using K = decltype(kind);
+        forms.push_back(std::string(K::key) + (K::target == outputs::Target::node ? ": NODE" : ": ELEMENT"));
+    });
+    return forms;
+}
+
+// "a, b or c".
+std::string either(const std::vector<std::string>& words) {
+    std::string text;
+    for (std::size_t i = 0; i < words.size(); ++i) text += (i == 0 ? "" : i + 1 == words.size() ? " or " : ", ") + words[i];
+    return text;
+}
+
+// The element of a torque output, and the side it reads where its kind has two
+// (ElementOutputs::torque_each_side: a gear mesh).
+void read_output_element(const YamlMap& m, const std::string& key, const NetworkSpec& net, OutputSpec& o) {
+    const std::string element = m.text(key);
+    if (!net.find_element(element, o.element)) m.fail(key, "no element named '" + element + "'");
+    if (!m.has("side")) return;
+    o.side = m.choice("side", {"input", "output"}) == "output" ? TorqueSide::output : TorqueSide::input;
+    if (element_has_output_side(o.element.kind)) return;
+    std::vector<std::string> two_sided;
+    for_each_element_kind([&](auto kind) {
+        if (decltype(kind)::outputs == ElementOutputs::torque_each_side) two_sided.emplace_back(decltype(kind)::type_name);
+    });
+    m.fail("side", std::string("a ") + element_kind_name(o.element.kind) +
+                       " carries the same torque on both sides; side: applies to a " + either(two_sided));
+}
+
 OutputSpec read_custom_output(const YamlMap& section, const std::string& name, const NetworkSpec& net) {
     const YamlSource& src = section.source();
     const YAML::Node value = section.get(name);
-    if (!value.IsMap())
-        src.fail(value, section.key_path(name), "expected { column: NAME, speed: NODE } (or angle: NODE, torque: ELEMENT)");
+    const std::vector<std::string> forms = output_forms();
+    if (!value.IsMap()) {
+        std::string others;
+        for (std::size_t i = 1; i < forms.size(); ++i) others += (i == 1 ? "" : ", ") + forms[i];
+        src.fail(value, section.key_path(name), "expected { column: NAME, " + forms[0] + " } (or " + others + ")");
+    }
     const YamlMap m(src, value, section.key_path(name));
     OutputSpec o;
     o.name = name;
-    const int kinds = int(m.has("speed")) + int(m.has("angle")) + int(m.has("torque"));
-    if (kinds == 0) m.fail_missing("speed", "(give exactly one of speed: NODE, angle: NODE or torque: ELEMENT)");
-    if (kinds > 1)
-        m.fail(m.has("torque") ? "torque" : "angle", "give exactly one of speed: NODE, angle: NODE or torque: ELEMENT");
-    if (m.has("torque")) {
-        o.kind = OutputKind::torque;
-        const std::string element = m.text("torque");
-        if (!net.find_element(element, o.element)) m.fail("torque", "no element named '" + element + "'");
-        if (m.has("side")) {
-            o.side = m.choice("side", {"input", "output"}) == "output" ? TorqueSide::output : TorqueSide::input;
-            if (!element_has_output_side(o.element.kind))
-                m.fail("side", std::string("a ") + element_kind_name(o.element.kind) +
-                                   " carries the same torque on both sides; side: applies to a gear_mesh");
+    int kinds = 0;
+    std::string first_key, last_given, element_output;
+    for_each_output_kind([&](auto kind) {
+        using K = decltype(kind);
+        if (first_key.empty()) first_key = K::key;
+        if (K::target == outputs::Target::element && element_output.empty())
+            element_output = std::string("a ") + K::key + " output (" + K::key + ": ELEMENT)";
+        if (!m.has(K::key)) return;
+        ++kinds;
+        last_given = K::key;
+        o.kind = OutputRow<K>::kind;
+    });
+    if (kinds == 0) m.fail_missing(first_key, "(give exactly one of " + either(forms) + ")");
+    if (kinds > 1) m.fail(last_given, "give exactly one of " + either(forms));
+    for_each_output_kind([&](auto kind) {
+        using K = decltype(kind);
+        if (o.kind != OutputRow<K>::kind) return;
+        if constexpr (K::target == outputs::Target::element) {
+            read_output_element(m, K::key, net, o);
+        } else {
+            const std::string node = m.text(K::key);
+            o.node = net.node_index(node);
+            if (o.node < 0) m.fail(K::key, "no node named '" + node + "'");
+            if (m.has("side")) m.fail("side", "side: applies to " + element_output);
         }
-    } else {
-        const std::string key = m.has("speed") ? "speed" : "angle";
-        o.kind = key == "speed" ? OutputKind::speed : OutputKind::angle;
-        const std::string node = m.text(key);
-        o.node = net.node_index(node);
-        if (o.node < 0) m.fail(key, "no node named '" + node + "'");
-        if (m.has("side")) m.fail("side", "side: applies to a torque output (torque: ELEMENT)");
-    }
+    });
     if (m.has("offset")) o.offset = read_field(src, m.get("offset"), m.key_path("offset"), net.parameter_names);
     if (m.has("gain")) {
         o.gain = read_field(src, m.get("gain"), m.key_path("gain"), net.parameter_names);
@@ -214,6 +258,7 @@ OutputBindings read_outputs(const YamlMap& outputs, NetworkSpec& network, const 
         outputs.allow_only(names);
     }
     for (const std::string& name : outputs.keys()) {
+        if (const std::string why = plain_name_problem(name); !why.empty()) outputs.fail(name, why);
         if (custom) {
             if (network.output_index(name) >= 0) outputs.fail(name, "output defined twice");
             network.outputs.push_back(read_custom_output(outputs, name, network));
@@ -229,6 +274,11 @@ OutputBindings read_outputs(const YamlMap& outputs, NetworkSpec& network, const 
             if (m.has("weight")) {
                 const double w = m.number("weight");
                 if (!(w > 0) || !std::isfinite(w)) m.fail("weight", "an output's weight must be a positive number");
+                // Relative factors: beyond 1e8 one output's squared residual swamps the
+                // others past double precision, and a weight of 1e154 overflows the cost.
+                if (w < kSmallestWeight || w > kLargestWeight)
+                    m.fail("weight", "an output's weight must be between 1e-08 and 1e+08 (weights are relative; got " +
+                                         number_text(w) + ")");
                 out.channels.back().weight = w;
             }
             ScoringFilter& f = out.channels.back().scoring;

@@ -19,6 +19,7 @@
 #include "tvid/experiment/yaml_reader.hpp"
 #include "tvid/io/input_file.hpp"
 #include "tvid/io/sha256.hpp"
+#include "tvid/model/steady_motion.hpp"
 #include "tvid/sim/observation_loops.hpp"
 #include "tvid/util/input_error.hpp"
 #include "tvid/util/text.hpp"
@@ -358,7 +359,7 @@ Experiment load_experiment(const std::filesystem::path& file, const std::vector<
     ex.warmup = windows.warmup;
     ex.warmup_cycles = windows.warmup_cycles;
     // A running engine has no static equilibrium: its models start from the measurement.
-    const bool engine = !ex.network.cylinders.empty();
+    const bool engine = !ex.network.angle_input_names.empty();  // a channel read by crank angle: it turns
     if (engine) ex.initial_state = InitialStateKind::measured;
     if (top.has("initial_state")) {
         const bool detailed = top.get("initial_state").IsMap();
@@ -375,12 +376,16 @@ Experiment load_experiment(const std::filesystem::path& file, const std::vector<
                 top.fail("initial_state", "steady needs its node and speed: initial_state: { kind: steady, node: "
                                           "NAME, speed: RAD_PER_S or COLUMN }");
             ex.steady = read_steady_start(start, ex.network, ex.data);
+            if (const std::string held = held_to_ground(ex.network); !held.empty())
+                start.fail("kind", "steady on a line held to ground by " + held +
+                                       ": it cannot turn steadily, and at rest its start is the static equilibrium "
+                                       "(initial_state: equilibrium, measured or rest)");
         }
         if (engine && ex.initial_state != InitialStateKind::measured && ex.initial_state != InitialStateKind::steady)
             top.fail("initial_state", "a model with cylinders turns: it starts from the measured crank angle and "
                                       "speed (initial_state: measured)");
     }
-    if (ex.initial_state == InitialStateKind::equilibrium && !ex.network.speed_sources.empty()) {
+    if (ex.initial_state == InitialStateKind::equilibrium && prescribes_motion(ex.network)) {
         const std::string why = "a speed source turns its node: start from initial_state: { kind: steady, node: NAME, "
                                 "speed: COLUMN } or measured";
         if (top.has("initial_state")) top.fail("initial_state", why);
@@ -389,7 +394,7 @@ Experiment load_experiment(const std::filesystem::path& file, const std::vector<
     if (ex.initial_state == InitialStateKind::measured) {
         // Every node starts turning at the first measured speed, through the gear ratios,
         // at the measured crank angle when there is one.
-        if (ex.angle_column.empty() && !ex.network.cylinders.empty())
+        if (ex.angle_column.empty() && engine)
             top.fail("initial_state", "measured needs the crank-angle channel: give data.angle");
         for (std::size_t k = 0; k < ex.outputs.size() && ex.initial_speed_output < 0; ++k)
             if (ex.network.outputs[static_cast<std::size_t>(ex.output_indices[k])].kind == OutputKind::speed)

@@ -1,5 +1,6 @@
 #include "tvid/experiment/parameter_reader.hpp"
 
+#include "tvid/io/atomic_file.hpp"
 #include "tvid/util/text.hpp"
 
 #include <cmath>
@@ -16,34 +17,54 @@ namespace {
 // dimensions must be positive; stiffnesses, damping and friction coefficients, a
 // clearance's half backlash μ and a reciprocating mass cannot be negative (a negative
 // damping feeds energy in, a negative inertia or stiffness turns an oscillation into
-// exponential growth). Parameters with no such meaning (offsets, ratios) have no role.
+// exponential growth); a gear ratio must not be zero. Parameters with no such meaning
+// (offsets) have no role.
 struct PhysicalRole {
     const char* what = nullptr;  ///< e.g. "an inertia"; nullptr: any sign
-    bool zero_allowed = false;
+    SignRule sign = SignRule::any;
 };
 
 std::vector<PhysicalRole> physical_roles(const NetworkSpec& n) {
     std::vector<PhysicalRole> role(n.parameter_names.size());
-    auto set = [&](const Field& f, const char* what, bool zero_allowed) {
+    auto set = [&](const Field& f, const char* what, SignRule sign) {
         if (!f.is_parameter()) return;
         PhysicalRole& r = role[static_cast<std::size_t>(f.parameter)];
-        if (r.what != nullptr && !r.zero_allowed) return;  // a parameter that must be positive stays so
-        r = PhysicalRole{what, zero_allowed};
+        if (r.what != nullptr && r.sign != SignRule::non_negative) return;  // a stricter rule stays
+        r = PhysicalRole{what, sign};
     };
-    for (const NodeSpec& node : n.nodes) set(node.inertia, node.inverse ? "an inverse inertia" : "an inertia", false);
+    for (const NodeSpec& node : n.nodes)
+        set(node.inertia, node.inverse ? "an inverse inertia" : "an inertia", SignRule::positive);
     // Each element kind's field table says which sign its fields' physics allows.
     for_each_element_field(n, [&](const FieldInfo& info, const Field& f) {
-        if (info.sign != SignRule::any) set(f, info.role, info.sign == SignRule::non_negative);
+        if (info.sign != SignRule::any) set(f, info.role, info.sign);
     });
     return role;
 }
 
-// "must be positive" or "cannot be negative", as the role asks.
-bool violates(const PhysicalRole& role, double v) { return role.zero_allowed ? !(v >= 0) : !(v > 0); }
+// "must be positive", "cannot be negative" or "must not be zero", as the role asks.
+bool violates(const PhysicalRole& role, double v) { return violates_sign(role.sign, v); }
 
 std::string role_problem(const PhysicalRole& role, const std::string& name, double v) {
-    return std::string(role.zero_allowed ? "cannot be negative: " : "must be positive: ") + name + " is " + role.what +
-           " (got " + number_text(v) + ")";
+    return std::string(sign_problem(role.sign)) + name + " is " + role.what + " (got " + number_text(v) + ")";
+}
+
+// A free parameter that must not be zero (a gear ratio) searches one side of 0 only:
+// its bounds, and its range, must neither straddle nor touch 0.
+void check_one_side_of_zero(const YamlMap& m, const ParameterSetting& p, const PhysicalRole& role) {
+    if (role.sign != SignRule::nonzero || p.fixed) return;
+    const auto problem = [&](double lo, double hi, bool lo_given, bool hi_given) {
+        return "the bounds [" + (lo_given ? number_text(lo) : std::string("-inf")) + ", " +
+               (hi_given ? number_text(hi) : std::string("inf")) + "] reach 0: " + p.name + " is " + role.what +
+               ", which must not be zero; keep them on one side of 0 (min > 0 or max < 0)";
+    };
+    if (!((p.has_min && p.min > 0) || (p.has_max && p.max < 0))) {
+        const std::string message = problem(p.min, p.max, p.has_min, p.has_max);
+        if (p.has_min) m.fail("min", message);
+        if (p.has_max) m.fail("max", message);
+        m.source().fail(m.node(), m.path(), message);
+    }
+    if (p.range && !(p.range->first > 0 || p.range->second < 0))
+        m.fail("range", problem(p.range->first, p.range->second, true, true));
 }
 
 ParameterSetting read_one(const YamlMap& m, const std::string& name, const PhysicalRole& role,
@@ -85,12 +106,17 @@ ParameterSetting read_one(const YamlMap& m, const std::string& name, const Physi
         m.fail(start_key, std::string(start_key) + " " + number_text(p.init) + " is outside the bounds [" +
                               (p.has_min ? number_text(p.min) : "-inf") + ", " +
                               (p.has_max ? number_text(p.max) : "inf") + "]");
-    if (role.what != nullptr) {
+    if (role.what != nullptr && role.sign != SignRule::nonzero) {
         if (violates(role, p.init)) m.fail(start_key, role_problem(role, name, p.init));
         if (p.has_min && violates(role, p.min)) m.fail("min", role_problem(role, name, p.min));
         if (p.range && violates(role, p.range->first))
-            m.fail("range", std::string(role.zero_allowed ? "must not reach below 0: " : "must stay positive: ") +
+            m.fail("range", std::string(role.sign == SignRule::non_negative ? "must not reach below 0: "
+                                                                            : "must stay positive: ") +
                                 name + " is " + role.what);
+    }
+    if (role.sign == SignRule::nonzero) {
+        check_one_side_of_zero(m, p, role);
+        if (violates(role, p.init)) m.fail(start_key, role_problem(role, name, p.init));
     }
     if (m.has("scale")) {
         const std::string scale = m.text("scale");
@@ -120,6 +146,7 @@ std::vector<ParameterSetting> read_parameters(const YamlMap& parameters, const N
         const std::string& name = network.parameter_names[i];
         if (!parameters.has(name))
             parameters.fail_missing(name, "(model parameter " + name + " needs { init, min, max } or { value })");
+        if (const std::string why = plain_name_problem(name); !why.empty()) parameters.fail(name, why);
         if (!used[i]) parameters.fail(name, "is not used by any node, element or output of the model");
         const YAML::Node node = parameters.get(name);
         if (node.IsScalar()) {  // `name: 3.5` is shorthand for a fixed value

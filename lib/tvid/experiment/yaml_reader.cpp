@@ -143,6 +143,14 @@ std::string read_choice(const YamlSource& src, const YAML::Node& node, const std
     src.fail(node, path, "'" + s + "' is not one of: " + join_words(to_strings(choices)));
 }
 
+std::string read_choice(const YamlSource& src, const YAML::Node& node, const std::string& path,
+                        const std::vector<std::string>& choices) {
+    const std::string s = read_text(src, node, path);
+    for (const std::string& c : choices)
+        if (s == c) return s;
+    src.fail(node, path, "'" + s + "' is not one of: " + join_words(choices));
+}
+
 YamlMap::YamlMap(const YamlSource& src, YAML::Node node, std::string path)
     : src_(&src), node_(std::move(node)), path_(std::move(path)) {
     if (!node_.IsMap()) src.fail(node_, path_, "expected a mapping of keys, got " + kind_of(node_));
@@ -211,6 +219,10 @@ long long YamlMap::integer(const std::string& key) const { return read_integer(*
 bool YamlMap::flag(const std::string& key) const { return read_flag(*src_, required(key), key_path(key)); }
 std::string YamlMap::text(const std::string& key) const { return read_text(*src_, required(key), key_path(key)); }
 std::string YamlMap::choice(const std::string& key, std::initializer_list<std::string_view> choices) const {
+    return read_choice(*src_, required(key), key_path(key), choices);
+}
+
+std::string YamlMap::choice(const std::string& key, const std::vector<std::string>& choices) const {
     return read_choice(*src_, required(key), key_path(key), choices);
 }
 

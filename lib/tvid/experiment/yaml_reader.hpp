@@ -54,6 +54,8 @@ std::pair<double, double> read_interval(const YamlSource& src, const YAML::Node&
 /// One of `choices`; otherwise an error listing them.
 std::string read_choice(const YamlSource& src, const YAML::Node& node, const std::string& path,
                         std::initializer_list<std::string_view> choices);
+std::string read_choice(const YamlSource& src, const YAML::Node& node, const std::string& path,
+                        const std::vector<std::string>& choices);
 
 /// A YAML mapping under a dotted key path.
 class YamlMap {
@@ -85,6 +87,7 @@ public:
     bool flag(const std::string& key) const;
     std::string text(const std::string& key) const;
     std::string choice(const std::string& key, std::initializer_list<std::string_view> choices) const;
+    std::string choice(const std::string& key, const std::vector<std::string>& choices) const;
 
 private:
     YAML::Node required(const std::string& key) const;

@@ -52,6 +52,7 @@ FitResult run_fit(const IdentificationProblem& problem, const FitOptions& option
     }
 
     r.success = std::isfinite(r.run.best_cost);
+    if (!r.success) r.run.converged = false;  // nothing converged: no candidate had a finite cost
     r.best_free = r.success ? r.run.best : problem.initial();
     r.best_params = problem.full_parameters(r.best_free);
     {

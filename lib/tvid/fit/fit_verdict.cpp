@@ -201,7 +201,7 @@ void judge_parameters(const IdentificationProblem& problem, const FitResult& fit
                    num(side < 0 ? lo : hi) + ": the optimum may lie beyond it",
                "widen the bound if the physics allows; if the bound is the physical value, fix " + names[j] + " there"});
     }
-    const IdentifiabilityReport id = assess_identifiability(fit.uncertainty, names, fit.best_free);
+    const IdentifiabilityReport id = assess_identifiability(problem, fit.uncertainty, fit.best_free);
     if (!id.available) return;
     if (!id.null_directions.empty()) {
         std::string text = "the data determine only " + std::to_string(id.rank) + " of " + std::to_string(id.of) +
@@ -216,7 +216,7 @@ void judge_parameters(const IdentificationProblem& problem, const FitResult& fit
     for (const ParameterIdentifiability& q : id.parameters) {
         if (q.flag != IdentifiabilityFlag::weak) continue;
         v.add({"weakly_determined", Severity::warning, q.name,
-               q.name + " is weakly determined: standard error " + pct(q.relative_std_error) + " of its value",
+               q.name + " is weakly determined: standard error " + pct(q.judged_std_error) + " of " + q.judged_against,
                "fix it, excite it more (another window or cycle), or read its profile"});
     }
 }

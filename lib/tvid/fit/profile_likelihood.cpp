@@ -4,7 +4,6 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
-#include <thread>
 
 #include "tvid/analysis/uncertainty.hpp"
 #include "tvid/estimation/residual_evaluator.hpp"
@@ -12,6 +11,7 @@
 #include "tvid/estimation/parallel_evaluator.hpp"
 #include "tvid/model/parameter_units.hpp"
 #include "tvid/util/input_error.hpp"
+#include "tvid/util/parallel_region.hpp"
 
 namespace tvid {
 
@@ -40,6 +40,22 @@ struct LeastSquaresFit {
 LeastSquaresFit fit_least_squares(const IdentificationProblem& problem, int threads, const std::atomic<bool>* stop) {
     ResidualEvaluator least_squares(problem, threads, problem.experiment().estimation_settings.jacobian, stop);
     LeastSquaresFit f;
+    if (problem.dimension() == 0) {
+        // The profiled parameter was the only free one: nothing is left to fit, and the
+        // point's cost is the simulation's at the held value.
+        f.residuals = least_squares.residual_count();
+        std::vector<double> r(f.residuals);
+        const double none = 0.0;  // no parameter: a valid pointer to nothing used
+        const bool ok = least_squares.residuals(&none, r.data());
+        const double half = 0.5 * Eigen::Map<const Eigen::VectorXd>(r.data(), static_cast<Eigen::Index>(r.size())).squaredNorm();
+        f.lm.best_cost = f.lm.initial_cost = ok && std::isfinite(half) ? 2.0 * half : std::numeric_limits<double>::infinity();
+        f.lm.success = std::isfinite(f.lm.best_cost);
+        f.lm.termination_type = f.lm.success ? TerminationType::converged
+                                             : (least_squares.stopped() ? TerminationType::stopped : TerminationType::start_failed);
+        f.lm.termination = f.lm.success ? "nothing else to fit"
+                                        : (least_squares.stopped() ? "stopped" : "simulation failed: " + least_squares.failure(&none));
+        return f;
+    }
     f.lm = run_levenberg_marquardt(problem.experiment().estimation_settings.lm, problem.initial(), problem.lower(),
                                    problem.upper(), least_squares,
                                    [stop](const HistoryRow&) { return !(stop && stop->load()); });
@@ -61,8 +77,7 @@ double crossing(const ProfilePoint& a, const ProfilePoint& b, double threshold) 
 
 }  // namespace
 
-ProfileResult profile_likelihood(const Experiment& ex, const std::vector<double>& start, const ProfileOptions& options) {
-    const auto t0 = std::chrono::steady_clock::now();
+void check_profile_request(const Experiment& ex, const ProfileOptions& options) {
     if (ex.estimation_settings.cost != CostKind::l2)
         throw InputError(ex.file.string(), 0, "estimation.cost",
                          "the profile likelihood compares sums of squares: set cost: l2");
@@ -73,6 +88,13 @@ ProfileResult profile_likelihood(const Experiment& ex, const std::vector<double>
     if (named->fixed)
         throw InputError("--param", 0, options.parameter, "is fixed in the experiment: only a free parameter has a profile");
     if (options.points < 3) throw InputError("--points", 0, "points", "a profile needs at least 3 points");
+}
+
+ProfileResult profile_likelihood(const Experiment& ex, const std::vector<double>& start, const ProfileOptions& options) {
+    const auto t0 = std::chrono::steady_clock::now();
+    check_profile_request(ex, options);
+    const auto named = std::find_if(ex.parameters.begin(), ex.parameters.end(),
+                                    [&](const ParameterSetting& p) { return p.name == options.parameter; });
     const auto held = static_cast<std::size_t>(named - ex.parameters.begin());
 
     ProfileResult r;
@@ -133,11 +155,7 @@ ProfileResult profile_likelihood(const Experiment& ex, const std::vector<double>
             p.delta_chi2 = std::isfinite(p.cost) ? (p.cost - r.best_cost) / r.s2 : std::numeric_limits<double>::infinity();
         }
     };
-    std::vector<std::thread> pool;
-    const int workers = std::min(r.threads, options.points);
-    for (int t = 1; t < workers; ++t) pool.emplace_back(work);
-    work();
-    for (std::thread& t : pool) t.join();
+    run_on_threads(std::min(r.threads, options.points), work);
 
     // The interval: every value whose Δχ² is below the threshold, θ̂ included (Δχ² = 0).
     // Its ends are the outermost crossings; a grid end still below the threshold leaves

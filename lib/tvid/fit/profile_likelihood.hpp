@@ -66,6 +66,11 @@ struct ProfileResult {
     int threads = 1;
 };
 
+/// Throws InputError when the request cannot be profiled: the cost is not l2, the
+/// parameter is not a free parameter of the experiment, or fewer than 3 points (the checks
+/// profile_likelihood makes first, for a command to make before it claims its folder).
+void check_profile_request(const Experiment& experiment, const ProfileOptions& options);
+
 /// Fits the experiment by Levenberg–Marquardt from `start` (full parameter vector) to θ̂,
 /// then profiles. Throws InputError when the parameter is not free, the cost is not l2,
 /// or the grid is unusable.

@@ -8,17 +8,55 @@
 #include <stdexcept>
 #include <string>
 
+#include "tvid/io/input_file.hpp"
+#include "tvid/util/input_error.hpp"
+
 namespace tvid {
 
 namespace {
+
 [[noreturn]] void fail(const std::filesystem::path& path, const char* what) {
     throw std::runtime_error("cannot write " + path.string() + ": " + what + ": " + std::strerror(errno));
 }
+
+bool is_plain_name(const std::string& name) {
+    return !name.empty() && name != "." && name != ".." && name.find_first_of("/\\") == std::string::npos &&
+           name.find('\0') == std::string::npos;
+}
+
+std::filesystem::path target_of(const std::filesystem::path& dir, const std::string& name) {
+    if (!is_plain_name(name))
+        throw InputError((dir / name).string(), 0, "", "'" + name + "' is not a plain file name: tvid writes only into its folder");
+    return dir.empty() ? std::filesystem::path(name) : dir / name;
+}
+
 }  // namespace
 
-void write_file_atomically(const std::filesystem::path& path, std::string_view content) {
+std::string plain_name_problem(const std::string& name) {
+    if (is_plain_name(name)) return "";
+    return "'" + name + "' is not a plain name: names become parts of file and folder names (a profile's folder), "
+           "so a name may not be empty, '.' or '..', nor hold '/' or '\\'";
+}
+
+void check_output_target(const std::filesystem::path& target) {
+    const std::string why = not_a_file_reason(target);
+    if (!why.empty() && why != "does not exist")
+        throw InputError(target.string(), 0, "",
+                         why + ": tvid writes only regular files, and replaces nothing else; give a file name");
+    if (const std::string input = input_file_at(target); !input.empty())
+        throw InputError(target.string(), 0, "",
+                         "is " + input + " that this run reads: tvid never replaces a file it reads; write elsewhere (-o)");
+}
+
+void write_output_file(const std::filesystem::path& dir, const std::string& name, std::string_view content) {
+    const std::filesystem::path path = target_of(dir, name);
+    check_output_target(path);
     const std::filesystem::path tmp = path.string() + kAtomicTemporaryMarker + std::to_string(::getpid());
-    const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+    // A leftover of this process id (or anything a user put there) goes first; O_EXCL and
+    // O_NOFOLLOW then make sure that the file opened is a new regular file, not a FIFO or a
+    // link that happens to have the temporary name.
+    ::unlink(tmp.c_str());
+    const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
     if (fd < 0) fail(path, "open");
     const char* data = content.data();
     std::size_t left = content.size();
@@ -41,12 +79,32 @@ void write_file_atomically(const std::filesystem::path& path, std::string_view c
         errno = saved;
         fail(path, "flush");
     }
+    // Checked again right before the rename: the work between the first check and here
+    // may have taken hours.
+    try {
+        check_output_target(path);
+    } catch (...) {
+        ::unlink(tmp.c_str());
+        throw;
+    }
     if (::rename(tmp.c_str(), path.c_str()) != 0) {
         const int saved = errno;
         ::unlink(tmp.c_str());
         errno = saved;
         fail(path, "rename");
     }
+}
+
+void write_named_output_file(const std::filesystem::path& file, std::string_view content) {
+    write_output_file(file.parent_path(), file.filename().string(), content);
+}
+
+void remove_output_file(const std::filesystem::path& dir, const std::string& name) {
+    const std::filesystem::path path = target_of(dir, name);
+    if (not_a_file_reason(path) == "does not exist") return;
+    check_output_target(path);
+    std::error_code ec;
+    std::filesystem::remove(path, ec);
 }
 
 }  // namespace tvid

@@ -8,6 +8,8 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <mutex>
+#include <vector>
 
 #include "tvid/util/input_error.hpp"
 
@@ -32,7 +34,63 @@ struct Descriptor {
     }
 };
 
+// The files this run has read as input, by device and inode (a hard link or another
+// spelling of the path is the same file).
+struct InputRecord {
+    dev_t device;
+    ino_t inode;
+    std::filesystem::path path;  ///< as it was read
+    std::string description;     ///< "the data file rec.csv"
+};
+
+struct InputRegistry {
+    std::mutex mutex;
+    std::vector<InputRecord> files;
+};
+
+InputRegistry& input_registry() {
+    static InputRegistry registry;
+    return registry;
+}
+
+void note_input(const struct stat& st, const std::filesystem::path& file, const std::string& what) {
+    InputRegistry& r = input_registry();
+    const std::lock_guard<std::mutex> lock(r.mutex);
+    for (const InputRecord& f : r.files)
+        if (f.device == st.st_dev && f.inode == st.st_ino) return;
+    r.files.push_back(InputRecord{st.st_dev, st.st_ino, file, "the " + what + " " + file.string()});
+}
+
+std::string read_file(const std::filesystem::path& file, const std::string& what, std::size_t max_bytes, bool input);
+
 }  // namespace
+
+void note_input_file(const std::filesystem::path& file, const std::string& what) {
+    struct stat st {};
+    if (::stat(file.c_str(), &st) == 0) note_input(st, file, what);
+}
+
+std::string input_file_at(const std::filesystem::path& target) {
+    struct stat st {};
+    if (::stat(target.c_str(), &st) != 0) return "";
+    InputRegistry& r = input_registry();
+    const std::lock_guard<std::mutex> lock(r.mutex);
+    for (const InputRecord& f : r.files) {
+        if (f.device != st.st_dev || f.inode != st.st_ino) continue;
+        // Still the file that was read (not a new file that got the inode of one deleted since)?
+        struct stat now {};
+        if (::stat(f.path.c_str(), &now) == 0 && now.st_dev == f.device && now.st_ino == f.inode) return f.description;
+    }
+    return "";
+}
+
+std::string read_input_file(const std::filesystem::path& file, const std::string& what, std::size_t max_bytes) {
+    return read_file(file, what, max_bytes, true);
+}
+
+std::string read_earlier_output(const std::filesystem::path& file, const std::string& what, std::size_t max_bytes) {
+    return read_file(file, what, max_bytes, false);
+}
 
 std::string not_a_file_reason(const std::filesystem::path& file) {
     struct stat st {};
@@ -53,7 +111,9 @@ std::string byte_size_text(double bytes) {
     return buf;
 }
 
-std::string read_input_file(const std::filesystem::path& file, const std::string& what, std::size_t max_bytes) {
+namespace {
+
+std::string read_file(const std::filesystem::path& file, const std::string& what, std::size_t max_bytes, bool input) {
     const std::string name = file.string();
     // O_NONBLOCK: opening a FIFO must not wait for a writer (it is refused below).
     const Descriptor d{::open(file.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK | O_NOCTTY)};
@@ -67,6 +127,7 @@ std::string read_input_file(const std::filesystem::path& file, const std::string
     if (::fstat(d.fd, &st) != 0)
         throw InputError(name, 0, "", "cannot open the " + what + ": " + std::strerror(errno));
     if (!S_ISREG(st.st_mode)) throw InputError(name, 0, "", "the " + what + " is " + kind_of(st.st_mode) + ", not a file");
+    if (input) note_input(st, file, what);
     const auto too_large = [&](double bytes) {
         return InputError(name, 0, "", "the " + what + " is " + byte_size_text(bytes) + ", more than the " +
                                            byte_size_text(static_cast<double>(max_bytes)) + " tvid reads");
@@ -92,5 +153,7 @@ std::string read_input_file(const std::filesystem::path& file, const std::string
     data.resize(got);
     return data;
 }
+
+}  // namespace
 
 }  // namespace tvid

@@ -24,6 +24,21 @@ inline constexpr std::size_t kMaxListBytes = std::size_t{16} << 20;        // 16
 /// in messages ("data file", "experiment file").
 std::string read_input_file(const std::filesystem::path& file, const std::string& what, std::size_t max_bytes);
 
+/// read_input_file for a file this program wrote and now reads back to continue it
+/// (batch.csv and .tvid-batch.json on --resume): the same checks, but not noted as an
+/// input of the run, since the run writes it again.
+std::string read_earlier_output(const std::filesystem::path& file, const std::string& what, std::size_t max_bytes);
+
+/// Notes `file` as an input of this run, as read_input_file does for every file it reads;
+/// for files read later (a batch's recordings, before the first job). Nothing is noted
+/// for a file that does not exist. Safe to call from several threads.
+void note_input_file(const std::filesystem::path& file, const std::string& what);
+
+/// "the data file rec.csv" when `target` is the same file (device and inode) as one this
+/// run has read or noted as input; "" otherwise. Every output file is checked against
+/// this before it is written, so a report never replaces a file the run reads.
+std::string input_file_at(const std::filesystem::path& target);
+
 /// Why `file` cannot be read as a file: "" for a regular file (or a link to one), else
 /// "does not exist", "is a directory", "is a named pipe (FIFO)", "is a device", "is a
 /// socket" or "is a symbolic link loop".

@@ -68,11 +68,17 @@ int lock_directory(const std::filesystem::path& dir, const std::string& what) {
 
 }  // namespace
 
-OutputDirectoryLock prepare_output_directory(const std::filesystem::path& dir, const std::string& what) {
+void check_output_files(const std::filesystem::path& dir, const std::vector<std::string>& files) {
+    for (const std::string& name : files) check_output_target(dir / name);
+}
+
+OutputDirectoryLock prepare_output_directory(const std::filesystem::path& dir, const std::string& what,
+                                             const std::vector<std::string>& files) {
     namespace fs = std::filesystem;
     const std::string where = dir.string();
     std::error_code ec;
     if (fs::exists(dir, ec) && !fs::is_directory(dir, ec)) throw InputError(where, 0, "", "the " + what + " is a file");
+    check_output_files(dir, files);
     fs::create_directories(dir, ec);
     if (ec) throw InputError(where, 0, "", "cannot create the " + what + ": " + ec.message());
     const fs::path probe = dir / (".tvid-write-test." + std::to_string(::getpid()));

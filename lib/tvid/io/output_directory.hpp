@@ -3,11 +3,12 @@
 // writing a probe file (permission bits do not tell the whole story: read-only mounts,
 // ACLs), claimed by this run for as long as it writes there (a lock file, so that two
 // runs into one directory cannot mix their files), and cleared of the temporary files
-// (`NAME.tvid-tmp.PID`) that write_file_atomically leaves behind when a run is killed
+// (`NAME.tvid-tmp.PID`) that write_output_file leaves behind when a run is killed
 // mid-write.
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
 namespace tvid {
 
@@ -30,10 +31,17 @@ private:
 
 /// Throws InputError (exit status 2) naming `dir` when it is a file, cannot be created or
 /// cannot be written, or another run holds it; `what` names it in the message (e.g.
-/// "report directory"). Keep the returned lock while writing into `dir`.
-[[nodiscard]] OutputDirectoryLock prepare_output_directory(const std::filesystem::path& dir, const std::string& what);
+/// "report directory"). `files` are the names the run will write there: each is checked
+/// first (check_output_target: not a FIFO, device or folder, not a file the run reads), so
+/// that such a report is refused before the work rather than half written after it. Keep
+/// the returned lock while writing into `dir`.
+[[nodiscard]] OutputDirectoryLock prepare_output_directory(const std::filesystem::path& dir, const std::string& what,
+                                                           const std::vector<std::string>& files = {});
 
-/// True for "NAME.tvid-tmp.PID", the temporary name of write_file_atomically.
+/// check_output_target for each of `files` in `dir`.
+void check_output_files(const std::filesystem::path& dir, const std::vector<std::string>& files);
+
+/// True for "NAME.tvid-tmp.PID", the temporary name of write_output_file.
 bool is_leftover_temporary(const std::string& file_name);
 
 }  // namespace tvid

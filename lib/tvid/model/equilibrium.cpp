@@ -2,10 +2,38 @@
 
 #include <Eigen/Dense>
 #include <boost/math/tools/roots.hpp>
+
+#include "tvid/model/damped_newton.hpp"
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
 namespace tvid {
+
+std::string nodes_without_hold(const NetworkSpec& spec, const std::vector<double>& p, const std::vector<char>& members) {
+    std::vector<std::string> names;
+    std::string controllers;
+    for (std::size_t i = 0; i < members.size() && i < spec.nodes.size(); ++i) {
+        if (!members[i]) continue;
+        const std::string& node = spec.nodes[i].name;
+        names.push_back(node);
+        // A speed_controller NAME is a spring-damper NAME (k = ki) from its node NAME.reference.
+        for (const SpringDamperSpec& sd : spec.spring_dampers) {
+            if (sd.name + ".reference" != node) continue;
+            const double ki = sd.k.is_parameter() ? p[static_cast<std::size_t>(sd.k.parameter)] : sd.k.constant;
+            if (ki == 0.0)
+                controllers += " (speed_controller " + sd.name + " has ki = 0: a P-only controller holds no twist, "
+                               "and its node's steady speed is not its setpoint; give ki > 0)";
+        }
+    }
+    if (names.empty()) return "a node or group of nodes has";
+    std::string text = names.size() == 1 ? "node " : "nodes ";
+    const std::size_t shown = std::min<std::size_t>(names.size(), 4);
+    for (std::size_t i = 0; i < shown; ++i)
+        text += (i == 0 ? "" : i + 1 == shown && shown == names.size() ? " and " : ", ") + names[i];
+    if (shown < names.size()) text += " and " + std::to_string(names.size() - shown) + " more";
+    return text + controllers + (names.size() == 1 ? " has" : " have");
+}
 
 namespace {
 
@@ -32,7 +60,8 @@ EquilibriumResult solve_single_node(NetworkModel<double>& model, const double* u
     if (f_lo == 0) { r.found = true; r.theta = {lo}; return r; }
     if (f_hi == 0) { r.found = true; r.theta = {hi}; return r; }
     if (f_lo * f_hi > 0) {
-        r.problem = "no angle balances the static torque (no elastic connection to ground?)";
+        r.problem = "no angle balances the static torque: node " + model.spec().nodes.front().name +
+                    " has no elastic connection to ground; start from initial_state: { kind: steady, … } or measured";
         return r;
     }
     std::uintmax_t max_iter = 200;
@@ -46,44 +75,24 @@ EquilibriumResult solve_single_node(NetworkModel<double>& model, const double* u
 EquilibriumResult solve_network(NetworkModel<double>& model, const double* u) {
     EquilibriumResult r;
     const auto n = static_cast<Eigen::Index>(model.node_count());
-    Eigen::VectorXd theta = Eigen::VectorXd::Zero(n), f(n), f_trial(n), trial(n);
-    Eigen::MatrixXd jac(n, n);
-    auto eval = [&](const Eigen::VectorXd& th, Eigen::VectorXd& out) {
-        model.static_torques(th.data(), u, out.data());
+    NewtonSystem system;
+    system.residual = [&](const Eigen::VectorXd& theta, Eigen::VectorXd& f) {
+        model.static_torques(theta.data(), u, f.data());
     };
-    eval(theta, f);
-    for (int iter = 0; iter < 100; ++iter) {
-        const double norm = f.norm();
-        if (!std::isfinite(norm)) break;
-        // Finite-difference Jacobian of the static torques.
-        for (Eigen::Index j = 0; j < n; ++j) {
-            trial = theta;
-            const double h = 1e-7 * std::max(1.0, std::abs(theta[j]));
-            trial[j] += h;
-            eval(trial, f_trial);
-            jac.col(j) = (f_trial - f) / h;
-        }
-        const Eigen::FullPivLU<Eigen::MatrixXd> lu(jac);
-        if (!lu.isInvertible()) {
-            r.problem = "the static stiffness matrix is singular (a node or group of nodes has no "
-                        "elastic connection to ground)";
-            return r;
-        }
-        const Eigen::VectorXd step = lu.solve(-f);
-        double alpha = 1.0;
-        for (int ls = 0; ls < 40; ++ls, alpha *= 0.5) {
-            trial = theta + alpha * step;
-            eval(trial, f_trial);
-            if (std::isfinite(f_trial.norm()) && f_trial.norm() < norm) break;
-        }
-        theta = trial;
-        f = f_trial;
-        const double scale = 1.0 + theta.cwiseAbs().maxCoeff();
-        if ((alpha * step).cwiseAbs().maxCoeff() <= 1e-14 * scale || f.norm() == 0.0) {
+    system.state_value = [](Eigen::Index j, const Eigen::VectorXd& theta) { return theta[j]; };
+    const NewtonResult solved = solve_damped_newton(system, Eigen::VectorXd::Zero(n));
+    switch (solved.status) {
+        case NewtonStatus::converged:
             r.found = true;
-            r.theta.assign(theta.data(), theta.data() + n);
+            r.theta.assign(solved.z.data(), solved.z.data() + n);
             return r;
-        }
+        case NewtonStatus::singular:
+            r.problem = "the static stiffness matrix is singular: " +
+                        nodes_without_hold(model.spec(), model.parameters(), solved.free_unknowns) +
+                        " no elastic connection to ground, so no angle balances the torques; start from "
+                        "initial_state: { kind: steady, … } or measured, which let the line turn";
+            return r;
+        case NewtonStatus::not_converged: break;
     }
     r.problem = "Newton's method did not converge to a static equilibrium";
     return r;

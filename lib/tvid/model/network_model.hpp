@@ -56,7 +56,7 @@ public:
             at += counts[kind];
         }
         last_torques_.assign(at, T(0));
-        prescribes_motion_ = !spec.speed_sources.empty();
+        prescribes_motion_ = prescribes_motion(spec);
     }
 
     /// The crank-angle channels (cylinder pressures) the cylinders read; must outlive the model.
@@ -202,15 +202,15 @@ private:
     T output_from(std::size_t k, const T* x, const T* omega, ElementTorque&& torque_of) const {
         const OutputSpec& o = spec_->outputs[k];
         const T* theta = x;
+        const auto element_torque = [&](const ElementRef& ref, TorqueSide side) {
+            const T t = torque_of(ref, theta, omega);
+            return side == TorqueSide::output ? output_side_torque(ref, t) : t;
+        };
         T y{};
-        switch (o.kind) {
-            case OutputKind::speed: y = omega[o.node]; break;
-            case OutputKind::angle: y = theta[o.node]; break;
-            case OutputKind::torque:
-                y = torque_of(o.element, theta, omega);
-                if (o.side == TorqueSide::output) y = output_side_torque(o.element, y);
-                break;
-        }
+        for_each_output_kind([&](auto kind) __attribute__((always_inline)) {
+            using Kind = decltype(kind);
+            if (o.kind == OutputRow<Kind>::kind) y = Kind::value(o, theta, omega, element_torque);
+        });
         return output_gains_[k] * y + output_offsets_[k];  // a gain of 1 gives y + offset to the bit
     }
 

@@ -53,7 +53,7 @@ const char* element_kind_name(ElementKind kind) {
     const char* name = "";
     for_each_element_kind([&](auto k) {
         using Row = ElementRow<decltype(k)>;
-        if (Row::kind == kind) name = Row::name;
+        if (Row::kind == kind) name = decltype(k)::type_name;
     });
     return name;
 }
@@ -62,10 +62,35 @@ bool element_has_output_side(ElementKind kind) {
     bool has = false;
     for_each_element_kind([&](auto k) {
         using K = decltype(k);
-        if (ElementRow<K>::kind == kind)
-            has = requires(const typename K::template Bound<double>& e, const double& t) { K::output_side_torque(e, t); };
+        if (ElementRow<K>::kind == kind) has = K::outputs == ElementOutputs::torque_each_side;
     });
     return has;
+}
+
+bool prescribes_motion(const NetworkSpec& n) {
+    bool prescribes = false;
+    for_each_element_kind([&](auto k) {
+        using K = decltype(k);
+        if constexpr (requires(const typename K::template Bound<double>& e, const double* u) { K::prescribed_speed(e, u); })
+            prescribes = prescribes || !ElementRow<K>::list(n).empty();
+    });
+    return prescribes;
+}
+
+const char* output_kind_key(OutputKind kind) {
+    const char* key = "";
+    for_each_output_kind([&](auto k) {
+        if (OutputRow<decltype(k)>::kind == kind) key = decltype(k)::key;
+    });
+    return key;
+}
+
+const char* output_kind_unit(OutputKind kind) {
+    const char* unit = "";
+    for_each_output_kind([&](auto k) {
+        if (OutputRow<decltype(k)>::kind == kind) unit = decltype(k)::unit;
+    });
+    return unit;
 }
 
 }  // namespace tvid

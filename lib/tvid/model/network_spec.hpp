@@ -8,13 +8,18 @@
 // there.
 
 #include <array>
+#include <concepts>
 #include <cstddef>
 #include <string>
+#include <string_view>
 #include <tuple>
 #include <vector>
 
+#include "tvid/model/element_source.hpp"
+#include "tvid/model/element_traits.hpp"
 #include "tvid/model/elements/element_kinds.hpp"
 #include "tvid/model/field.hpp"
+#include "tvid/model/output_kinds.hpp"
 
 namespace tvid {
 
@@ -23,6 +28,35 @@ struct NodeSpec {
     Field inertia;               ///< J [kg m²], or 1/J when `inverse` is set
     bool inverse = false;        ///< the CVT paper estimates ρ1 = 1/I1
 };
+
+/// What every element kind's file declares (docs/architecture.md, "Adding an element"): its
+/// type name and keys in the experiment file and its reader; each field's unit (FieldInfo
+/// has no constructor without one); the channel it reads and its unit; the outputs it
+/// offers; its linearisation for modes and FRF. A row whose kind leaves one out does not
+/// compile.
+template <class K>
+concept DescribedElementKind = requires(ElementSource& src, const std::string& name, const typename K::Spec& spec,
+                                        typename K::Spec& lin, const LinearisationPoint& at) {
+    { K::type_name } -> std::convertible_to<const char*>;
+    { K::keys[0] } -> std::convertible_to<const char*>;
+    { K::read(src, name) } -> std::same_as<typename K::Spec>;
+    { K::channel } -> std::convertible_to<ChannelUse>;
+    { K::channel_of(spec) } -> std::same_as<int>;
+    { K::outputs } -> std::convertible_to<ElementOutputs>;
+    { K::linearise(spec, lin, at) } -> std::same_as<LinearNote>;
+    { K::acts_at_rest } -> std::convertible_to<bool>;
+    // A kind with a torque on each side says what its output side carries.
+    requires K::outputs != ElementOutputs::torque_each_side ||
+                 requires(const typename K::template Bound<double>& e, const double& t) { K::output_side_torque(e, t); };
+};
+
+#define TVID_ELEMENT_KIND_CHECK(kind, Type, list)                                                             \
+    static_assert(DescribedElementKind<elements::Type>,                                                       \
+                  "elements/" #kind ".hpp leaves out a rule: type_name, keys, read, channel, channel_of, "    \
+                  "outputs, linearise or acts_at_rest");                                                      \
+    static_assert(std::string_view(#kind) == elements::Type::type_name, #kind ": its row and its type_name differ");
+TVID_ELEMENT_KINDS(TVID_ELEMENT_KIND_CHECK)
+#undef TVID_ELEMENT_KIND_CHECK
 
 enum class ElementKind {
 #define TVID_ELEMENT_KIND_ENUMERATOR(kind, Type, list) kind,
@@ -44,11 +78,41 @@ struct ElementRef {
     int index;  ///< index into the vector of that kind
 };
 
-enum class OutputKind { speed, angle, torque };
+/// The output kinds, one per row of model/output_kinds.hpp.
+enum class OutputKind {
+#define TVID_OUTPUT_KIND_ENUMERATOR(kind, Type) kind,
+    TVID_OUTPUT_KINDS(TVID_OUTPUT_KIND_ENUMERATOR)
+#undef TVID_OUTPUT_KIND_ENUMERATOR
+};
 
-/// Which shaft a torque output reads for an element whose two sides carry different
-/// torques (a gear mesh: T on its input shaft a, n·T on its output shaft b).
-enum class TorqueSide { input, output };
+/// Every output kind's type (tvid::outputs::…), in the table's order.
+using OutputTypes = decltype(std::tuple_cat(
+#define TVID_OUTPUT_TYPE(kind, Type) std::tuple<outputs::Type>{},
+    TVID_OUTPUT_KINDS(TVID_OUTPUT_TYPE)
+#undef TVID_OUTPUT_TYPE
+        std::tuple<>{}));
+
+/// The table row of output type K: its OutputKind.
+template <class K>
+struct OutputRow;
+#define TVID_OUTPUT_ROW(kind_, Type)                                                     \
+    template <>                                                                          \
+    struct OutputRow<outputs::Type> {                                                    \
+        static constexpr OutputKind kind = OutputKind::kind_;                            \
+    };                                                                                   \
+    static_assert(std::string_view(#kind_) == outputs::Type::key, #kind_ ": its row and its key differ");
+TVID_OUTPUT_KINDS(TVID_OUTPUT_ROW)
+#undef TVID_OUTPUT_ROW
+
+/// f(K{}) for each output type K, in the table's order.
+template <class F>
+[[gnu::always_inline]] inline void for_each_output_kind(F&& f) {
+    std::apply([&](auto... kind) __attribute__((always_inline)) { (f(kind), ...); }, OutputTypes{});
+}
+
+/// The experiment file's key of an output kind ("speed", …) and its SI unit ("rad/s", …).
+const char* output_kind_key(OutputKind kind);
+const char* output_kind_unit(OutputKind kind);
 
 /// A model output compared with a measured channel: y = gain · quantity + offset
 /// (`offset` is the measurement's amplitude shift, e.g. Δds of Yoshida & Takamatsu eq. 15c;
@@ -141,7 +205,10 @@ std::array<std::size_t, kElementKindCount> element_counts(const NetworkSpec& n);
 const char* element_kind_name(ElementKind kind);
 
 /// Whether elements of this kind carry a different torque on their output side
-/// (their type defines output_side_torque: a gear mesh).
+/// (ElementOutputs::torque_each_side: a gear mesh).
 bool element_has_output_side(ElementKind kind);
+
+/// Whether some element of n prescribes its node's motion (a speed source).
+bool prescribes_motion(const NetworkSpec& n);
 
 }  // namespace tvid

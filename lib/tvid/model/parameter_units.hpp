@@ -4,6 +4,7 @@
 // stiffness in N m/rad, a node's J an inertia in kg m^2, …). Reports write them next to the
 // values.
 
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -14,7 +15,12 @@ namespace tvid {
 /// One per NetworkSpec::parameter_names; "" for a parameter that fills no known field.
 std::vector<std::string> parameter_units(const NetworkSpec& network);
 
-/// "rad/s", "rad" or "N m".
+/// The output's unit, from its kind's row (model/output_kinds.hpp): "rad/s", "rad" or "N m".
 const char* output_unit(const OutputSpec& output);
+
+/// The unit of the network's input by time `input` (NetworkSpec::input_names), from the
+/// kind of the element that reads it (a torque's "N m", a speed source's "rad/s"); "" if
+/// no element reads it.
+const char* input_unit(const NetworkSpec& network, std::size_t input);
 
 }  // namespace tvid

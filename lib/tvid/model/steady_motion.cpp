@@ -5,6 +5,9 @@
 #include <cmath>
 #include <deque>
 
+#include "tvid/model/damped_newton.hpp"
+#include "tvid/model/equilibrium.hpp"
+
 namespace tvid {
 
 namespace {
@@ -85,6 +88,14 @@ SteadyMotion solve_steady_motion(NetworkModel<double>& model, const double* u, i
                         " by no element: it has no speed in the line's steady motion";
             return r;
         }
+    if (const std::string held = held_to_ground(spec); !held.empty()) {
+        // Nothing turns steadily against a spring to ground; at rest the start would be the
+        // static equilibrium, which the reference's fixed angle and the free α cannot give.
+        r.problem = "the line is held to ground by " + held +
+                    ": it has no steady motion (at speed 0 its start is the static equilibrium); start from "
+                    "initial_state: equilibrium, measured or rest";
+        return r;
+    }
     r.ratio = rigid.ratio;
     std::vector<double> x(static_cast<std::size_t>(2 * n)), dxdt(x.size());
     const auto ratio = [&](Eigen::Index i) { return rigid.ratio[static_cast<std::size_t>(i)]; };
@@ -94,66 +105,49 @@ SteadyMotion solve_steady_motion(NetworkModel<double>& model, const double* u, i
     auto set_angles = [&](const Eigen::VectorXd& z) {
         for (Eigen::Index i = 0; i < n; ++i) x[static_cast<std::size_t>(i)] = ratio(i) * angle + (i == ref ? 0.0 : z[i]);
     };
-    auto eval = [&](const Eigen::VectorXd& z, Eigen::VectorXd& g) {
+    NewtonSystem system;
+    system.residual = [&](const Eigen::VectorXd& z, Eigen::VectorXd& g) {
         set_angles(z);
         model.derivative(x.data(), u, dxdt.data());
         for (Eigen::Index i = 0; i < n; ++i) g[i] = dxdt[static_cast<std::size_t>(n + i)] - ratio(i) * z[ref];
     };
-    Eigen::VectorXd z = Eigen::VectorXd::Zero(n), g(n), g_trial(n), trial(n);
-    Eigen::MatrixXd jac(n, n);
-    eval(z, g);
-    bool polished = false;
-    for (int iter = 0; iter < 100; ++iter) {
-        const double norm = g.norm();
-        if (!std::isfinite(norm)) break;
-        for (Eigen::Index j = 0; j < n; ++j) {
-            if (j == ref) {
-                for (Eigen::Index i = 0; i < n; ++i) jac(i, j) = -ratio(i);  // ∂(θ_i'' − r_i·α)/∂α
-                continue;
-            }
-            trial = z;
-            const double h = 1e-7 + 1e-10 * std::abs(x[static_cast<std::size_t>(j)]);
-            trial[j] += h;
-            eval(trial, g_trial);
-            jac.col(j) = (g_trial - g) / h;
-        }
-        const Eigen::FullPivLU<Eigen::MatrixXd> lu(jac);
-        if (!lu.isInvertible()) {
-            r.problem = "the line's stiffness matrix is singular in steady motion (a node without an elastic "
-                        "joint to the rest of the line)";
-            return r;
-        }
-        const Eigen::VectorXd step = lu.solve(-g);
-        double alpha = 1.0;
-        for (int ls = 0; ls < 40; ++ls, alpha *= 0.5) {
-            trial = z + alpha * step;
-            eval(trial, g_trial);
-            if (std::isfinite(g_trial.norm()) && g_trial.norm() < norm) break;
-        }
-        z = trial;
-        g = g_trial;
-        double twist_step = 0.0, twist_scale = 1.0;
-        for (Eigen::Index i = 0; i < n; ++i) {
-            if (i == ref) continue;
-            twist_step = std::max(twist_step, std::abs(alpha * step[i]));
-            twist_scale = std::max(twist_scale, std::abs(x[static_cast<std::size_t>(i)]));
-        }
-        // Converged to the angles' precision (they may be thousands of radians on a
-        // recording's cumulative encoder angle): one more step, to rounding.
-        if (twist_step <= 1e-14 * twist_scale && !polished) {
-            polished = true;
-            continue;
-        }
-        if (polished || g.norm() == 0.0) {
-            set_angles(z);
+    system.state_value = [&](Eigen::Index j, const Eigen::VectorXd& z) { return ratio(j) * angle + z[j]; };
+    system.known_columns.resize(static_cast<std::size_t>(n));
+    Eigen::VectorXd& alpha_column = system.known_columns[static_cast<std::size_t>(ref)];
+    alpha_column.resize(n);
+    for (Eigen::Index i = 0; i < n; ++i) alpha_column[i] = -ratio(i);  // ∂(θ_i'' − r_i·α)/∂α
+    const NewtonResult solved = solve_damped_newton(system, Eigen::VectorXd::Zero(n));
+    switch (solved.status) {
+        case NewtonStatus::converged:
+            set_angles(solved.z);
             r.found = true;
-            r.acceleration = z[ref];
+            r.acceleration = solved.z[ref];
             r.x = x;
             return r;
+        case NewtonStatus::singular: {
+            std::vector<char> nodes = solved.free_unknowns;
+            if (static_cast<std::size_t>(ref) < nodes.size()) nodes[static_cast<std::size_t>(ref)] = 0;  // α's slot
+            r.problem = "the line's stiffness matrix is singular in steady motion: " +
+                        nodes_without_hold(spec, model.parameters(), nodes) +
+                        " no elastic joint to the rest of the line, so no twist carries the torques; give it one, "
+                        "or start from initial_state: measured";
+            return r;
         }
+        case NewtonStatus::not_converged: break;
     }
     r.problem = "Newton's method did not converge to a steady motion";
     return r;
+}
+
+std::string held_to_ground(const NetworkSpec& spec) {
+    std::string held;
+    for_each_element(spec, [&](auto, const auto& e) {
+        if constexpr (requires { e.a; e.b; }) {
+            if (held.empty() && e.b == kGround)
+                held = "'" + e.name + "' (node " + spec.nodes[static_cast<std::size_t>(e.a)].name + " to ground)";
+        }
+    });
+    return held;
 }
 
 }  // namespace tvid

@@ -19,6 +19,10 @@ struct RigidMotion {
     std::string problem;        ///< not empty: the ratios around a loop disagree
 };
 
+/// The first element that holds a node to ground ("'mount' (node motor to ground)"), or
+/// "": a line so held cannot turn steadily, and at rest its start is the equilibrium.
+std::string held_to_ground(const NetworkSpec& spec);
+
 /// The ratios of `spec`'s nodes for the parameter vector p (gear ratios may be parameters).
 RigidMotion rigid_motion(const NetworkSpec& spec, const std::vector<double>& p, int reference);
 
@@ -33,7 +37,9 @@ struct SteadyMotion {
 /// The steady motion of `model` (parameters set) under the inputs u: node `reference` at
 /// angle `angle` turning at `speed`, every node at its ratio of both, with the twists at
 /// which every node accelerates as the rigid body does: J_i θ_i'' = ratio_i · α for one α.
-/// Damped Newton on the twists and α, the Jacobian by differences. Never throws.
+/// Damped Newton on the twists and α, the Jacobian by differences (damped_newton.hpp).
+/// A line held to ground (line_held_to_ground) has no steady motion: not found, saying so.
+/// Never throws.
 SteadyMotion solve_steady_motion(NetworkModel<double>& model, const double* u, int reference, double speed,
                                  double angle);
 

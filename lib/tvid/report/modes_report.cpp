@@ -1,3 +1,4 @@
+#include "tvid/io/csv_field.hpp"
 #include "tvid/report/modes_report.hpp"
 
 #include <algorithm>
@@ -128,15 +129,16 @@ std::string modes_csv(const ModesStudy& s) {
     const ModalAnalysis& m = s.modal;
     std::ostringstream out;
     out << "mode,kind,frequency_hz,damped_frequency_hz,damping_ratio,eigenvalue_re,eigenvalue_im,dominant_node";
-    for (const std::string& n : m.node_names) out << ",shape_" << n << ",magnitude_" << n << ",phase_deg_" << n;
-    for (const std::string& n : m.node_names) out << ",common_" << n;
+    for (const std::string& n : m.node_names)
+        out << ',' << csv_field("shape_" + n) << ',' << csv_field("magnitude_" + n) << ',' << csv_field("phase_deg_" + n);
+    for (const std::string& n : m.node_names) out << ',' << csv_field("common_" + n);
     out << '\n';
     for (std::size_t k = 0; k < m.modes.size(); ++k) {
         const TorsionalMode& mode = m.modes[k];
         out << k + 1 << ',' << mode_kind_name(mode.kind) << ',' << csv_cell(mode.frequency_hz) << ','
             << csv_cell(mode.damped_frequency_hz) << ',' << csv_cell(mode.damping_ratio) << ','
             << csv_cell(mode.eigenvalue.real()) << ',' << csv_cell(mode.eigenvalue.imag()) << ','
-            << m.node_names[mode.dominant_node];
+            << csv_field(m.node_names[mode.dominant_node]);
         for (std::size_t i = 0; i < m.node_names.size(); ++i)
             out << ',' << mode_cell(mode.shape[i].real()) << ',' << mode_cell(std::abs(mode.shape[i])) << ','
                 << mode_cell(phase_deg(mode.shape[i]), "%.2f");
@@ -172,8 +174,8 @@ void write_modes_report(const std::filesystem::path& dir, const ModesStudy& stud
     std::error_code ec;
     std::filesystem::create_directories(dir, ec);
     if (ec) throw std::runtime_error("cannot create directory " + dir.string() + ": " + ec.message());
-    write_file_atomically(dir / "modes.csv", modes_csv(study));
-    write_file_atomically(dir / "modes.json", json_text(modes_json(study, run)) + "\n");
+    write_output_file(dir, "modes.csv", modes_csv(study));
+    write_output_file(dir, "modes.json", json_text(modes_json(study, run)) + "\n");
 }
 
 json frf_json(const FrfComparison& f, const ModesRunInfo& run) {
@@ -217,7 +219,11 @@ json frf_json(const FrfComparison& f, const ModesRunInfo& run) {
               {"windows", f.windows},
               {"sample_rate_hz", json_number(f.sample_rate_hz)},
               {"segment_length", f.segment_length},
-              {"segments", f.segments}}},
+              {"segments", f.segments},
+              {"resolution_hz", json_number(f.resolution_hz)},
+              {"gaps", f.gaps},
+              {"coherence_defined", f.segments >= 2}}},
+            {"undamped_resonances_hz", f.undamped_hz},
             {"rows", rows},
             {"model_curve", curve}};
 }
@@ -242,8 +248,8 @@ void write_frf_report(const std::filesystem::path& dir, const FrfComparison& frf
     std::error_code ec;
     std::filesystem::create_directories(dir, ec);
     if (ec) throw std::runtime_error("cannot create directory " + dir.string() + ": " + ec.message());
-    write_file_atomically(dir / "frf.csv", frf_csv(frf));
-    write_file_atomically(dir / "frf.json", json_text(frf_json(frf, run)) + "\n");
+    write_output_file(dir, "frf.csv", frf_csv(frf));
+    write_output_file(dir, "frf.json", json_text(frf_json(frf, run)) + "\n");
 }
 
 std::string frf_summary_text(const FrfComparison& f) {
@@ -253,27 +259,43 @@ std::string frf_summary_text(const FrfComparison& f) {
     if (f.measured)
         out << "measured H1 over " << f.windows.size() << " estimation window(s): " << f.segments << " segments of "
             << f.segment_length << " samples, " << csv_cell(f.sample_rate_hz / static_cast<double>(f.segment_length), "%.4g")
-            << " Hz resolution\n";
+            << " Hz resolution" << (f.gaps > 0 ? ", cut at " + std::to_string(f.gaps) + " gap(s) in the recording" : "")
+            << (f.segments < 2 ? "; one segment: no coherence" : "") << "\n";
     else
         out << "no measured H1\n";
     // The model's resonance peaks (local maxima of |H| on the fine curve), the largest
     // first, each beside the measured H1 in the nearest bin of the measurement's grid.
     const auto& c = f.curve;
+    char line[200];
+    // An undamped mode's resonance: |H| is infinite there (the curve only approaches it).
+    const auto near_undamped = [&](double fk) {
+        for (const double fn : f.undamped_hz)
+            if (std::abs(fk - fn) <= 0.02 * fn) return true;
+        return false;
+    };
+    for (const double fn : f.undamped_hz) {
+        std::snprintf(line, sizeof line, "  model resonance %10.4g Hz  |H| infinite (an undamped mode)\n", fn);
+        out << line;
+    }
     std::vector<std::size_t> peaks;
     for (std::size_t k = 1; k + 1 < c.size(); ++k)
-        if (std::abs(c[k]) > std::abs(c[k - 1]) && std::abs(c[k]) >= std::abs(c[k + 1])) peaks.push_back(k);
+        if (std::abs(c[k]) > std::abs(c[k - 1]) && std::abs(c[k]) >= std::abs(c[k + 1]) &&
+            !near_undamped(f.curve_frequency_hz[k]))
+            peaks.push_back(k);
     std::sort(peaks.begin(), peaks.end(), [&](std::size_t a, std::size_t b) { return std::abs(c[a]) > std::abs(c[b]); });
     if (peaks.size() > 5) peaks.resize(5);
-    char line[200];
     for (std::size_t k : peaks) {
         const double fk = f.curve_frequency_hz[k];
         std::size_t bin = 0;
         for (std::size_t i = 1; i < f.frequency_hz.size(); ++i)
             if (std::abs(f.frequency_hz[i] - fk) < std::abs(f.frequency_hz[bin] - fk)) bin = i;
-        if (f.measured)
+        if (f.measured && std::isfinite(f.coherence[bin]))
             std::snprintf(line, sizeof line,
                           "  model peak %10.4g Hz  |H| %10.4g   measured at %8.4g Hz: |H1| %10.4g  coherence %.3f\n", fk,
                           std::abs(c[k]), f.frequency_hz[bin], std::abs(f.measured_h1[bin]), f.coherence[bin]);
+        else if (f.measured)
+            std::snprintf(line, sizeof line, "  model peak %10.4g Hz  |H| %10.4g   measured at %8.4g Hz: |H1| %10.4g\n",
+                          fk, std::abs(c[k]), f.frequency_hz[bin], std::abs(f.measured_h1[bin]));
         else
             std::snprintf(line, sizeof line, "  model peak %10.4g Hz  |H| %10.4g\n", fk, std::abs(c[k]));
         out << line;

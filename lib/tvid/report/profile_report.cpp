@@ -1,3 +1,4 @@
+#include "tvid/io/csv_field.hpp"
 #include "tvid/report/profile_report.hpp"
 
 #include <cmath>
@@ -11,12 +12,12 @@ namespace tvid {
 
 std::string profile_csv(const ProfileResult& profile) {
     std::ostringstream out;
-    out << profile.parameter << ",cost,delta_chi2,converged,termination";
-    for (const std::string& name : profile.others) out << ',' << name;
+    out << csv_field(profile.parameter) << ",cost,delta_chi2,converged,termination";
+    for (const std::string& name : profile.others) out << ',' << csv_field(name);
     out << '\n';
     for (const ProfilePoint& p : profile.points) {
         out << csv_cell(p.value, "%.17g") << ',' << csv_cell(p.cost, "%.17g") << ',' << csv_cell(p.delta_chi2) << ','
-            << (p.converged ? "true" : "false") << ',' << p.termination;  // terminations hold no comma
+            << (p.converged ? "true" : "false") << ',' << csv_field(p.termination);
         for (std::size_t j = 0; j < p.others.size(); ++j) out << ',' << csv_cell(p.others[j], "%.17g");
         out << '\n';
     }
@@ -59,8 +60,8 @@ void write_profile_report(const std::filesystem::path& dir, const ProfileResult&
     std::error_code ec;
     std::filesystem::create_directories(dir, ec);
     if (ec) throw std::runtime_error("cannot create profile directory " + dir.string() + ": " + ec.message());
-    write_file_atomically(dir / "profile.csv", profile_csv(profile));
-    write_file_atomically(dir / "profile.json", json_text(profile_json(profile, run)) + "\n");
+    write_output_file(dir, "profile.csv", profile_csv(profile));
+    write_output_file(dir, "profile.json", json_text(profile_json(profile, run)) + "\n");
 }
 
 }  // namespace tvid

@@ -29,15 +29,24 @@ std::string foreign_report(const std::filesystem::path& dir, const std::string& 
 
 }  // namespace
 
+const std::vector<std::string>& fit_report_files() {
+    static const std::vector<std::string> names = {"params.json",  "params.csv", "estimation.csv", "validation.csv",
+                                                   "spectra.csv",  "orders.csv", "history.csv",    "starts.csv",
+                                                   "summary.json"};
+    return names;
+}
+
 OutputDirectoryLock prepare_report_directory(const std::filesystem::path& dir, bool force, const std::string& experiment) {
     namespace fs = std::filesystem;
     std::error_code ec;
     if (fs::exists(dir, ec) && !fs::is_directory(dir, ec))
         throw InputError(dir.string(), 0, "", "the report directory is a file");
+    // Before summary.json is looked into: a FIFO of that name would block the reading.
+    check_output_files(dir, fit_report_files());
     if (!force)
         if (const std::string why = foreign_report(dir, experiment); !why.empty())
             throw InputError(dir.string(), 0, "", why + ": use --force to replace it, or -o for another directory");
-    return prepare_output_directory(dir, "report directory");
+    return prepare_output_directory(dir, "report directory", fit_report_files());
 }
 
 }  // namespace tvid

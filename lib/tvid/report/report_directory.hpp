@@ -8,16 +8,22 @@
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "tvid/io/output_directory.hpp"
 
 namespace tvid {
 
+/// Every file a fit report may hold (write_fit_report writes these names and no other).
+const std::vector<std::string>& fit_report_files();
+
 /// Creates `dir` if needed and makes sure a report can be written there. Throws InputError
 /// (exit status 2) when `dir` is a file, cannot be created or written, or another run holds
 /// it; and, unless `force`, when it holds params.json or summary.json that are not a tvid
 /// report of `experiment` (summary.json, the report's manifest, names the tool and the
-/// experiment). Keep the returned lock until the report is written.
+/// experiment), or when one of fit_report_files() there is not a regular file or is a file
+/// the run reads (the recording named estimation.csv, in the folder the report goes to).
+/// Keep the returned lock until the report is written.
 [[nodiscard]] OutputDirectoryLock prepare_report_directory(const std::filesystem::path& dir, bool force,
                                                            const std::string& experiment);
 

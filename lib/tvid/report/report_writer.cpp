@@ -1,3 +1,4 @@
+#include "tvid/io/csv_field.hpp"
 #include "tvid/report/report_writer.hpp"
 
 #include <cmath>
@@ -7,9 +8,11 @@
 #include "tvid/analysis/fit_metrics.hpp"
 #include "tvid/analysis/identifiability.hpp"
 #include "tvid/io/atomic_file.hpp"
+#include "tvid/io/output_directory.hpp"
 #include "tvid/model/parameter_units.hpp"
 #include "tvid/report/modes_report.hpp"
 #include "tvid/report/optimizer_report.hpp"
+#include "tvid/report/report_directory.hpp"
 #include "tvid/report/report_values.hpp"
 #include "tvid/report/spectra_report.hpp"
 #include "tvid/io/json_text.hpp"
@@ -175,6 +178,8 @@ json identifiability_json(const IdentifiabilityReport& report) {
         parameters.push_back(json{{"name", p.name},
                                   {"std_error", json_number(p.std_error)},
                                   {"relative_std_error", json_number(p.relative_std_error)},
+                                  {"judged_std_error", json_number(p.judged_std_error)},
+                                  {"judged_against", p.judged_against},
                                   {"flag", to_string(p.flag)}});
         if (p.flag == IdentifiabilityFlag::undetermined) undetermined.push_back(p.name);
     }
@@ -208,7 +213,7 @@ json identifiability_json(const IdentifiabilityReport& report) {
 json fit_summary_json(const IdentificationProblem& problem, const FitResult& fit, const RunContext& context) {
     const Experiment& ex = problem.experiment();
     const json identifiability =
-        identifiability_json(assess_identifiability(fit.uncertainty, problem.free_names(), fit.best_free));
+        identifiability_json(assess_identifiability(problem, fit.uncertainty, fit.best_free));
     const double evals_per_s =
         fit.optimizer_seconds > 0 ? static_cast<double>(fit.run.evaluations) / fit.optimizer_seconds : 0.0;
     json optimizer{{"name", fit.run.name},
@@ -261,8 +266,8 @@ std::string trace_csv(const Experiment& experiment, const SplitEvaluation& split
         const std::string& n = experiment.outputs[k].model_name;
         const std::string unit = std::string(" [") +
             output_unit(experiment.network.outputs[static_cast<std::size_t>(experiment.output_indices[k])]) + "]";
-        out << ',' << n << "_measured" << unit << ',' << n << "_simulated" << unit << ',' << n << "_residual" << unit
-            << ',' << n << "_residual_ratio [%]";
+        out << ',' << csv_field(n + "_measured" + unit) << ',' << csv_field(n + "_simulated" + unit) << ','
+            << csv_field(n + "_residual" + unit) << ',' << csv_field(n + "_residual_ratio [%]");
     }
     // With data.angle, the last column is the cumulative crank angle of each sample, as
     // tvid unwrapped it: cycle boundaries are its multiples of data.cycle_deg.
@@ -272,7 +277,7 @@ std::string trace_csv(const Experiment& experiment, const SplitEvaluation& split
     for (const WindowEvaluation& w : split.windows) {
         const WindowTrace& tr = w.trace;
         for (std::size_t i = 0; i < tr.time.size(); ++i) {
-            out << csv_cell(tr.time[i], "%.9g") << ',' << tr.window->label;  // labels hold no comma
+            out << csv_cell(tr.time[i], "%.9g") << ',' << csv_field(tr.window->label);
             for (std::size_t k = 0; k < tr.measured.size(); ++k) {
                 const double y = tr.measured[k][i], ys = tr.simulated[k][i];
                 out << ',' << csv_cell(y) << ',' << csv_cell(ys) << ',' << csv_cell(y - ys) << ','
@@ -291,11 +296,13 @@ void write_fit_report(const std::filesystem::path& dir, const IdentificationProb
     std::filesystem::create_directories(dir, ec);
     if (ec) throw std::runtime_error("cannot create report directory " + dir.string() + ": " + ec.message());
     const Experiment& ex = problem.experiment();
+    // Every name first: a FIFO or a file the run reads under one of them is refused before
+    // anything is written.
+    check_output_files(dir, fit_report_files());
     // A summary from an earlier run would vouch for files this run is about to replace.
-    std::filesystem::remove(dir / "summary.json", ec);
-    if (ec) throw std::runtime_error("cannot replace " + (dir / "summary.json").string() + ": " + ec.message());
+    remove_output_file(dir, "summary.json");
 
-    write_file_atomically(dir / "params.json", json_text(parameters_json(problem, fit)) + "\n");
+    write_output_file(dir, "params.json", json_text(parameters_json(problem, fit)) + "\n");
 
     std::ostringstream csv;
     const std::vector<std::string> units = parameter_units(ex.network);
@@ -305,33 +312,33 @@ void write_fit_report(const std::filesystem::path& dir, const IdentificationProb
         const int j = free_position(problem, i);
         const bool unc = j >= 0 && fit.uncertainty.available;
         const auto jj = static_cast<std::size_t>(std::max(j, 0));
-        csv << p.name << ',' << csv_cell(fit.best_params[i], "%.17g") << ',' << csv_cell(p.init, "%.17g") << ','
+        csv << csv_field(p.name) << ',' << csv_cell(fit.best_params[i], "%.17g") << ',' << csv_cell(p.init, "%.17g") << ','
             << (p.has_min ? csv_cell(p.min, "%.17g") : "") << ',' << (p.has_max ? csv_cell(p.max, "%.17g") : "") << ','
             << (p.fixed ? "true" : "false") << ',' << (unc ? csv_cell(fit.uncertainty.std_error[jj]) : "") << ','
             << (unc ? csv_cell(fit.uncertainty.ci_low[jj]) : "") << ',' << (unc ? csv_cell(fit.uncertainty.ci_high[jj]) : "")
-            << ',' << units[i] << '\n';
+            << ',' << csv_field(units[i]) << '\n';
     }
-    write_file_atomically(dir / "params.csv", csv.str());
+    write_output_file(dir, "params.csv", csv.str());
 
-    write_file_atomically(dir / "estimation.csv", trace_csv(ex, fit.evaluation.estimation));
-    write_file_atomically(dir / "validation.csv", trace_csv(ex, fit.evaluation.validation));
-    write_file_atomically(dir / "spectra.csv", spectra_csv(ex, fit.evaluation));
+    write_output_file(dir, "estimation.csv", trace_csv(ex, fit.evaluation.estimation));
+    write_output_file(dir, "validation.csv", trace_csv(ex, fit.evaluation.validation));
+    write_output_file(dir, "spectra.csv", spectra_csv(ex, fit.evaluation));
     if (const std::string orders = orders_csv(ex, fit.evaluation); !orders.empty())
-        write_file_atomically(dir / "orders.csv", orders);
+        write_output_file(dir, "orders.csv", orders);
     else
-        std::filesystem::remove(dir / "orders.csv", ec);  // a replaced engine report's
+        remove_output_file(dir, "orders.csv");  // a replaced engine report's
 
     std::ostringstream hist;
     hist << "iteration,evaluations,best_cost\n";
     for (const HistoryRow& h : fit.run.history)
         hist << h.iteration << ',' << h.evaluations << ',' << csv_cell(h.best_cost, "%.17g") << '\n';
-    write_file_atomically(dir / "history.csv", hist.str());
+    write_output_file(dir, "history.csv", hist.str());
     const std::string starts = starts_csv(problem, fit);
-    if (!starts.empty()) write_file_atomically(dir / "starts.csv", starts);
-    else std::filesystem::remove(dir / "starts.csv", ec);  // a replaced multistart report's, no longer true
+    if (!starts.empty()) write_output_file(dir, "starts.csv", starts);
+    else remove_output_file(dir, "starts.csv");  // a replaced multistart report's, no longer true
 
     // summary.json last: its presence marks a complete report.
-    write_file_atomically(dir / "summary.json", json_text(fit_summary_json(problem, fit, context)) + "\n");
+    write_output_file(dir, "summary.json", json_text(fit_summary_json(problem, fit, context)) + "\n");
 }
 
 }  // namespace tvid

@@ -1,3 +1,4 @@
+#include "tvid/io/csv_field.hpp"
 #include "tvid/report/sensitivity_report.hpp"
 
 #include <algorithm>
@@ -105,14 +106,13 @@ std::vector<OutputRanking> rank_parameters(const SensitivityStudy& study) {
 std::string sensitivity_csv(const SensitivityStudy& study) {
     std::ostringstream out;
     out << "window,time,output,y";
-    for (std::size_t j : study.free) out << ",d_" << study.parameters[j];
-    for (std::size_t j : study.free) out << ",s_" << study.parameters[j];
+    for (std::size_t j : study.free) out << ',' << csv_field("d_" + study.parameters[j]);
+    for (std::size_t j : study.free) out << ',' << csv_field("s_" + study.parameters[j]);
     out << '\n';
     for_each_window(study, [&](const WindowSensitivity& w, const char*) {
         for (std::size_t i = 0; i < w.time.size(); ++i) {
             for (std::size_t k = 0; k < study.outputs.size(); ++k) {
-                // labels hold no comma
-                out << w.window->label << ',' << sensitivity_cell(w.time[i]) << ',' << study.outputs[k] << ','
+                out << csv_field(w.window->label) << ',' << sensitivity_cell(w.time[i]) << ',' << csv_field(study.outputs[k]) << ','
                     << sensitivity_cell(at(w.output[k], i));
                 for (std::size_t j = 0; j < study.free.size(); ++j) out << ',' << sensitivity_cell(at(w.dydp[k][j], i));
                 for (std::size_t j = 0; j < study.free.size(); ++j)
@@ -129,7 +129,7 @@ std::string ranking_csv(const std::vector<OutputRanking>& rankings) {
     out << "output,rank,parameter,value,rms_scaled,relative,rms_raw\n";
     for (const OutputRanking& r : rankings)
         for (const ParameterRank& p : r.ranks)
-            out << r.output << ',' << p.rank << ',' << p.parameter << ',' << exact(p.value) << ','
+            out << csv_field(r.output) << ',' << p.rank << ',' << csv_field(p.parameter) << ',' << exact(p.value) << ','
                 << sensitivity_cell(p.rms_scaled) << ',' << sensitivity_cell(p.relative) << ',' << sensitivity_cell(p.rms_raw) << '\n';
     return out.str();
 }
@@ -186,9 +186,9 @@ void write_sensitivity_report(const std::filesystem::path& dir, const Sensitivit
     // An earlier run's sensitivity.json would vouch for files this run is about to replace.
     std::filesystem::remove(dir / "sensitivity.json", ec);
     if (ec) throw std::runtime_error("cannot replace " + (dir / "sensitivity.json").string() + ": " + ec.message());
-    write_file_atomically(dir / "sensitivity.csv", sensitivity_csv(study));
-    write_file_atomically(dir / "ranking.csv", ranking_csv(rankings));
-    write_file_atomically(dir / "sensitivity.json", json_text(sensitivity_json(study, rankings, run)) + "\n");
+    write_output_file(dir, "sensitivity.csv", sensitivity_csv(study));
+    write_output_file(dir, "ranking.csv", ranking_csv(rankings));
+    write_output_file(dir, "sensitivity.json", json_text(sensitivity_json(study, rankings, run)) + "\n");
 }
 
 }  // namespace tvid

@@ -1,3 +1,4 @@
+#include "tvid/io/csv_field.hpp"
 #include "tvid/report/spectra_report.hpp"
 
 #include <cstdio>
@@ -23,7 +24,7 @@ OrderSettings report_order_settings(const Experiment& ex) {
 
 void spectra_rows(std::ostringstream& out, const SplitSpectra& s) {
     for (std::size_t f = 0; f < s.frequency_hz.size(); ++f) {
-        out << s.split << ',' << csv_cell(s.frequency_hz[f], "%.9g");
+        out << csv_field(s.split) << ',' << csv_cell(s.frequency_hz[f], "%.9g");
         for (const OutputSpectra& o : s.outputs)
             out << ',' << csv_cell(o.measured[f]) << ',' << csv_cell(o.simulated[f]) << ',' << csv_cell(o.residual[f]);
         out << '\n';
@@ -34,8 +35,8 @@ void order_rows(std::ostringstream& out, const Experiment& ex, const SplitOrders
     for (const CycleOrders& c : orders.cycles) {
         const std::string unit = output_unit_of(ex, c.output);
         for (std::size_t i = 0; i < c.residual.order.size(); ++i)
-            out << orders.split << ',' << c.window << ',' << c.residual.cycle << ','
-                << ex.outputs[c.output].model_name << ',' << unit << ',' << csv_cell(c.residual.order[i], "%g") << ','
+            out << csv_field(orders.split) << ',' << csv_field(c.window) << ',' << c.residual.cycle << ','
+                << csv_field(ex.outputs[c.output].model_name) << ',' << csv_field(unit) << ',' << csv_cell(c.residual.order[i], "%g") << ','
                 << csv_cell(c.measured.amplitude[i]) << ',' << csv_cell(c.measured.phase_deg[i], "%.6g") << ','
                 << csv_cell(c.simulated.amplitude[i]) << ',' << csv_cell(c.simulated.phase_deg[i], "%.6g") << ','
                 << csv_cell(c.residual.amplitude[i]) << ',' << csv_cell(c.residual.phase_deg[i], "%.6g") << '\n';
@@ -59,7 +60,8 @@ std::string spectra_csv(const Experiment& ex, const Evaluation& ev) {
     for (std::size_t k = 0; k < ex.outputs.size(); ++k) {
         const std::string& n = ex.outputs[k].model_name;
         const std::string u = " [" + density_unit(output_unit_of(ex, k)) + "]";
-        out << ',' << n << "_measured_psd" << u << ',' << n << "_simulated_psd" << u << ',' << n << "_residual_psd" << u;
+        out << ',' << csv_field(n + "_measured_psd" + u) << ',' << csv_field(n + "_simulated_psd" + u) << ','
+            << csv_field(n + "_residual_psd" + u);
     }
     out << '\n';
     spectra_rows(out, split_spectra(ev.estimation, ex.outputs.size()));
@@ -92,6 +94,10 @@ std::vector<ResidualSpectrumSummary> residual_spectrum_summary(const Experiment&
         s.output = ex.outputs[k].model_name;
         s.unit = output_unit_of(ex, k);
         if (k < spectra.outputs.size()) s.band = dominant_band(spectra.frequency_hz, spectra.outputs[k].residual);
+        s.segments = spectra.segments;
+        s.segment_length = spectra.segment_length;
+        s.gaps = spectra.gaps;
+        s.resolution_hz = spectra.resolution_hz;
         s.order = dominant_order(orders, k);
         s.engine = engine;
         out.push_back(std::move(s));
@@ -110,7 +116,11 @@ nlohmann::json split_residual_spectrum_json(const Experiment& ex, const SplitEva
             band = {{"peak_hz", json_number(s.band.peak_hz)},
                     {"band_hz", {json_number(s.band.band_low_hz), json_number(s.band.band_high_hz)}},
                     {"share", json_number(s.band.share)},
-                    {"variance", json_number(s.band.variance)}};
+                    {"variance", json_number(s.band.variance)},
+                    {"segments", s.segments},
+                    {"segment_length", s.segment_length},
+                    {"resolution_hz", json_number(s.resolution_hz)},
+                    {"gaps", s.gaps}};
         if (s.order.available)
             order = {{"order", json_number(s.order.order)},
                      {"amplitude", json_number(s.order.amplitude)},

@@ -39,6 +39,10 @@ std::string orders_csv(const Experiment& ex, const Evaluation& ev);
 struct ResidualSpectrumSummary {
     std::string output, unit;
     SpectralPeak band;   ///< the dominant frequency band
+    /// The spectrum it was read from: Welch segments, their length, its resolution and
+    /// the recording's gaps no segment crosses (split_spectra.hpp).
+    std::size_t segments = 0, segment_length = 0, gaps = 0;
+    double resolution_hz = 0.0;
     OrderPeak order;     ///< the dominant order (experiments with a crank angle)
     bool engine = false; ///< an input is read by crank angle (cylinder pressures): the order is the view
 };

@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "tvid/estimation/residual_evaluator.hpp"
+#include "tvid/io/csv_field.hpp"
 #include "tvid/estimation/parallel_evaluator.hpp"
 #include "tvid/fit/optimizer_table.hpp"
 #include "tvid/fit/optimizers/report_parts.hpp"
@@ -90,15 +91,15 @@ std::string multistart_starts_csv(const IdentificationProblem& problem, const Fi
     using optimizer_report::csv_cell;
     std::ostringstream out;
     out << "start";
-    for (const std::string& n : problem.free_names()) out << ",initial_" << n;
-    for (const std::string& n : problem.free_names()) out << ",final_" << n;
+    for (const std::string& n : problem.free_names()) out << ',' << csv_field("initial_" + n);
+    for (const std::string& n : problem.free_names()) out << ',' << csv_field("final_" + n);
     out << ",initial_cost,cost,iterations,evaluations,termination,best\n";
     for (const StartResult& s : fit.run.starts) {
         out << s.start;
         for (double v : s.initial) out << ',' << csv_cell(v);
         for (double v : s.best) out << ',' << csv_cell(v);
         out << ',' << csv_cell(s.initial_cost) << ',' << csv_cell(s.best_cost) << ',' << s.iterations << ','
-            << s.evaluations << ',' << s.termination << ',' << (s.start == fit.run.best_start ? "true" : "false")
+            << s.evaluations << ',' << csv_field(s.termination) << ',' << (s.start == fit.run.best_start ? "true" : "false")
             << '\n';
     }
     return out.str();

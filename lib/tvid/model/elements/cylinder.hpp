@@ -6,6 +6,8 @@
 #include <vector>
 
 #include "tvid/channels/crank_angle_channels.hpp"
+#include "tvid/model/element_source.hpp"
+#include "tvid/model/element_traits.hpp"
 #include "tvid/model/elements/node_motion.hpp"
 #include "tvid/model/field.hpp"
 #include "tvid/model/slider_crank.hpp"
@@ -42,15 +44,66 @@ struct Cylinder {
         mutable T lever, lever_rate;
     };
 
+    // ---- the experiment file: `{ type: cylinder, node: THROW, pressure: CHANNEL, phase_deg: DEG, bore: B,
+    // crank_radius: R, rod_length: L, mass: M, p_atm: P }`
+    static constexpr const char* type_name = "cylinder";
+    static constexpr const char* keys[] = {"node", "pressure", "phase_deg", "bore", "crank_radius",
+                                           "rod_length", "mass", "p_atm"};
+
+    static Spec read(ElementSource& src, const std::string& name) {
+        Spec e;
+        e.name = name;
+        e.node = src.node("node");
+        e.pressure = src.angle_input("pressure");
+        e.phase = src.has("phase_deg") ? src.number("phase_deg") * kPi / 180.0 : 0.0;
+        e.bore = src.field("bore");
+        e.crank_radius = src.field("crank_radius");
+        e.rod_length = src.field("rod_length");
+        e.mass = src.field_or("mass", Field::value(0.0));
+        e.p_atm = src.field_or("p_atm", Field::value(101325.0));
+        return e;
+    }
+
+    /// After the sign checks: a slider crank needs a rod longer than its crank.
+    static void check(const Spec& e, const ElementSource& src) {
+        if (!e.crank_radius.is_parameter() && !e.rod_length.is_parameter() &&
+            !(e.rod_length.constant > e.crank_radius.constant))
+            src.fail("rod_length", "the connecting rod must be longer than the crank radius");
+    }
+
     /// f(info, field...) for each numeric field, of each of e... (a spec first, then bound elements) in step.
     template <class F, class... E>
     static void for_each_field(F&& f, E&... e) {
-        f(FieldInfo{"bore", "a cylinder dimension", SignRule::positive}, e.bore...);
-        f(FieldInfo{"crank_radius", "a cylinder dimension", SignRule::positive}, e.crank_radius...);
-        f(FieldInfo{"rod_length", "a cylinder dimension", SignRule::positive}, e.rod_length...);
-        f(FieldInfo{"mass", "a reciprocating mass", SignRule::non_negative}, e.mass...);
-        f(FieldInfo{"p_atm", "an atmospheric pressure", SignRule::positive}, e.p_atm...);
+        f(FieldInfo{"bore", "a cylinder dimension", SignRule::positive, "m"}, e.bore...);
+        f(FieldInfo{"crank_radius", "a cylinder dimension", SignRule::positive, "m"}, e.crank_radius...);
+        f(FieldInfo{"rod_length", "a cylinder dimension", SignRule::positive, "m"}, e.rod_length...);
+        f(FieldInfo{"mass", "a reciprocating mass", SignRule::non_negative, "kg"}, e.mass...);
+        f(FieldInfo{"p_atm", "an atmospheric pressure", SignRule::positive, "Pa"}, e.p_atm...);
     }
+
+    static constexpr ChannelUse channel{"Pa", true};  ///< a measured cylinder pressure, by crank angle
+    static int channel_of(const Spec& s) { return s.pressure; }
+    static constexpr ElementOutputs outputs = ElementOutputs::torque;
+
+    /// revolution_mean: the reciprocating mass adds m·mean(s'²) to the throw's inertia, and
+    /// neither it nor the gas torque stays in `lin` (their angle-dependent parts average
+    /// out); operating_point: the slider crank as it is at the operating point's angle.
+    static LinearNote linearise(const Spec& c, Spec& lin, const LinearisationPoint& at) {
+        if (at.mode != AngleDependence::revolution_mean)
+            return {"operating_point", "slider crank at the operating point's crank angle " +
+                                           linear_number(at.angle(c.node) + c.phase) +
+                                           " rad: inertia m*s'^2 there, and the gas pressure's slope there as a stiffness"};
+        const double added =
+            at.value(c.mass) * mean_lever_squared(at.value(c.crank_radius), at.value(c.rod_length));
+        at.added_inertia[static_cast<std::size_t>(c.node)] += added;
+        lin.mass = Field::value(0.0);
+        lin.bore = Field::value(0.0);
+        return {"revolution_mean", "reciprocating inertia at its mean over a revolution, m*mean(s'^2) = " +
+                                       linear_number(added) + " kg m^2 added to " + at.node_name(c.node) +
+                                       "; the gas torque is an excitation (its angle stiffness averages to zero over a cycle)"};
+    }
+
+    // ---- the equations of motion
 
     template <class T>
     static void bind(const Spec& s, Bound<T>& e) {
@@ -100,6 +153,20 @@ struct Cylinder {
 
 private:
     static constexpr double kPi = 3.14159265358979323846;
+
+    // mean over φ of s'(φ)² for crank radius r and rod length l: the reciprocating mass's
+    // inertia per kg over a revolution (s' is 2π-periodic; the trapezoid rule on a periodic
+    // smooth function converges spectrally).
+    static double mean_lever_squared(double r, double l) {
+        constexpr int kPoints = 3600;
+        constexpr double kTwoPi = 6.283185307179586;
+        double sum = 0.0;
+        for (int k = 0; k < kPoints; ++k) {
+            const double ds = slider_crank(kTwoPi * k / kPoints, r, l).ds;
+            sum += ds * ds;
+        }
+        return sum / kPoints;
+    }
 
     // The slider-crank kinematics at the throw angle (plain numbers for the constant
     // geometry: for a derivative type the same values, with less work).

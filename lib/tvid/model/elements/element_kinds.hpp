@@ -7,9 +7,12 @@
 // The rows' order is the order in which the right-hand side sums the elements'
 // torques into each node (and so part of its floating-point result): keep it.
 //
-// Adding an element kind: write elements/NAME.hpp (its spec, field table, bound form,
-// torque formula and node loading, as spring_damper.hpp), add its row here, and read
-// it from the experiment file in lib/tvid/experiment/model_reader.cpp.
+// Adding an element kind: write elements/NAME.hpp (as spring_damper.hpp: its spec; its
+// type name, keys and read(); its field table with each field's unit; the channel it reads;
+// the outputs it offers; its linearisation; its bound form, torque formula and node
+// loading) and add its row here. Nothing else names a kind: the reader, the units, the
+// linearisation and the outputs walk this table, and a kind that leaves out a rule does
+// not compile (DescribedElementKind, network_spec.hpp).
 
 #include "tvid/model/elements/clearance.hpp"
 #include "tvid/model/elements/cylinder.hpp"

@@ -2,7 +2,10 @@
 // A gear mesh between two nodes, stiff and damped or with backlash.
 
 #include <string>
+#include <tuple>
 
+#include "tvid/model/element_source.hpp"
+#include "tvid/model/element_traits.hpp"
 #include "tvid/model/elements/clearance.hpp"
 #include "tvid/model/elements/node_motion.hpp"
 #include "tvid/model/field.hpp"
@@ -32,14 +35,53 @@ struct GearMesh {
         bool has_clearance = false;
     };
 
+    // ---- the experiment file: `{ type: gear_mesh, between: [a, b], ratio: N, k: K, c: C }`, with backlash
+    // `mu` and the clearance law's keys (k and c stand for both signs')
+    static constexpr const char* type_name = "gear_mesh";
+    static constexpr const char* keys[] = {"between", "ratio",   "k",  "c",    "k_minus", "k_plus",
+                                           "c_minus", "c_plus", "mu", "sigma"};
+
+    static Spec read(ElementSource& src, const std::string& name) {
+        Spec e;
+        e.name = name;
+        std::tie(e.a, e.b) = src.between(false);
+        e.ratio = src.field("ratio");
+        e.has_clearance = src.has("mu");
+        e.c = src.field_or("c", Field::value(0.0));
+        if (!e.has_clearance) {
+            for (const char* key : {"k_minus", "k_plus", "c_minus", "c_plus", "sigma"})
+                if (src.has(key)) src.fail(key, "clearance fields need mu (the half backlash)");
+            e.k = src.field("k");
+        } else {
+            e.k = src.field_or("k", Field{});
+            read_clearance_law(src, e, src.has("k") ? &e.k : nullptr, &e.c);
+        }
+        return e;
+    }
+
     /// f(info, field...) for each numeric field, of each of s, e... (a spec first, then bound elements) in step.
     template <class F, class Spec_, class... E>
     static void for_each_field(F&& f, Spec_& s, E&... e) {
-        f(FieldInfo{"ratio"}, s.ratio, e.ratio...);
-        f(FieldInfo{"k", "a mesh stiffness", SignRule::non_negative}, s.k, e.k...);
-        f(FieldInfo{"c", "a mesh damping coefficient", SignRule::non_negative}, s.c, e.c...);
+        f(FieldInfo{"ratio", "a gear ratio", SignRule::nonzero, "1"}, s.ratio, e.ratio...);
+        f(FieldInfo{"k", "a mesh stiffness", SignRule::non_negative, "N m/rad"}, s.k, e.k...);
+        f(FieldInfo{"c", "a mesh damping coefficient", SignRule::non_negative, "N m s/rad"}, s.c, e.c...);
         for_each_clearance_law_field(f, s.has_clearance, s.smooth, s, e...);
     }
+
+    static constexpr ChannelUse channel{};  ///< reads no channel
+    static int channel_of(const Spec&) { return -1; }
+    static constexpr ElementOutputs outputs = ElementOutputs::torque_each_side;
+
+    /// Linear without backlash; with it, the backlash law's slopes at the mesh twist θa − n·θb.
+    static LinearNote linearise(const Spec& e, Spec&, const LinearisationPoint& at) {
+        const double ratio = at.value(e.ratio);
+        if (e.has_clearance)
+            return {"operating_point",
+                    "backlash law linearised at the mesh twist " + linear_number(at.twist(e.a, e.b, ratio)) + " rad"};
+        return {"exact", "linear (ratio " + linear_number(ratio) + ")"};
+    }
+
+    // ---- the equations of motion
 
     template <class T>
     static void bind(const Spec& s, Bound<T>& e) {

@@ -6,6 +6,8 @@
 
 // math::sincos of each scalar type the right-hand side runs on: double and Pack, Dual, PackedDual.
 #include "tvid/model/dual.hpp"
+#include "tvid/model/element_source.hpp"
+#include "tvid/model/element_traits.hpp"
 #include "tvid/model/elements/node_motion.hpp"
 #include "tvid/model/field.hpp"
 #include "tvid/model/packed_dual.hpp"
@@ -34,12 +36,43 @@ struct OrderTorque {
         T amplitude, phase;
     };
 
+    // ---- the experiment file: `{ type: order_torque, node: NODE, order: K, amplitude: A, phase: PHI }`
+    static constexpr const char* type_name = "order_torque";
+    static constexpr const char* keys[] = {"node", "order", "amplitude", "phase"};
+
+    static Spec read(ElementSource& src, const std::string& name) {
+        Spec e;
+        e.name = name;
+        e.node = src.node("node");
+        e.order = src.number("order");
+        if (!(e.order > 0) || e.order > 1000)
+            src.fail("order", "an order is a positive number of cycles per revolution of the node (at most 1000)");
+        e.amplitude = src.field("amplitude");
+        e.phase = src.field_or("phase", Field::value(0.0));
+        return e;
+    }
+
     /// f(info, field...) for each numeric field, of each of e... (a spec first, then bound elements) in step.
     template <class F, class... E>
     static void for_each_field(F&& f, E&... e) {
-        f(FieldInfo{"amplitude"}, e.amplitude...);
-        f(FieldInfo{"phase"}, e.phase...);
+        f(FieldInfo{"amplitude", nullptr, SignRule::any, "N m"}, e.amplitude...);
+        f(FieldInfo{"phase", nullptr, SignRule::any, "rad"}, e.phase...);
     }
+
+    static constexpr ChannelUse channel{};  ///< reads no channel
+    static int channel_of(const Spec&) { return -1; }
+    static constexpr ElementOutputs outputs = ElementOutputs::torque;
+
+    /// revolution_mean: an excitation, no stiffness (`lin` keeps no amplitude); operating_point:
+    /// its slope −A k sin(kθ + φ) there.
+    static LinearNote linearise(const Spec&, Spec& lin, const LinearisationPoint& at) {
+        if (at.mode != AngleDependence::revolution_mean)
+            return {"operating_point", "its slope -A k sin(k theta + phi) at the operating point as a stiffness to ground"};
+        lin.amplitude = Field::value(0.0);
+        return {"excitation", "an excitation: its angle stiffness averages to zero over a revolution"};
+    }
+
+    // ---- the equations of motion
 
     template <class T>
     static void bind(const Spec& s, Bound<T>& e) {

@@ -5,8 +5,13 @@
 // speed follows the channel's slope. The source's torque (its reaction) is what it must
 // apply for that motion: J·ω̇ minus every other torque on the node.
 
+#include <algorithm>
+#include <cstddef>
 #include <string>
+#include <vector>
 
+#include "tvid/model/element_source.hpp"
+#include "tvid/model/element_traits.hpp"
 #include "tvid/model/elements/node_motion.hpp"
 #include "tvid/model/field.hpp"
 
@@ -32,12 +37,66 @@ struct SpeedSource {
         T speed, scale;
     };
 
+    // ---- the experiment file: `{ type: speed_source, node: NODE, input: CHANNEL, scale: S }` or
+    // `{ type: speed_source, node: NODE, speed: RAD_PER_S }`
+    static constexpr const char* type_name = "speed_source";
+    static constexpr const char* keys[] = {"node", "input", "speed", "scale"};
+
+    static Spec read(ElementSource& src, const std::string& name) {
+        Spec e;
+        e.name = name;
+        e.node = src.node("node");
+        if (src.has("input") == src.has("speed"))
+            src.fail(src.has("input") ? "speed" : "input",
+                     "give either input (a measured speed channel) or speed (a constant, rad/s), not both");
+        if (src.has("input")) {
+            e.input = src.time_input("input", "a speed");
+            e.scale = src.field_or("scale", Field::value(1.0));
+        } else {
+            if (src.has("scale")) src.fail("scale", "scale applies to a speed channel (input), not a constant speed");
+            e.speed = src.field("speed");
+        }
+        return e;
+    }
+
+    /// A node's speed is prescribed once.
+    static void check_against(const Spec& e, const std::vector<Spec>& others, const ElementSource& src) {
+        for (const Spec& other : others)
+            if (other.node == e.node)
+                src.fail("node", "node '" + src.node_name(e.node) + "' already has its speed prescribed by '" +
+                                     other.name + "'");
+    }
+
+    /// Once every element is read: a speed channel's slope follows the inputs (input_count
+    /// of them), one per channel, in NetworkSpec::input_rates.
+    static void finish_reading(std::vector<Spec>& sources, std::vector<int>& input_rates, std::size_t input_count) {
+        for (Spec& e : sources) {
+            if (e.input < 0) continue;
+            auto it = std::find(input_rates.begin(), input_rates.end(), e.input);
+            if (it == input_rates.end()) it = input_rates.insert(it, e.input);
+            e.rate = static_cast<int>(input_count) + static_cast<int>(it - input_rates.begin());
+        }
+    }
+
     /// f(info, field...) for each numeric field, of each of s, e... (a spec first, then bound elements) in step.
     template <class F, class Spec_, class... E>
     static void for_each_field(F&& f, Spec_& s, E&... e) {
-        f(FieldInfo{"speed", nullptr, SignRule::any, s.input < 0}, s.speed, e.speed...);
-        f(FieldInfo{"scale", nullptr, SignRule::any, s.input >= 0}, s.scale, e.scale...);
+        f(FieldInfo{"speed", nullptr, SignRule::any, "rad/s", s.input < 0}, s.speed, e.speed...);
+        f(FieldInfo{"scale", nullptr, SignRule::any, "1", s.input >= 0}, s.scale, e.scale...);
     }
+
+    static constexpr ChannelUse channel{"rad/s"};  ///< a measured speed, by time
+    static int channel_of(const Spec& s) { return s.input; }
+    static constexpr ElementOutputs outputs = ElementOutputs::torque;  ///< its reaction
+
+    /// Its node is held to the input: that node keeps its angle state but no speed state.
+    static LinearNote linearise(const Spec& e, Spec&, const LinearisationPoint& at) {
+        at.prescribed[static_cast<std::size_t>(e.node)] = 1;
+        return {"prescribed", "prescribes the speed of " + at.node_name(e.node) +
+                                  ": that node is held to the input (no speed state), its angle follows it"};
+    }
+
+    // ---- the equations of motion
 
     template <class T>
     static void bind(const Spec& s, Bound<T>& e) {

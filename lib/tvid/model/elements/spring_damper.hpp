@@ -3,6 +3,8 @@
 
 #include <string>
 
+#include "tvid/model/element_source.hpp"
+#include "tvid/model/element_traits.hpp"
 #include "tvid/model/elements/node_motion.hpp"
 #include "tvid/model/field.hpp"
 
@@ -26,13 +28,30 @@ struct SpringDamper {
         T k, c;
     };
 
+    // ---- the experiment file: `{ type: spring_damper, between: [a, b], k: K, c: C }`
+    static constexpr const char* type_name = "spring_damper";
+    static constexpr const char* keys[] = {"between", "k", "c"};
+
+    static Spec read(ElementSource& src, const std::string& name) {
+        const auto [a, b] = src.between(true);
+        return Spec{name, a, b, src.field("k"), src.field_or("c", Field::value(0.0))};
+    }
+
     /// f(info, field...) for each numeric field, of each of e... (a spec first, then bound elements) in step.
     template <class F, class... E>
     static void for_each_field(F&& f, E&... e) {
-        f(FieldInfo{"k", "a stiffness", SignRule::non_negative}, e.k...);
-        f(FieldInfo{"c", "a damping coefficient", SignRule::non_negative}, e.c...);
+        f(FieldInfo{"k", "a stiffness", SignRule::non_negative, "N m/rad"}, e.k...);
+        f(FieldInfo{"c", "a damping coefficient", SignRule::non_negative, "N m s/rad"}, e.c...);
     }
 
+    static constexpr ChannelUse channel{};  ///< reads no channel
+    static int channel_of(const Spec&) { return -1; }
+    static constexpr ElementOutputs outputs = ElementOutputs::torque;
+
+    /// Linear already: it enters the linearisation as it is.
+    static LinearNote linearise(const Spec&, Spec&, const LinearisationPoint&) { return {"exact", "linear"}; }
+
+    // ---- the equations of motion
     /// The rest of the binding once the fields hold their values.
     template <class T>
     static void bind(const Spec& s, Bound<T>& e) {

@@ -3,6 +3,8 @@
 
 #include <string>
 
+#include "tvid/model/element_source.hpp"
+#include "tvid/model/element_traits.hpp"
 #include "tvid/model/elements/node_motion.hpp"
 #include "tvid/model/field.hpp"
 
@@ -28,12 +30,35 @@ struct Torque {
         T offset, scale;
     };
 
+    // ---- the experiment file: `{ type: torque, node: NODE, input: CHANNEL, offset: O, scale: S }`
+    static constexpr const char* type_name = "torque";
+    static constexpr const char* keys[] = {"node", "input", "offset", "scale"};
+
+    static Spec read(ElementSource& src, const std::string& name) {
+        Spec e;
+        e.name = name;
+        e.node = src.node("node");
+        e.input = src.time_input("input", "a torque");
+        e.offset = src.field_or("offset", Field::value(0.0));
+        e.scale = src.field_or("scale", Field::value(1.0));
+        return e;
+    }
+
     /// f(info, field...) for each numeric field, of each of e... (a spec first, then bound elements) in step.
     template <class F, class... E>
     static void for_each_field(F&& f, E&... e) {
-        f(FieldInfo{"offset"}, e.offset...);
-        f(FieldInfo{"scale"}, e.scale...);
+        f(FieldInfo{"offset", nullptr, SignRule::any, "N m"}, e.offset...);
+        f(FieldInfo{"scale", nullptr, SignRule::any, "1"}, e.scale...);
     }
+
+    static constexpr ChannelUse channel{"N m"};  ///< a measured torque, by time
+    static int channel_of(const Spec& s) { return s.input; }
+    static constexpr ElementOutputs outputs = ElementOutputs::torque;
+
+    /// Affine in its input: the input's column of B.
+    static LinearNote linearise(const Spec&, Spec&, const LinearisationPoint&) { return {"exact", "an input: B's column"}; }
+
+    // ---- the equations of motion
 
     template <class T>
     static void bind(const Spec& s, Bound<T>& e) {

@@ -1,0 +1,73 @@
+#pragma once
+// What every element kind declares besides its torque (lib/tvid/model/elements/NAME.hpp):
+// the channel it reads, the outputs it offers and how it enters a linearisation about an
+// operating point (modes and FRF). ElementKindDescription (network_spec.hpp) checks at
+// compile time that each kind of the table declares them.
+
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "tvid/model/field.hpp"
+
+namespace tvid {
+
+/// The measured channel an element kind reads: its SI unit (nullptr: it reads none), and
+/// whether it is read by crank angle (a cylinder pressure) rather than by time.
+struct ChannelUse {
+    const char* unit = nullptr;
+    bool by_angle = false;
+};
+
+/// The outputs an element offers: its torque, or its torque on either side (a gear mesh:
+/// T on its input shaft, n·T on its output shaft; the kind defines output_side_torque).
+enum class ElementOutputs { torque, torque_each_side };
+
+/// How the elements that depend on a node's absolute angle (a cylinder's slider crank and
+/// gas torque, an order torque) are linearised.
+enum class AngleDependence {
+    revolution_mean,  ///< at their mean over a revolution (a cycle): the cylinder's inertia m·mean(s'²), excitations no stiffness
+    operating_point,  ///< at the operating point's angle, as the equations are there
+};
+
+/// How one element entered the linearisation.
+struct ElementLinearisation {
+    std::string element;  ///< its name
+    std::string kind;     ///< spring_damper, clearance, …
+    std::string method;   ///< exact, operating_point, revolution_mean, excitation, prescribed
+    std::string note;     ///< a sentence for the engineer
+};
+
+/// How a kind says its element entered the linearisation (the walker adds the element's
+/// name and kind).
+struct LinearNote {
+    std::string method;  ///< exact, operating_point, revolution_mean, excitation, prescribed
+    std::string note;
+};
+
+/// What a kind's linearise() sees and may change besides its own element: the parameters,
+/// the operating point x̄ (full state), the mode, the nodes' names, the inertia its
+/// element adds to a node and the nodes whose speed is prescribed.
+struct LinearisationPoint {
+    const std::vector<double>& p;
+    const std::vector<double>& x;
+    AngleDependence mode;
+    const std::vector<std::string>& node_names;
+    std::vector<double>& added_inertia;  ///< per node [kg m²]
+    std::vector<char>& prescribed;       ///< per node: its speed is an input's
+
+    double value(const Field& f) const { return f.is_parameter() ? p[static_cast<std::size_t>(f.parameter)] : f.constant; }
+    double angle(int node) const { return x[static_cast<std::size_t>(node)]; }
+    std::string node_name(int i) const { return i == kGround ? std::string("ground") : node_names[static_cast<std::size_t>(i)]; }
+    /// θa − ratio·θb at the operating point (θa for b = ground).
+    double twist(int a, int b, double ratio = 1.0) const { return angle(a) - (b == kGround ? 0.0 : ratio * angle(b)); }
+};
+
+/// A number as a linearisation note writes it (%.6g).
+inline std::string linear_number(double v) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.6g", v);
+    return text;
+}
+
+}  // namespace tvid
