@@ -11,6 +11,8 @@
 #include <optional>
 
 #include "commands.hpp"
+#include "tvid/report/report_directory.hpp"
+#include "tvid/experiment/overrides.hpp"
 #include "tvid/batch/batch_identity.hpp"
 #include "tvid/batch/batch_plan.hpp"
 #include "tvid/batch/batch_runner.hpp"
@@ -31,12 +33,9 @@
 
 namespace tvid::cli {
 
-std::vector<Override> parse_overrides(const std::vector<std::string>& texts);
-std::filesystem::path report_directory(const Experiment& ex, const std::string& output_dir);
 
 namespace {
 
-constexpr int kInterruptedExit = 130;  // 128 + SIGINT, as tvid fit
 
 // The experiment as the batch's jobs see it: as written, or else with the first job's
 // overrides (an experiment whose data.file is only a placeholder for the recordings).
@@ -289,7 +288,7 @@ int run_batch_command(const BatchCommand& cmd) {
         if (!group.is_root()) {
             const BatchPlan p = decode_batch_plan(plan);
             serve_batch_jobs(group, settings, p.jobs, BatchColumns(p.parameters, p.outputs), cmd.common.threads);
-            return 0;
+            return kExitDone;
         }
     }
     const std::vector<BatchJob>& jobs = prepared->jobs;
@@ -332,7 +331,7 @@ int run_batch_command(const BatchCommand& cmd) {
         if (!cmd.common.quiet)
             std::cerr << "tvid batch: interrupted after " << done << " of " << pending.size()
                       << " jobs; batch.csv holds the finished ones: run again with --resume to complete it\n";
-        return kInterruptedExit;
+        return kExitInterrupted;
     }
     const double seconds = std::chrono::duration<double>(clock::now() - start).count();  // the fits
     // --cross: every job's parameters on every job's estimation windows (on the root alone).
@@ -347,7 +346,7 @@ int run_batch_command(const BatchCommand& cmd) {
             if (!cmd.common.quiet)
                 std::cerr << "tvid batch: interrupted during the cross-validation; batch.csv is complete: run "
                              "again with --resume to compute the matrix\n";
-            return kInterruptedExit;
+            return kExitInterrupted;
         }
         write_output_file(dir, "matrix.csv", cross_matrix_csv(*cross));
         write_output_file(dir, "matrix_long.csv", cross_matrix_long_csv(*cross));
@@ -374,7 +373,7 @@ int run_batch_command(const BatchCommand& cmd) {
         if (cross) std::cout << cross_summary_text(json["cross"], dir);
         std::cout << outliers_text(stability) << std::flush;
     }
-    if (summary.failed + summary.bad_input > 0) return 1;
+    if (summary.failed + summary.bad_input > 0) return kExitNotSucceeded;
     if (cmd.strict) {
         // A job whose verdict has an error (batch.csv's verdict column says so).
         const std::size_t verdict = columns.index("verdict");
@@ -383,10 +382,10 @@ int run_batch_command(const BatchCommand& cmd) {
         if (poor > 0) {
             std::cerr << "tvid: --strict: " << poor << " job" << (poor == 1 ? "'s" : "s'")
                       << " verdict has an error (batch.csv, column verdict)\n";
-            return 1;
+            return kExitNotSucceeded;
         }
     }
-    return 0;
+    return kExitDone;
 }
 
 }  // namespace tvid::cli

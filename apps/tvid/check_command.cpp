@@ -131,13 +131,13 @@ int write_reference(const CheckCommand& cmd) {
     if (!result.passed()) {
         std::cerr << "tvid check: the reference made from " << cmd.report_dir
                   << " fails on that report itself; nothing was written\n";
-        return 1;
+        return kExitNotSucceeded;
     }
     write_named_output_file(cmd.write_reference, text);
     if (!cmd.quiet)
         std::cout << "tvid check: wrote " << cmd.write_reference << " with " << result.rows.size() << " checks from "
                   << cmd.report_dir << "\n  " << reference["description"].get<std::string>() << '\n';
-    return 0;
+    return kExitDone;
 }
 
 }  // namespace

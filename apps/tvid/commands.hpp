@@ -1,7 +1,5 @@
 #pragma once
-// The subcommands of `tvid`. Each returns the process exit status:
-// 0 done, 1 ran but did not succeed (e.g. every candidate failed), 2 bad input,
-// 130 a fit interrupted by Ctrl-C or SIGTERM (its report holds the best so far).
+// The subcommands of `tvid`. Each returns the process exit status of kExitStatuses.
 
 #include <cstdint>
 #include <optional>
@@ -13,6 +11,23 @@ class ProcessGroup;
 }
 
 namespace tvid::cli {
+
+/// The exit status of every command, one table: the help text lists it, the commands
+/// return its names.
+inline constexpr int kExitDone = 0;
+inline constexpr int kExitNotSucceeded = 1;
+inline constexpr int kExitBadInput = 2;
+inline constexpr int kExitInterrupted = 130;  // 128 + SIGINT, what shells report for Ctrl-C
+struct ExitStatusRow {
+    int status;
+    const char* meaning;
+};
+inline constexpr ExitStatusRow kExitStatuses[] = {
+    {kExitDone, "done"},
+    {kExitNotSucceeded, "ran but did not succeed: every candidate failed, a check failed, or --strict and the verdict has an error"},
+    {kExitBadInput, "bad input, told in one line FILE:LINE: key: what is wrong; nothing was written"},
+    {kExitInterrupted, "interrupted by Ctrl-C or SIGTERM: a fit's report holds the best parameters so far"},
+};
 
 struct CommonOptions {
     std::string experiment;             ///< EXP.yaml

@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "commands.hpp"
+#include "tvid/experiment/overrides.hpp"
 #include "terminal.hpp"
 #include "tvid/analysis/evaluation.hpp"
 #include "tvid/estimation/parallel_evaluator.hpp"
@@ -16,7 +17,6 @@
 
 namespace tvid::cli {
 
-std::vector<Override> parse_overrides(const std::vector<std::string>& texts);
 
 namespace {
 
@@ -28,10 +28,10 @@ std::vector<double> chosen_parameters(const EvaluateCommand& cmd, const Experime
 // (diverged, not finite, step budget exceeded); 0 when every window simulated.
 int report_failed_windows(const Evaluation& ev) {
     const int failed = failed_window_count(ev);
-    if (failed == 0) return 0;
+    if (failed == 0) return kExitDone;
     std::cerr << "tvid: the simulation failed in " << first_failed_window(ev)
               << (failed > 1 ? " (and in " + std::to_string(failed - 1) + " more window(s))" : "") << '\n';
-    return 1;
+    return kExitNotSucceeded;
 }
 
 // The metrics of a parameter set as `tvid validate --json` prints them.

@@ -5,6 +5,7 @@
 #include <memory>
 
 #include "commands.hpp"
+#include "tvid/experiment/overrides.hpp"
 #include "terminal.hpp"
 #include "tvid/estimation/identification_problem.hpp"
 #include "tvid/estimation/parallel_evaluator.hpp"
@@ -20,21 +21,6 @@
 
 namespace tvid::cli {
 
-namespace {
-constexpr int kInterruptedExit = 130;  // 128 + SIGINT, what shells report for Ctrl-C
-}  // namespace
-
-std::vector<Override> parse_overrides(const std::vector<std::string>& texts) {
-    std::vector<Override> out;
-    for (const std::string& t : texts) out.push_back(parse_override(t));
-    return out;
-}
-
-std::filesystem::path report_directory(const Experiment& ex, const std::string& output_dir) {
-    if (!output_dir.empty()) return output_dir;
-    if (!ex.report_dir.empty()) return ex.report_dir;
-    return std::filesystem::path("results") / ex.name;
-}
 
 namespace {
 
@@ -70,7 +56,7 @@ int run_fit_command(const FitCommand& cmd) {
     if (!group.is_root()) {  // score the root's swarm candidates until it is done
         ParallelEvaluator local(problem, cmd.common.threads);
         serve_candidate_evaluations(group, local, problem.dimension());
-        return 0;
+        return kExitDone;
     }
     CandidateServers servers(group);  // released after the fit, or when anything below throws
     const std::filesystem::path dir = report_directory(ex, cmd.output_dir);
@@ -105,7 +91,7 @@ int run_fit_command(const FitCommand& cmd) {
     if (fit.interrupted) {
         if (!cmd.common.quiet)
             std::cerr << "tvid: interrupted; the report in " << dir.string() << " holds the best parameters so far\n";
-        return kInterruptedExit;
+        return kExitInterrupted;
     }
     if (stop_requested() && !cmd.common.quiet)
         std::cerr << "tvid: the stop request came after the fit had finished; the report in " << dir.string()
@@ -118,15 +104,15 @@ int run_fit_command(const FitCommand& cmd) {
                           ? "tvid: the simulation at the start failed (every candidate failed" + (why.empty() ? "" : "; " + why) + ")"
                           : "tvid: every candidate's simulation failed" + (why.empty() ? "" : " (" + why + ")"))
                   << "; the report in " << dir.string() << " says so\n";
-        return 1;
+        return kExitNotSucceeded;
     }
     if ((cmd.strict || ex.estimation_settings.strict) && fit.verdict.has_errors()) {
         const Finding& first = fit.verdict.findings.front();  // errors come first
         std::cerr << "tvid: " << (cmd.strict ? "--strict" : "estimation.strict") << ": the verdict has "
                   << fit.verdict.summary() << " (" << first.code << ": " << first.message << ")\n";
-        return 1;
+        return kExitNotSucceeded;
     }
-    return 0;
+    return kExitDone;
 }
 
 }  // namespace tvid::cli

@@ -1,8 +1,10 @@
 // tvid: identify the physical parameters of powertrain torsional-vibration models.
-// Exit status: 0 done, 1 ran but did not succeed, 2 bad input.
+// Exit status: the table kExitStatuses (commands.hpp), which every --help lists.
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <cmath>
+#include <optional>
 #include <iostream>
 #include <iterator>
 
@@ -57,6 +59,46 @@ const CLI::Validator kTolerance(
 const CLI::Validator kNonEmptyPath(
     [](std::string& text) -> std::string { return text.empty() ? "the path is empty" : std::string(); }, "PATH");
 
+// The exit statuses, for every --help.
+std::string exit_status_help() {
+    std::string s = "Exit status:";
+    for (const tvid::cli::ExitStatusRow& row : tvid::cli::kExitStatuses)
+        s += "\n  " + std::to_string(row.status) + (row.status < 10 ? "    " : "  ") + row.meaning;
+    return s;
+}
+
+// Edits that turn a into b (insert, delete, substitute one character): how near a typo is.
+std::size_t edit_distance(const std::string& a, const std::string& b) {
+    std::vector<std::size_t> row(b.size() + 1);
+    for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+    for (std::size_t i = 1; i <= a.size(); ++i) {
+        std::size_t diagonal = row[0];
+        row[0] = i;
+        for (std::size_t j = 1; j <= b.size(); ++j) {
+            const std::size_t up = row[j];
+            row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+            diagonal = up;
+        }
+    }
+    return row[b.size()];
+}
+
+// The first word when it names no command: one line with the nearest command, or null.
+std::optional<std::string> unknown_command(const CLI::App& app, int argc, char** argv) {
+    if (argc < 2 || argv[1][0] == '-') return std::nullopt;
+    const std::string word = argv[1];
+    std::string nearest;
+    std::size_t best = word.size();
+    for (const CLI::App* sub : app.get_subcommands({})) {
+        if (sub->get_name() == word) return std::nullopt;
+        const std::size_t d = edit_distance(word, sub->get_name());
+        if (d < best) best = d, nearest = sub->get_name();
+    }
+    std::string line = "tvid: '" + word + "' is not a tvid command";
+    if (!nearest.empty() && best <= std::max<std::size_t>(2, word.size() / 3)) line += "; did you mean '" + nearest + "'?";
+    return line + " (tvid --help lists them)";
+}
+
 void add_common(CLI::App* sub, tvid::cli::CommonOptions& o) {
     sub->add_option("experiment", o.experiment, "experiment file (YAML)")->required();
     sub->add_option("--set", o.overrides, "override a setting, e.g. --set estimation.pso.iterations=50")
@@ -85,7 +127,7 @@ int main(int argc, char** argv) {
     FitCommand fit;
     auto* fit_cmd = app.add_subcommand("fit", "identify the free parameters and write a report directory");
     add_common(fit_cmd, fit.common);
-    fit_cmd->add_option("-o,--output", fit.output_dir, "report directory (default: report.dir or results/NAME)")->check(kNonEmptyPath);
+    fit_cmd->add_option("-o,--output-dir,--output", fit.output_dir, "report directory (default: report.dir or results/NAME)")->check(kNonEmptyPath);
     fit_cmd->add_option("--seed", fit.seed, "random seed of the optimizer")->check(kSeed);
     std::vector<std::string> optimizers;
     for (const tvid::OptimizerKindRow& row : tvid::optimizer_kinds()) optimizers.emplace_back(row.name);
@@ -111,7 +153,7 @@ int main(int argc, char** argv) {
         "sensitivity", "forward sensitivities dy/dp of the outputs to each free parameter, and their ranking");
     add_common(sens_cmd, sensitivity.common);
     sens_cmd->add_option("--params", sensitivity.params_file, "parameter file (default: the experiment's init values)");
-    sens_cmd->add_option("-o,--output", sensitivity.output_dir,
+    sens_cmd->add_option("-o,--output-dir,--output", sensitivity.output_dir,
                          "output directory (default: report.dir or results/NAME, then /sensitivity)")
         ->check(kNonEmptyPath);
     sens_cmd->add_flag("--validation", sensitivity.validation, "include the validation windows");
@@ -125,7 +167,7 @@ int main(int argc, char** argv) {
     profile_cmd->add_option("--from", profile.from, "the grid's lower end (default: optimum - 4 standard errors)");
     profile_cmd->add_option("--to", profile.to, "the grid's upper end (default: optimum + 4 standard errors)");
     profile_cmd->add_option("--params", profile.params_file, "start of the fit to the optimum (default: the init values)");
-    profile_cmd->add_option("-o,--output", profile.output_dir,
+    profile_cmd->add_option("-o,--output-dir,--output", profile.output_dir,
                             "output directory (default: report.dir or results/NAME, then /profile-PARAM)")
         ->check(kNonEmptyPath);
 
@@ -145,7 +187,7 @@ int main(int argc, char** argv) {
     BatchCommand batch;
     auto* batch_cmd = app.add_subcommand("batch", "fit the experiment to many recordings and/or cycles, one row per job");
     add_common(batch_cmd, batch.common);
-    batch_cmd->add_option("-o,--output", batch.output_dir, "output directory (default: the report directory + -batch)")->check(kNonEmptyPath);
+    batch_cmd->add_option("-o,--output-dir,--output", batch.output_dir, "output directory (default: the report directory + -batch)")->check(kNonEmptyPath);
     batch_cmd->add_option("--seed", batch.seed, "random seed of the optimizer, the same for every job")->check(kSeed);
     batch_cmd->add_option("--data", batch.data_globs, "recordings: files, or globs such as 'recordings/*.csv'");
     batch_cmd->add_option("--data-list", batch.data_list, "file with one recording per line (relative to it)");
@@ -179,6 +221,18 @@ int main(int argc, char** argv) {
     auto* models_cmd = app.add_subcommand("models", "list the preset models with their parameters, inputs, outputs");
     models_cmd->add_flag("--json", models_json, "as JSON");
 
+    std::string help_topic;
+    auto* help_cmd = app.add_subcommand("help", "tvid help COMMAND: the options of one command");
+    help_cmd->add_option("command", help_topic, "the command");
+
+    const std::string footer = exit_status_help();
+    app.footer(footer);
+    for (CLI::App* sub : app.get_subcommands({})) sub->footer(footer);
+    if (const auto unknown = unknown_command(app, argc, argv)) {
+        std::cerr << *unknown << '\n';
+        return tvid::cli::kExitBadInput;
+    }
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -186,7 +240,20 @@ int main(int argc, char** argv) {
         // One line, as every other input error: CLI11's own adds "Run with --help".
         std::cerr << "tvid: " << e.what() << " (tvid " << (app.get_subcommands().empty() ? "" : app.get_subcommands().front()->get_name() + " ")
                   << "--help)\n";
-        return 2;
+        return kExitBadInput;
+    }
+    if (*help_cmd) {
+        if (help_topic.empty()) {
+            std::cout << app.help();
+            return kExitDone;
+        }
+        for (const CLI::App* sub : app.get_subcommands({}))
+            if (sub->get_name() == help_topic && sub != help_cmd) {
+                std::cout << sub->help();
+                return kExitDone;
+            }
+        std::cerr << "tvid help: '" << help_topic << "' is not a tvid command (tvid --help lists them)\n";
+        return kExitBadInput;
     }
     const std::string command_line = joined_command_line(argc, argv);
     fit.common.command_line = simulate.common.command_line = validate.common.command_line =
@@ -199,7 +266,7 @@ int main(int argc, char** argv) {
     try {
         if (*batch_cmd) return run_batch_command(batch);
         if (*fit_cmd) return run_fit_command(fit);
-        if (!processes.is_root()) return 0;  // the other commands run on the root alone
+        if (!processes.is_root()) return kExitDone;  // the other commands run on the root alone
         if (*sim_cmd) return run_simulate_command(simulate);
         if (*val_cmd) return run_validate_command(validate);
         if (*sens_cmd) return run_sensitivity_command(sensitivity);
@@ -210,10 +277,10 @@ int main(int argc, char** argv) {
         if (*frf_cmd) return run_frf_command(frf);
     } catch (const tvid::InputError& e) {
         std::cerr << e.what() << '\n';
-        return 2;
+        return kExitBadInput;
     } catch (const std::exception& e) {
         std::cerr << "tvid: " << e.what() << '\n';
-        return 2;
+        return kExitBadInput;
     }
-    return 2;
+    return kExitBadInput;
 }

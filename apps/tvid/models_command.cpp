@@ -23,7 +23,7 @@ int run_models_command(bool json) {
                            {"constants", p.constants}});
         }
         std::cout << json_text(out) << std::endl;
-        return 0;
+        return kExitDone;
     }
     for (const PresetInfo& p : preset_catalogue()) {
         std::cout << p.name << "\n  " << p.description << "\n  (" << p.reference << ")\n";
@@ -46,7 +46,7 @@ int run_models_command(bool json) {
         std::cout << '\n';
     }
     std::cout << "custom networks: model: { nodes: [...], elements: [...] } (see docs/model-library.md)\n";
-    return 0;
+    return kExitDone;
 }
 
 }  // namespace tvid::cli

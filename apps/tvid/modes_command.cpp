@@ -5,6 +5,8 @@
 #include <iostream>
 
 #include "commands.hpp"
+#include "tvid/report/report_directory.hpp"
+#include "tvid/experiment/overrides.hpp"
 #include "tvid/analysis/frf_comparison.hpp"
 #include "tvid/analysis/torsional_modes.hpp"
 #include "tvid/experiment/experiment.hpp"
@@ -16,8 +18,6 @@
 
 namespace tvid::cli {
 
-std::vector<Override> parse_overrides(const std::vector<std::string>& texts);
-std::filesystem::path report_directory(const Experiment& ex, const std::string& output_dir);
 
 namespace {
 
@@ -76,7 +76,7 @@ int run_modes_command(const ModesCommand& cmd) {
         study = study_modes(problem, s.params, s.window, s.angles);
     } catch (const std::runtime_error& e) {
         std::cerr << "tvid: no linearisation: " << e.what() << "; nothing written\n";
-        return 1;
+        return kExitNotSucceeded;
     }
     const ModesRunInfo run = run_info(s.ex, cmd.common);
     write_modes_report(dir, study, run);
@@ -84,7 +84,7 @@ int run_modes_command(const ModesCommand& cmd) {
         std::cout << json_text(modes_json(study, run)) << std::endl;
     else if (!cmd.common.quiet)
         std::cout << modes_table_text(study) << "report: " << dir.string() << "\n" << std::flush;
-    return 0;
+    return kExitDone;
 }
 
 int run_frf_command(const FrfCommand& cmd) {
@@ -110,7 +110,7 @@ int run_frf_command(const FrfCommand& cmd) {
         frf = compare_frf(problem, s.params, static_cast<std::size_t>(input), output, s.window, s.angles);
     } catch (const std::runtime_error& e) {
         std::cerr << "tvid: no frequency response: " << e.what() << "; nothing written\n";
-        return 1;
+        return kExitNotSucceeded;
     }
     const ModesRunInfo run = run_info(s.ex, cmd.modes.common);
     write_frf_report(dir, frf, run);
@@ -118,7 +118,7 @@ int run_frf_command(const FrfCommand& cmd) {
         std::cout << json_text(frf_json(frf, run)) << std::endl;
     else if (!cmd.modes.common.quiet)
         std::cout << frf_summary_text(frf) << "report: " << dir.string() << "\n" << std::flush;
-    return 0;
+    return kExitDone;
 }
 
 }  // namespace tvid::cli

@@ -6,6 +6,8 @@
 #include <iostream>
 
 #include "commands.hpp"
+#include "tvid/report/report_directory.hpp"
+#include "tvid/experiment/overrides.hpp"
 #include "tvid/experiment/experiment.hpp"
 #include "tvid/fit/profile_likelihood.hpp"
 #include "tvid/io/json_text.hpp"
@@ -16,12 +18,9 @@
 
 namespace tvid::cli {
 
-std::vector<Override> parse_overrides(const std::vector<std::string>& texts);
-std::filesystem::path report_directory(const Experiment& ex, const std::string& output_dir);
 
 namespace {
 
-constexpr int kInterruptedExit = 130;
 
 std::string profile_text(const ProfileResult& p, const std::string& dir) {
     std::string out;
@@ -84,13 +83,13 @@ int run_profile_command(const ProfileCommand& cmd) {
     const ProfileResult profile = profile_likelihood(ex, start, options);
     if (stop_requested()) {
         std::cerr << "tvid: interrupted; no profile written\n";
-        return kInterruptedExit;
+        return kExitInterrupted;
     }
     const ProfileRunInfo run{TVID_VERSION, cmd.common.command_line, ex.name};
     write_profile_report(dir, profile, run);
     if (cmd.common.json) std::cout << json_text(profile_json(profile, run)) << std::endl;
     else if (!cmd.common.quiet) std::cout << profile_text(profile, dir.string()) << std::flush;
-    return 0;
+    return kExitDone;
 }
 
 }  // namespace tvid::cli

@@ -9,6 +9,8 @@
 #include <memory>
 
 #include "commands.hpp"
+#include "tvid/report/report_directory.hpp"
+#include "tvid/experiment/overrides.hpp"
 #include "terminal.hpp"
 #include "tvid/estimation/forward_sensitivity.hpp"
 #include "tvid/util/parallel_region.hpp"
@@ -23,8 +25,6 @@
 
 namespace tvid::cli {
 
-std::vector<Override> parse_overrides(const std::vector<std::string>& texts);
-std::filesystem::path report_directory(const Experiment& ex, const std::string& output_dir);
 
 int run_sensitivity_command(const SensitivityCommand& cmd) {
     const Experiment ex = load_experiment(cmd.common.experiment, parse_overrides(cmd.common.overrides));
@@ -69,7 +69,7 @@ int run_sensitivity_command(const SensitivityCommand& cmd) {
         const std::string why = results[w].problem.empty() ? to_string(results[w].status) : results[w].problem;
         std::cerr << "tvid: the simulation of " << split << " window " << windows[w]->label << " failed: " << why
                   << "; nothing written\n";
-        return 1;
+        return kExitNotSucceeded;
     }
 
     const auto first_validation = results.begin() + static_cast<std::ptrdiff_t>(ex.estimation.size());
@@ -84,7 +84,7 @@ int run_sensitivity_command(const SensitivityCommand& cmd) {
     } else if (!cmd.common.quiet) {
         std::cout << sensitivity_summary_text(study, rankings, run, dir.string()) << std::flush;
     }
-    return 0;
+    return kExitDone;
 }
 
 }  // namespace tvid::cli

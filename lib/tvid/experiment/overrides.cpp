@@ -89,4 +89,10 @@ void apply_overrides(YAML::Node& root, const std::vector<Override>& overrides) {
     }
 }
 
+std::vector<Override> parse_overrides(const std::vector<std::string>& texts) {
+    std::vector<Override> out;
+    for (const std::string& t : texts) out.push_back(parse_override(t));
+    return out;
+}
+
 }  // namespace tvid

@@ -4,6 +4,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <string>
 #include <vector>
 
 #include "tvid/experiment/experiment.hpp"
@@ -15,5 +16,8 @@ namespace tvid {
 /// The value is read as YAML (`[1, 2]`, `{ time: [1, 2] }`, `250`, `rk4`). Throws
 /// InputError("--set", 0, key, ...) when a path goes through a value that is not a section.
 void apply_overrides(YAML::Node& root, const std::vector<Override>& overrides);
+
+/// Each `--set key=value` text parsed (parse_override, experiment.hpp).
+std::vector<Override> parse_overrides(const std::vector<std::string>& texts);
 
 }  // namespace tvid

@@ -36,6 +36,12 @@ const std::vector<std::string>& fit_report_files() {
     return names;
 }
 
+std::filesystem::path report_directory(const Experiment& ex, const std::string& output_dir) {
+    if (!output_dir.empty()) return output_dir;
+    if (!ex.report_dir.empty()) return ex.report_dir;
+    return std::filesystem::path("results") / ex.name;
+}
+
 OutputDirectoryLock prepare_report_directory(const std::filesystem::path& dir, bool force, const std::string& experiment) {
     namespace fs = std::filesystem;
     std::error_code ec;

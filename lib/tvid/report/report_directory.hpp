@@ -10,9 +10,14 @@
 #include <string>
 #include <vector>
 
+#include "tvid/experiment/experiment.hpp"
 #include "tvid/io/output_directory.hpp"
 
 namespace tvid {
+
+/// Where the report of `experiment` goes: `output_dir` (-o) when given, else the
+/// experiment's report.dir, else results/NAME.
+std::filesystem::path report_directory(const Experiment& experiment, const std::string& output_dir);
 
 /// Every file a fit report may hold (write_fit_report writes these names and no other).
 const std::vector<std::string>& fit_report_files();
