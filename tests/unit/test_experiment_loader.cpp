@@ -63,6 +63,10 @@ const std::vector<std::string> kPreset = {
     "  pso: { start: latin_hypercube, particles: 4, iterations: 1 }",   // 21
 };
 
+// Line 11 of kCustom with the clearance between the two nodes instead of to ground.
+const std::string kStopBetweenNodes =
+    "    - { type: clearance, name: stop, between: [motor, load], k_minus: 100, k_plus: 200, c_minus: 1, c_plus: 2, mu: mu_c }";
+
 // A custom network using every element type except cylinder.
 const std::vector<std::string> kCustom = {
     "tvid: 1",                                                                                     // 1
@@ -1305,10 +1309,10 @@ TEST_CASE("a speed source, a speed controller and a steady start are read with t
         CHECK(d.inputs.count() == ex.network.input_names.size() + 1);
     }
     SECTION("a PI controller is a reference node, its speed source and a spring-damper") {
-        // Without the mount to ground: a line held to ground has no steady motion.
-        const Experiment ex = s.load(with(with(
+        // Without the stop and the mount to ground: a line held to ground has no steady motion.
+        const Experiment ex = s.load(with(with(with(
             inserted(kCustom, 14, "    - { type: speed_controller, name: pi, node: load, setpoint: 40, kp: 0.2, ki: 3 }"), 31,
-            "initial_state: { kind: steady, node: motor, speed: w, samples: 5 }"), 14, ""));
+            "initial_state: { kind: steady, node: motor, speed: w, samples: 5 }"), 14, ""), 11, kStopBetweenNodes));
         REQUIRE(ex.network.nodes.size() == 3);
         CHECK(ex.network.nodes[2].name == "pi.reference");
         REQUIRE(ex.network.speed_sources.size() == 1);
@@ -1328,7 +1332,8 @@ TEST_CASE("a speed source, a speed controller and a steady start are read with t
         CHECK(ex.steady.samples == 5);
     }
     SECTION("a steady start at a constant speed") {
-        const Experiment ex = s.load(with(with(kCustom, 30, "initial_state: { kind: steady, node: load, speed: 12.5 }"), 14, ""));
+        const Experiment ex =
+            s.load(with(with(with(kCustom, 30, "initial_state: { kind: steady, node: load, speed: 12.5 }"), 14, ""), 11, kStopBetweenNodes));
         CHECK(ex.steady.node == 1);
         CHECK(ex.steady.speed == 12.5);
         CHECK(ex.steady.speed_column.empty());
