@@ -12,7 +12,7 @@
 #include "tvid/report/report_directory.hpp"
 #include "tvid/experiment/overrides.hpp"
 #include "terminal.hpp"
-#include "tvid/estimation/forward_sensitivity.hpp"
+#include "tvid/estimation/residual_evaluator.hpp"
 #include "tvid/util/parallel_region.hpp"
 #include "tvid/estimation/identification_problem.hpp"
 #include "tvid/estimation/parallel_evaluator.hpp"

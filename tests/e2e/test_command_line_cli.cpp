@@ -30,9 +30,9 @@ TEST_CASE("a mistyped command gets the nearest one, in one line with exit 2", "[
     CHECK(r.exit_code == 2);
     CHECK(r.err == "tvid: 'fitt' is not a tvid command; did you mean 'fit'? (tvid --help lists them)\n");
     CHECK(r.out.empty());
-    const RunResult far = run_tvid({"calibrate"});
+    const RunResult far = run_tvid({"plot"});
     CHECK(far.exit_code == 2);
-    CHECK_THAT(far.err, Catch::Contains("'calibrate' is not a tvid command"));
+    CHECK_THAT(far.err, Catch::Contains("'plot' is not a tvid command"));
     CHECK_THAT(far.err, !Catch::Contains("did you mean"));
 }
 

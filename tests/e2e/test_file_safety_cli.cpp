@@ -134,7 +134,7 @@ void check_csv(const fs::path& file, const std::string& cell) {
 
 }  // namespace
 
-TEST_CASE("-o FILE and --write-reference FILE never replace a FIFO, a device or a folder", "[e2e][files]") {
+TEST_CASE("simulate -o, validate -o and check --write-reference never replace a FIFO, a device or a folder", "[e2e][files]") {
     TempDir tmp;
     const fs::path rec = tmp.write("rec.csv", recording());
     const fs::path exp = tmp.write("one.yaml", one_node(rec.string()));

@@ -255,7 +255,7 @@ TEST_CASE("an input delay has its standard error after every optimizer", "[delay
     CHECK(lm_error > 0);
     CHECK(lm_error < 1e-4);
     for (const std::string estimation :
-         {"estimation: { cost: l2, optimizer: pso, pso: { particles: 32, iterations: 40, seed: 3 } }",
+         {"estimation: { cost: l2, optimizer: pso, pso: { start: latin_hypercube, particles: 48, iterations: 150, seed: 3 } }",
           "estimation: { cost: l2, optimizer: multistart, multistart: { starts: 4, seed: 3 } }",
           "estimation: { cost: l2, optimizer: nlopt, nlopt: { algorithm: LN_BOBYQA } }"}) {
         INFO(estimation);

@@ -252,33 +252,12 @@ EstimationSettings read_estimation(const YamlMap& m) {
 
 }  // namespace
 
-Experiment load_experiment(const std::filesystem::path& file, const std::vector<Override>& overrides) {
-    std::string config_sha256;
-    YAML::Node root = parse_file(file, config_sha256);
-    apply_overrides(root, overrides);
-    std::vector<std::string> override_keys;
-    for (const Override& o : overrides) override_keys.push_back(reader_path(o.key));
-    const YamlSource src(file.string(), override_keys);
-    const YamlMap top(src, root, "");
-    top.allow_only({"tvid", "name", "data", "model", "inputs", "outputs", "parameters", "windows", "initial_state",
-                    "simulation", "estimation", "report"});
+namespace {
 
-    Experiment ex;
-    ex.file = file;
-    ex.config_sha256 = config_sha256;
-    if (!top.has("tvid")) top.fail_missing("tvid", "format version: the file must start with 'tvid: 1'");
-    if (top.integer("tvid") != 1) top.fail("tvid", "format version " + top.get("tvid").Scalar() + " is not known (this tvid reads format 1)");
-    ex.name = top.has("name") ? top.text("name") : file.stem().string();
-    // The name is the default report folder's (results/NAME): one plain folder name.
-    if (top.has("name") && (ex.name.empty() || ex.name == "." || ex.name == ".." ||
-                            ex.name.find_first_of("/\\") != std::string::npos))
-        top.fail("name", "'" + ex.name + "' names the report folder results/NAME: use a plain name without '/' "
-                         "(give the place with report.dir or -o)");
-
-    // The recording.
-    const YamlMap data = top.map("data");
+// data: the recording, its time column and, for an engine, its crank angle; the axes the
+// windows are read on.
+RecordingAxes read_recording(const YamlMap& data, const std::filesystem::path& folder, Experiment& ex) {
     data.allow_only({"file", "time", "angle", "angle_node", "cycle_deg"});
-    const std::filesystem::path folder = file.parent_path();
     const std::string data_name = data.text("file");
     ex.data_file = (std::filesystem::path(data_name).is_absolute() ? std::filesystem::path(data_name) : folder / data_name)
                        .lexically_normal();
@@ -307,41 +286,19 @@ Experiment load_experiment(const std::filesystem::path& file, const std::vector<
         for (double deg : axes.crank_deg) ex.crank_angle.push_back(deg * 3.14159265358979323846 / 180.0);
     }
 
-    // The model, its channels and parameters.
-    const YamlMap parameters = top.map("parameters");
-    ex.network = read_model(top.map("model"), parameters.keys(), ex.model_constants);
-    const std::vector<double>& time = ex.data.column(ex.time_column);
-    const double recording_seconds = time.back() - time.front();
-    ex.inputs = read_inputs(top.map("inputs"), ex.network, ex.data, recording_seconds, parameters.keys());
-    if (data.has("angle_node")) {
-        if (ex.angle_column.empty()) data.fail("angle_node", "names the node of the crank-angle channel: give data.angle too");
-        const std::string node = data.text("angle_node");
-        ex.angle_node = ex.network.node_index(node);
-        if (ex.angle_node < 0) data.fail("angle_node", "no node named '" + node + "' in the model");
-    } else if (!ex.angle_column.empty()) {
-        ex.angle_node = ex.network.node_index("flywheel");  // where engines carry their crank encoder
-    }
-    if (!ex.network.angle_input_names.empty() && ex.angle_column.empty())
-        data.fail_missing("angle", "(the model reads cylinder pressures by crank angle: name the crank-angle column)");
-    check_cylinder_pressures(top.map("inputs"), ex.inputs, ex.data);
-    OutputBindings outputs = read_outputs(top.map("outputs"), ex.network, ex.data, recording_seconds, parameters.keys());
-    ex.outputs = std::move(outputs.channels);
-    ex.output_indices = std::move(outputs.indices);
-    if (top.has("estimation")) ex.estimation_settings = read_estimation(top.map("estimation"));
-    const bool swarm = optimizer_traits(ex.estimation_settings.optimizer).swarm;
-    ex.parameters = read_parameters(parameters, ex.network, swarm);
-    check_delay_parameters(parameters, ex.network, ex.parameters, recording_seconds);
-    check_search_box(parameters, ex.parameters, ex.estimation_settings);
+    return axes;
+}
 
-    // A grid start places grid^M particles: refuse swarms that could never be evaluated.
+// A grid start places grid^M particles: refuse swarms that could never be evaluated,
+// naming the setting that asked for the grid (it may come from --set), or the default.
+void check_swarm_size(const YamlMap& top, const YamlSource& src, const YamlMap& parameters, const Experiment& ex,
+                      bool swarm) {
     const PsoSettings& pso = ex.estimation_settings.pso;
     std::size_t free_count = 0;
     for (const ParameterSetting& p : ex.parameters) free_count += p.fixed ? 0 : 1;
     if (swarm && pso.start == PsoStart::grid && std::pow(static_cast<double>(pso.grid), static_cast<double>(free_count)) > kMaxParticles) {
         const std::string problem = "a grid of " + std::to_string(pso.grid) + " points on " + std::to_string(free_count) +
                                     " free parameters is more than 1e6 particles; use start: latin_hypercube with particles: N";
-        // Name the setting that asked for the grid (it may come from --set), or, when the
-        // file has no estimation section, the default.
         if (!top.has("estimation"))
             src.fail(parameters.node(), "estimation.pso.grid", problem + " (the default start is a grid of 2 points)");
         const YamlMap est = top.map("estimation");
@@ -352,12 +309,11 @@ Experiment load_experiment(const std::filesystem::path& file, const std::vector<
         est.fail("pso", problem);
     }
 
-    // Windows and the remaining settings.
-    const WindowSet windows = read_windows(top.map("windows"), axes);
-    ex.estimation = windows.estimation;
-    ex.validation = windows.validation;
-    ex.warmup = windows.warmup;
-    ex.warmup_cycles = windows.warmup_cycles;
+}
+
+// initial_state: and what ties it to the model: an engine turns, a speed source turns its
+// node, a measured start needs a measured speed.
+void read_initial_state(const YamlMap& top, const YamlMap& data, Experiment& ex) {
     // A running engine has no static equilibrium: its models start from the measurement.
     const bool engine = !ex.network.angle_input_names.empty();  // a channel read by crank angle: it turns
     if (engine) ex.initial_state = InitialStateKind::measured;
@@ -404,6 +360,10 @@ Experiment load_experiment(const std::filesystem::path& file, const std::vector<
             data.fail_missing("angle_node", "(the node whose angle the crank-angle channel measures: the warm-up is "
                                             "shot to meet it)");
     }
+}
+
+// simulation: and report:.
+void read_simulation_and_report(const YamlMap& top, const std::filesystem::path& folder, Experiment& ex) {
     if (top.has("simulation")) {
         const YamlMap simulation = top.map("simulation");
         ex.simulation = read_simulation(simulation);
@@ -418,6 +378,73 @@ Experiment load_experiment(const std::filesystem::path& file, const std::vector<
             ex.report_dir = (dir.is_absolute() ? dir : folder / dir).lexically_normal();
         }
     }
+}
+
+}  // namespace
+
+Experiment load_experiment(const std::filesystem::path& file, const std::vector<Override>& overrides) {
+    std::string config_sha256;
+    YAML::Node root = parse_file(file, config_sha256);
+    apply_overrides(root, overrides);
+    std::vector<std::string> override_keys;
+    for (const Override& o : overrides) override_keys.push_back(reader_path(o.key));
+    const YamlSource src(file.string(), override_keys);
+    const YamlMap top(src, root, "");
+    top.allow_only({"tvid", "name", "data", "model", "inputs", "outputs", "parameters", "windows", "initial_state",
+                    "simulation", "estimation", "report"});
+
+    Experiment ex;
+    ex.file = file;
+    ex.config_sha256 = config_sha256;
+    if (!top.has("tvid")) top.fail_missing("tvid", "format version: the file must start with 'tvid: 1'");
+    if (top.integer("tvid") != 1) top.fail("tvid", "format version " + top.get("tvid").Scalar() + " is not known (this tvid reads format 1)");
+    ex.name = top.has("name") ? top.text("name") : file.stem().string();
+    // The name is the default report folder's (results/NAME): one plain folder name.
+    if (top.has("name") && (ex.name.empty() || ex.name == "." || ex.name == ".." ||
+                            ex.name.find_first_of("/\\") != std::string::npos))
+        top.fail("name", "'" + ex.name + "' names the report folder results/NAME: use a plain name without '/' "
+                         "(give the place with report.dir or -o)");
+
+    const YamlMap data = top.map("data");
+    const std::filesystem::path folder = file.parent_path();
+    const RecordingAxes axes = read_recording(data, folder, ex);
+
+    // The model, its channels and parameters.
+    const YamlMap parameters = top.map("parameters");
+    ex.network = read_model(top.map("model"), parameters.keys(), ex.model_constants);
+    const std::vector<double>& time = ex.data.column(ex.time_column);
+    const double recording_seconds = time.back() - time.front();
+    ex.inputs = read_inputs(top.map("inputs"), ex.network, ex.data, recording_seconds, parameters.keys());
+    if (data.has("angle_node")) {
+        if (ex.angle_column.empty()) data.fail("angle_node", "names the node of the crank-angle channel: give data.angle too");
+        const std::string node = data.text("angle_node");
+        ex.angle_node = ex.network.node_index(node);
+        if (ex.angle_node < 0) data.fail("angle_node", "no node named '" + node + "' in the model");
+    } else if (!ex.angle_column.empty()) {
+        ex.angle_node = ex.network.node_index("flywheel");  // where engines carry their crank encoder
+    }
+    if (!ex.network.angle_input_names.empty() && ex.angle_column.empty())
+        data.fail_missing("angle", "(the model reads cylinder pressures by crank angle: name the crank-angle column)");
+    check_cylinder_pressures(top.map("inputs"), ex.inputs, ex.data);
+    OutputBindings outputs = read_outputs(top.map("outputs"), ex.network, ex.data, recording_seconds, parameters.keys());
+    ex.outputs = std::move(outputs.channels);
+    ex.output_indices = std::move(outputs.indices);
+    if (top.has("estimation")) ex.estimation_settings = read_estimation(top.map("estimation"));
+    const bool swarm = optimizer_traits(ex.estimation_settings.optimizer).swarm;
+    ex.parameters = read_parameters(parameters, ex.network, swarm);
+    check_delay_parameters(parameters, ex.network, ex.parameters, recording_seconds);
+    check_search_box(parameters, ex.parameters, ex.estimation_settings);
+
+    check_swarm_size(top, src, parameters, ex, swarm);
+
+    // Windows and the remaining settings.
+    const WindowSet windows = read_windows(top.map("windows"), axes);
+    ex.estimation = windows.estimation;
+    ex.validation = windows.validation;
+    ex.warmup = windows.warmup;
+    ex.warmup_cycles = windows.warmup_cycles;
+    read_initial_state(top, data, ex);
+    read_simulation_and_report(top, folder, ex);
     return ex;
 }
 

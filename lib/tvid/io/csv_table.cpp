@@ -173,15 +173,13 @@ NumberStatus parse_number(string_view s, double& value) {
 
 }  // namespace
 
-CsvTable CsvTable::read(const std::filesystem::path& file) {
-    const std::string fname = file.string();
-    const std::string data = read_input_file(file, "data file", kMaxRecordingBytes);
+namespace {
 
+// Where the text starts (after a UTF-8 byte-order mark); refuses UTF-16 and binary content.
+const char* text_start(const std::string& fname, const std::string& data) {
     const char* begin = data.data();
     const char* const end = begin + data.size();
     const auto byte = [&](std::size_t i) { return static_cast<unsigned char>(data[i]); };
-
-    // Encoding and binary content.
     if (data.size() >= 2 && ((byte(0) == 0xFF && byte(1) == 0xFE) || (byte(0) == 0xFE && byte(1) == 0xFF)))
         throw InputError(fname, 1, "",
                          "file is not text (binary data at line 1): it looks UTF-16 encoded — save it as "
@@ -193,15 +191,12 @@ CsvTable CsvTable::read(const std::filesystem::path& file) {
             throw InputError(fname, line, "", "file is not text (binary data at line " + std::to_string(line) + ")");
         }
     }
+    return begin;
+}
 
-    CsvTable table;
-    table.file_ = file;
-    table.content_sha256_ = sha256_of_text(data);
-
-    // Header.
-    LineReader lines(begin, end);
+// The first line that is neither blank nor a '#' comment: the header row.
+string_view header_row(LineReader& lines, const std::string& fname) {
     string_view text;
-    string_view header;
     bool saw_comment = false;
     while (lines.next(text)) {
         const string_view t = trim(text);
@@ -210,15 +205,52 @@ CsvTable CsvTable::read(const std::filesystem::path& file) {
             saw_comment = true;
             continue;
         }
-        header = t;
-        break;
+        return t;
     }
-    if (header.empty()) {
-        // Line 1, as for an empty experiment file: an editor opens the file there.
-        if (saw_comment)
-            throw InputError(fname, 1, "", "no header row: the file holds only comments and blank lines");
-        throw InputError(fname, 1, "", "file is empty (expected a header row of column names, then one row per sample)");
+    // Line 1, as for an empty experiment file: an editor opens the file there.
+    if (saw_comment) throw InputError(fname, 1, "", "no header row: the file holds only comments and blank lines");
+    throw InputError(fname, 1, "", "file is empty (expected a header row of column names, then one row per sample)");
+}
+
+// A data cell's number, or the error naming its line and column.
+double cell_value(string_view cell, const std::string& fname, int line, const std::string& column) {
+    double value = 0.0;
+    switch (parse_number(cell, value)) {
+        case NumberStatus::ok:
+            return value;
+        case NumberStatus::not_finite:
+            throw InputError(fname, line, "column " + column, "value is not finite (" + shown(cell) + ")");
+        case NumberStatus::out_of_range:
+            throw InputError(fname, line, "column " + column, "'" + shown(cell) + "' is out of the range of a double");
+        case NumberStatus::not_a_number:
+            break;
     }
+    if (cell.find('\t') != string_view::npos) throw InputError(fname, line, "", separator_error_text('\t'));
+    std::string what = "'" + shown(cell) + "' is not a number";
+    if (cell == column)
+        what += " (a repeated header row?)";
+    else if (cell.find(' ') != string_view::npos)
+        what += " (columns must be separated by ',')";
+    throw InputError(fname, line, "column " + column, what);
+}
+
+}  // namespace
+
+CsvTable CsvTable::read(const std::filesystem::path& file) {
+    const std::string fname = file.string();
+    const std::string data = read_input_file(file, "data file", kMaxRecordingBytes);
+
+    const char* begin = text_start(fname, data);
+    const char* const end = data.data() + data.size();
+
+    CsvTable table;
+    table.file_ = file;
+    table.content_sha256_ = sha256_of_text(data);
+
+    // Header.
+    LineReader lines(begin, end);
+    string_view text;
+    const string_view header = header_row(lines, fname);
     const int header_line = lines.line();
     table.header_line_ = header_line;
 
@@ -289,28 +321,7 @@ CsvTable CsvTable::read(const std::filesystem::path& file) {
                 unquote(trim(t.substr(start, comma == string_view::npos ? string_view::npos : comma - start)));
             start = comma + 1;
             if (cell.empty()) throw InputError(fname, line, "column " + table.names_[c], "empty cell");
-            double value = 0.0;
-            switch (parse_number(cell, value)) {
-                case NumberStatus::ok:
-                    break;
-                case NumberStatus::not_finite:
-                    throw InputError(fname, line, "column " + table.names_[c],
-                                     "value is not finite (" + shown(cell) + ")");
-                case NumberStatus::out_of_range:
-                    throw InputError(fname, line, "column " + table.names_[c],
-                                     "'" + shown(cell) + "' is out of the range of a double");
-                case NumberStatus::not_a_number: {
-                    if (cell.find('\t') != string_view::npos)
-                        throw InputError(fname, line, "", separator_error_text('\t'));
-                    std::string what = "'" + shown(cell) + "' is not a number";
-                    if (cell == table.names_[c])
-                        what += " (a repeated header row?)";
-                    else if (cell.find(' ') != string_view::npos)
-                        what += " (columns must be separated by ',')";
-                    throw InputError(fname, line, "column " + table.names_[c], what);
-                }
-            }
-            table.columns_[c].push_back(value);
+            table.columns_[c].push_back(cell_value(cell, fname, line, table.names_[c]));
         }
         table.row_lines_.push_back(line);
     }
