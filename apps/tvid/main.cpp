@@ -13,6 +13,7 @@
 #include "tvid/experiment/experiment.hpp"
 #include "tvid/parallel/process_group.hpp"
 #include "tvid/util/input_error.hpp"
+#include "tvid/util/text.hpp"
 
 namespace {
 
@@ -67,22 +68,6 @@ std::string exit_status_help() {
     return s;
 }
 
-// Edits that turn a into b (insert, delete, substitute one character): how near a typo is.
-std::size_t edit_distance(const std::string& a, const std::string& b) {
-    std::vector<std::size_t> row(b.size() + 1);
-    for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
-    for (std::size_t i = 1; i <= a.size(); ++i) {
-        std::size_t diagonal = row[0];
-        row[0] = i;
-        for (std::size_t j = 1; j <= b.size(); ++j) {
-            const std::size_t up = row[j];
-            row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
-            diagonal = up;
-        }
-    }
-    return row[b.size()];
-}
-
 // The first word when it names no command: one line with the nearest command, or null.
 std::optional<std::string> unknown_command(const CLI::App& app, int argc, char** argv) {
     if (argc < 2 || argv[1][0] == '-') return std::nullopt;
@@ -91,7 +76,7 @@ std::optional<std::string> unknown_command(const CLI::App& app, int argc, char**
     std::size_t best = word.size();
     for (const CLI::App* sub : app.get_subcommands({})) {
         if (sub->get_name() == word) return std::nullopt;
-        const std::size_t d = edit_distance(word, sub->get_name());
+        const std::size_t d = tvid::edit_distance(word, sub->get_name());
         if (d < best) best = d, nearest = sub->get_name();
     }
     std::string line = "tvid: '" + word + "' is not a tvid command";
