@@ -64,11 +64,9 @@ private:
     bool initial_state(const Window& w, ProblemWorkspace& ws, std::string* problem) const;
     // Measured initial state with a warm-up: leaves ws.x at the window's first sample.
     SimulationStatus shoot_warmup(const Window& w, ProblemWorkspace& ws, WindowStart& start) const;
-    // The same by Newton's method with the Jacobian from the warm-up simulated with the
-    // two directions (fixed-step RK4, state of N values).
-    template <std::size_t N>
-    SimulationStatus shoot_warmup_newton(const Window& w, ProblemWorkspace& ws, WindowStart& start) const;
-    // The same by chord Newton with the Jacobian from differences (any integrator).
+    // With fixed-step RK4 it solves by Newton's method with the exact Jacobian
+    // (estimation/warmup_newton.hpp); otherwise by chord Newton with the Jacobian from
+    // differences (any integrator):
     SimulationStatus shoot_warmup_by_differences(const Window& w, ProblemWorkspace& ws, WindowStart& start) const;
 
     const ProblemDefinition* d_;
