@@ -23,6 +23,7 @@ FLOORS = [
     ["analysis"],                     # what is judged at an optimum
     ["fit"],                          # one identification run
     ["report", "batch"],              # report files; many fits
+    ["api"],                          # the public API (tvid/tvid.hpp) over all of it
 ]
 FLOOR_OF = {folder: level for level, folders in enumerate(FLOORS) for folder in folders}
 INCLUDE = re.compile(r'^\s*#\s*include\s+"tvid/([a-z_]+)/([^"]+)"', re.MULTILINE)
