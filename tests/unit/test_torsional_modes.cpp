@@ -263,3 +263,42 @@ TEST_CASE("a cylinder's reciprocating mass enters at its mean over a revolution,
     CHECK(close(point.modes[0].frequency_hz, std::sqrt(-slope) / kTwoPi, 1e-6));
     CHECK(at.elements[1].method == "operating_point");
 }
+
+TEST_CASE("an overdamped degree of freedom is one mode with its real zeta > 1", "[modes]") {
+    // J θ'' + c θ' + k θ = 0 with c² > 4Jk: two real roots λ1,2 = (−c ± √(c² − 4Jk))/(2J),
+    // ω_n = √(k/J), ζ = c/(2√(kJ)) > 1.
+    const double j = 0.2, k = 50.0, c = 30.0;  // ζ = 30/(2·√10) = 4.743
+    NetworkSpec spec;
+    spec.nodes = {node("a", j)};
+    spec.spring_dampers = {spring("ground", 0, kGround, k, c)};
+    const ModalAnalysis m = modes_of(spec);
+    REQUIRE(m.modes.size() == 1);
+    const TorsionalMode& mode = m.modes[0];
+    CHECK(mode.kind == ModeKind::overdamped);
+    const double zeta = c / (2.0 * std::sqrt(k * j)), wn = std::sqrt(k / j);
+    CHECK(close(mode.damping_ratio, zeta, 1e-9));
+    CHECK(mode.damping_ratio > 1.0);
+    CHECK(close(mode.frequency_hz, wn / kTwoPi, 1e-9));
+    CHECK(mode.damped_frequency_hz == 0.0);
+    const double disc = std::sqrt(c * c - 4 * j * k);
+    CHECK(close(mode.eigenvalue.real(), (-c + disc) / (2 * j), 1e-9));  // the slower root
+    CHECK(close(mode.second_eigenvalue, (-c - disc) / (2 * j), 1e-9));  // the faster
+}
+
+TEST_CASE("an overdamped mode beside an oscillating one: each keeps its own zeta", "[modes]") {
+    // Two uncoupled single-degree-of-freedom systems: a heavily damped one and a lightly damped one.
+    const double j1 = 0.1, k1 = 40.0, c1 = 12.0, j2 = 0.05, k2 = 2000.0, c2 = 0.5;
+    NetworkSpec spec;
+    spec.nodes = {node("slow", j1), node("fast", j2)};
+    spec.spring_dampers = {spring("g1", 0, kGround, k1, c1), spring("g2", 1, kGround, k2, c2)};
+    const ModalAnalysis m = modes_of(spec);
+    REQUIRE(m.modes.size() == 2);
+    const TorsionalMode& over = m.modes[0].kind == ModeKind::overdamped ? m.modes[0] : m.modes[1];
+    const TorsionalMode& osc = m.modes[0].kind == ModeKind::overdamped ? m.modes[1] : m.modes[0];
+    REQUIRE(over.kind == ModeKind::overdamped);
+    REQUIRE(osc.kind == ModeKind::oscillating);
+    CHECK(close(over.damping_ratio, c1 / (2 * std::sqrt(k1 * j1)), 1e-9));
+    CHECK(close(osc.damping_ratio, c2 / (2 * std::sqrt(k2 * j2)), 1e-9));
+    CHECK(std::isnan(osc.second_eigenvalue));
+    CHECK(std::abs(over.shape[1]) < 1e-9);  // the overdamped motion leaves the other node still
+}

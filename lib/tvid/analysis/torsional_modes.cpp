@@ -53,6 +53,66 @@ double alignment(const std::vector<std::complex<double>>& a, const std::vector<d
     return na > 0 && nb > 0 ? std::abs(dot) / std::sqrt(na * nb) : 0.0;
 }
 
+// |⟨a, b⟩| / (|a| |b|) of two complex shapes.
+double shape_similarity(const std::vector<std::complex<double>>& a, const std::vector<std::complex<double>>& b) {
+    std::complex<double> dot = 0.0;
+    double na = 0.0, nb = 0.0;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        dot += a[i] * std::conj(b[i]);
+        na += std::norm(a[i]);
+        nb += std::norm(b[i]);
+    }
+    return na > 0 && nb > 0 ? std::abs(dot) / std::sqrt(na * nb) : 0.0;
+}
+
+// An overdamped degree of freedom has two real eigenvalues λ1, λ2 < 0 with (nearly) the same
+// shape: θ'' + 2ζω θ' + ω² θ = 0 has λ1·λ2 = ω² and λ1 + λ2 = −2ζω, so ζ = −(λ1 + λ2)/(2√(λ1λ2)) > 1.
+// Each such pair becomes one mode with that ζ and ω/2π (its slower root as `eigenvalue`, the
+// faster as `second_eigenvalue`); a real root with no partner (a first-order motion: a
+// damper with no inertia behind it) keeps |λ|/2π, its corner frequency, and has no ζ.
+void pair_overdamped_roots(std::vector<TorsionalMode>& modes) {
+    constexpr double kSameShape = 0.9;
+    std::vector<std::size_t> real;
+    for (std::size_t k = 0; k < modes.size(); ++k)
+        if (modes[k].kind == ModeKind::overdamped && modes[k].eigenvalue.real() < 0.0) real.push_back(k);
+    std::vector<bool> merged(modes.size(), false);
+    for (std::size_t a = 0; a < real.size(); ++a) {
+        const std::size_t i = real[a];
+        if (merged[i]) continue;
+        std::size_t best = modes.size();
+        double best_similarity = kSameShape;
+        for (std::size_t b = a + 1; b < real.size(); ++b) {
+            const std::size_t j = real[b];
+            if (merged[j]) continue;
+            const double similarity = shape_similarity(modes[i].shape, modes[j].shape);
+            if (similarity > best_similarity) best_similarity = similarity, best = j;
+        }
+        TorsionalMode& m = modes[i];
+        if (best == modes.size()) {
+            m.damping_ratio = std::numeric_limits<double>::quiet_NaN();
+            continue;
+        }
+        merged[best] = true;
+        double slow = m.eigenvalue.real(), fast = modes[best].eigenvalue.real();
+        if (std::abs(slow) > std::abs(fast)) {
+            std::swap(slow, fast);
+            m.shape = modes[best].shape;  // the slower root's shape
+        }
+        const double omega = std::sqrt(slow * fast);
+        m.eigenvalue = slow;
+        m.second_eigenvalue = fast;
+        m.frequency_hz = omega / kModesTwoPi;
+        m.damping_ratio = -(slow + fast) / (2.0 * omega);
+    }
+    std::size_t kept = 0;
+    for (std::size_t k = 0; k < modes.size(); ++k) {
+        if (merged[k]) continue;
+        if (kept != k) modes[kept] = std::move(modes[k]);
+        ++kept;
+    }
+    modes.resize(kept);
+}
+
 }  // namespace
 
 const char* mode_kind_name(ModeKind kind) {
@@ -121,11 +181,14 @@ ModalAnalysis torsional_modes(const LinearNetwork& system, const std::vector<dou
             m.frequency_hz = m.damped_frequency_hz = 0.0;
             m.damping_ratio = std::numeric_limits<double>::quiet_NaN();
         }
+        out.modes.push_back(std::move(m));
+    }
+    pair_overdamped_roots(out.modes);
+    for (TorsionalMode& m : out.modes) {
         m.shape_common = m.shape;
         for (std::size_t i = 0; i < nodes; ++i) m.shape_common[i] /= ratio[i];
         normalise_to_largest(m.shape);
         m.dominant_node = normalise_to_largest(m.shape_common);
-        out.modes.push_back(std::move(m));
     }
     std::stable_sort(out.modes.begin(), out.modes.end(), [](const TorsionalMode& a, const TorsionalMode& b) {
         const bool ra = a.kind == ModeKind::rigid_body, rb = b.kind == ModeKind::rigid_body;

@@ -1,12 +1,15 @@
 #pragma once
 // The torsional modes of a network linearised about a window's start: the eigenvalues λ
-// of A (Eigen's real EigenSolver), one mode per complex pair and one per real eigenvalue,
-// each with its undamped natural frequency |λ|/2π, its damped frequency Im λ/2π, its
-// damping ratio ζ = −Re λ/|λ| and its shape (the node-angle components of its
-// eigenvector), also referred to a common shaft through the gear ratios.
+// of A (Eigen's real EigenSolver), one mode per complex pair, each with its undamped natural
+// frequency |λ|/2π, its damped frequency Im λ/2π, its damping ratio ζ = −Re λ/|λ| and its
+// shape (the node-angle components of its eigenvector), also referred to a common shaft
+// through the gear ratios. An overdamped degree of freedom (two real roots of one shape) is
+// one mode with ζ = −(λ1 + λ2)/(2√(λ1λ2)) > 1 and f_n = √(λ1λ2)/2π; a lone real root (a
+// first-order motion) has its corner frequency |λ|/2π and no ζ.
 
 #include <complex>
 #include <cstddef>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -17,7 +20,7 @@ namespace tvid {
 
 enum class ModeKind {
     rigid_body,   ///< the line turning as one body: λ ≈ 0 (free angle) or its speed's decay under friction
-    overdamped,   ///< a real eigenvalue of a twisting motion (an overdamped degree of freedom gives two)
+    overdamped,   ///< real eigenvalues of a twisting motion: a pair of one shape (ζ > 1), or a lone first-order root
     oscillating,  ///< a complex pair
 };
 
@@ -25,10 +28,14 @@ const char* mode_kind_name(ModeKind kind);
 
 struct TorsionalMode {
     ModeKind kind = ModeKind::oscillating;
-    std::complex<double> eigenvalue;  ///< [1/s]; of a pair, the one with Im λ > 0
-    double frequency_hz = 0.0;        ///< |λ|/2π
+    std::complex<double> eigenvalue;  ///< [1/s]; of a pair, the one with Im λ > 0; of two real roots, the slower
+    /// The faster of an overdamped mode's two real roots [1/s]; NaN for every other mode.
+    double second_eigenvalue = std::numeric_limits<double>::quiet_NaN();
+    double frequency_hz = 0.0;        ///< |λ|/2π; √(λ1λ2)/2π of two real roots
     double damped_frequency_hz = 0.0; ///< Im λ/2π (0 for a real eigenvalue)
-    double damping_ratio = 0.0;       ///< −Re λ/|λ| (NaN for λ = 0; negative: growing)
+    /// −Re λ/|λ| (NaN for λ = 0; negative: growing); −(λ1 + λ2)/(2√(λ1λ2)) > 1 of two real
+    /// roots; NaN for a lone real root (a first-order motion has no ζ).
+    double damping_ratio = 0.0;
     /// Node angles of the eigenvector divided by its largest one (that node: 1, phase 0).
     std::vector<std::complex<double>> shape;
     /// The same with each node's angle referred to the reference node's shaft (θ_i / ratio_i),

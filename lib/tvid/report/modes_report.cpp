@@ -73,6 +73,7 @@ json modes_json(const ModesStudy& s, const ModesRunInfo& run) {
         modes.push_back({{"mode", k + 1},
                          {"kind", mode_kind_name(mode.kind)},
                          {"eigenvalue", {{"re", json_number(mode.eigenvalue.real())}, {"im", json_number(mode.eigenvalue.imag())}}},
+                         {"second_eigenvalue", json_number(mode.second_eigenvalue)},
                          {"frequency_hz", json_number(mode.frequency_hz)},
                          {"damped_frequency_hz", json_number(mode.damped_frequency_hz)},
                          {"damping_ratio", json_number(mode.damping_ratio)},
