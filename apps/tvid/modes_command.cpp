@@ -5,6 +5,7 @@
 #include <iostream>
 
 #include "commands.hpp"
+#include "terminal.hpp"
 #include "tvid/report/report_directory.hpp"
 #include "tvid/experiment/overrides.hpp"
 #include "tvid/analysis/frf_comparison.hpp"
@@ -69,7 +70,7 @@ int run_modes_command(const ModesCommand& cmd) {
     const LinearisationSetup s = prepare_linearisation(cmd);
     const std::filesystem::path dir =
         cmd.output_dir.empty() ? report_directory(s.ex, "") / "modes" : std::filesystem::path(cmd.output_dir);
-    const OutputDirectoryLock lock = prepare_output_directory(dir, "modes directory", {"modes.csv", "modes.json"});
+    const OutputDirectoryLock lock = prepare_output_directory(dir, "modes directory", {"modes.csv", "modes.json"}, "modes.json", cmd.force);
     const IdentificationProblem problem(s.ex);
     ModesStudy study;
     try {
@@ -81,7 +82,7 @@ int run_modes_command(const ModesCommand& cmd) {
     const ModesRunInfo run = run_info(s.ex, cmd.common);
     write_modes_report(dir, study, run);
     if (cmd.common.json)
-        std::cout << json_text(modes_json(study, run)) << std::endl;
+        std::cout << json_with_report(modes_json(study, run), dir) << std::endl;
     else if (!cmd.common.quiet)
         std::cout << modes_table_text(study) << "report: " << dir.string() << "\n" << std::flush;
     return kExitDone;
@@ -103,11 +104,14 @@ int run_frf_command(const FrfCommand& cmd) {
     const std::size_t output = static_cast<std::size_t>(s.ex.output_indices[static_cast<std::size_t>(m)]);
     const std::filesystem::path dir =
         cmd.modes.output_dir.empty() ? report_directory(s.ex, "") / "frf" : std::filesystem::path(cmd.modes.output_dir);
-    const OutputDirectoryLock lock = prepare_output_directory(dir, "frf directory", {"frf.csv", "frf.json"});
+    const OutputDirectoryLock lock = prepare_output_directory(dir, "frf directory", {"frf.csv", "frf.json"}, "frf.json", cmd.modes.force);
     const IdentificationProblem problem(s.ex);
     FrfComparison frf;
     try {
-        frf = compare_frf(problem, s.params, static_cast<std::size_t>(input), output, s.window, s.angles);
+        frf = compare_frf(problem, s.params, static_cast<std::size_t>(input), output, s.window, s.angles,
+                          SpectralResolution{cmd.segment, cmd.resolution_hz});
+    } catch (const std::invalid_argument& e) {
+        throw InputError("", 0, cmd.segment > 0 ? "--segment" : "--resolution", e.what());
     } catch (const std::runtime_error& e) {
         std::cerr << "tvid: no frequency response: " << e.what() << "; nothing written\n";
         return kExitNotSucceeded;
@@ -115,7 +119,7 @@ int run_frf_command(const FrfCommand& cmd) {
     const ModesRunInfo run = run_info(s.ex, cmd.modes.common);
     write_frf_report(dir, frf, run);
     if (cmd.modes.common.json)
-        std::cout << json_text(frf_json(frf, run)) << std::endl;
+        std::cout << json_with_report(frf_json(frf, run), dir) << std::endl;
     else if (!cmd.modes.common.quiet)
         std::cout << frf_summary_text(frf) << "report: " << dir.string() << "\n" << std::flush;
     return kExitDone;

@@ -151,6 +151,40 @@ TEST_CASE("tvid frf on the bench: the model's response and the measured H1 on on
     }
 }
 
+TEST_CASE("tvid frf --resolution and --segment choose Welch's segment and say so", "[modes][e2e]") {
+    const TempDir tmp;
+    const std::string config = (source_dir() / "configs/aalto_bench.yaml").string();
+    const auto frf = [&](std::vector<std::string> extra) {
+        std::vector<std::string> args{"frf", config, "-o", (tmp.path() / "frf").string(), "--input", "T_prop",
+                                      "--output", "torque_lower", "--json"};
+        args.insert(args.end(), extra.begin(), extra.end());
+        return run_tvid(args);
+    };
+    const RunResult fine = frf({"--resolution", "0.25"});
+    INFO(fine.err);
+    REQUIRE(fine.exit_code == 0);
+    const json j = json::parse(fine.out);
+    const double fs = j["measured"]["sample_rate_hz"].get<double>();
+    const double n = j["measured"]["segment_length"].get<double>();
+    CHECK(n == std::ceil(fs / 0.25));                 // fs/HZ rounded up
+    CHECK(j["measured"]["resolution_hz"].get<double>() <= 0.25);
+    CHECK(j["measured"]["resolution_hz"].get<double>() == Approx(fs / n).epsilon(1e-12));
+    CHECK(j["rows"][0]["frequency_hz"].get<double>() == Approx(fs / n).epsilon(1e-12));
+    CHECK(j["report"] == (tmp.path() / "frf").string());  // --json names where the files went
+
+    const RunResult segment = frf({"--segment", "300"});
+    REQUIRE(segment.exit_code == 0);
+    CHECK(json::parse(segment.out)["measured"]["segment_length"] == 300);
+    // A segment the windows cannot give: exit 2, naming the finest resolution they allow.
+    const RunResult too_long = frf({"--segment", "100000000"});
+    CHECK(too_long.exit_code == 2);
+    CHECK(too_long.err.find("--segment") != std::string::npos);
+    CHECK(too_long.err.find("finest resolution") != std::string::npos);
+    CHECK(frf({"--segment", "4"}).exit_code == 2);
+    CHECK(frf({"--resolution", "-1"}).exit_code == 2);
+    CHECK(frf({"--resolution", "1", "--segment", "512"}).exit_code == 2);  // one or the other
+}
+
 TEST_CASE("tvid fit writes the modes at the fitted parameters into summary.json", "[modes][e2e]") {
     const TempDir tmp;
     const std::string dir = (tmp.path() / "fit").string();

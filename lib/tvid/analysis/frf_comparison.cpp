@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <span>
 #include <stdexcept>
@@ -12,7 +13,8 @@
 namespace tvid {
 
 FrfComparison compare_frf(const IdentificationProblem& problem, const std::vector<double>& params, std::size_t input,
-                          std::size_t output, std::size_t window, AngleDependence angle_dependence) {
+                          std::size_t output, std::size_t window, AngleDependence angle_dependence,
+                          const SpectralResolution& asked) {
     const ProblemDefinition& d = problem.definition();
     FrfComparison r;
     r.input = d.network.input_names.at(input);
@@ -60,8 +62,21 @@ FrfComparison compare_frf(const IdentificationProblem& problem, const std::vecto
         span += time[at + to - 1] - time[at + from];
     }
     r.sample_rate_hz = steps / span;
-    r.segment_length = welch_segment_length(shortest);
-    while (r.segment_length > longest && r.segment_length / 2 >= 8) r.segment_length /= 2;
+    if (asked.segment > 0 || asked.resolution_hz > 0) {
+        r.segment_length = asked.segment > 0 ? asked.segment
+                                             : static_cast<std::size_t>(std::ceil(r.sample_rate_hz / asked.resolution_hz));
+        if (r.segment_length < 8 || r.segment_length > longest) {
+            char finest[64];
+            std::snprintf(finest, sizeof finest, "%.4g", r.sample_rate_hz / static_cast<double>(longest));
+            throw std::invalid_argument("a segment of " + std::to_string(r.segment_length) +
+                                        " samples does not fit: the longest gap-free estimation record has " +
+                                        std::to_string(longest) + " samples (finest resolution " + finest +
+                                        " Hz), and a segment needs at least 8");
+        }
+    } else {
+        r.segment_length = welch_segment_length(shortest);
+        while (r.segment_length > longest && r.segment_length / 2 >= 8) r.segment_length /= 2;
+    }
     if (r.segment_length < 8 || !(r.sample_rate_hz > 0) || !std::isfinite(r.sample_rate_hz))
         throw std::runtime_error("the estimation windows are too short for a spectrum (under 8 samples)");
     r.resolution_hz = r.sample_rate_hz / static_cast<double>(r.segment_length);

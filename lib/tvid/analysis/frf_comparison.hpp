@@ -41,10 +41,22 @@ struct FrfComparison {
     std::vector<double> undamped_hz;
 };
 
+/// The Welch segment asked for: a length in samples, or a frequency resolution in Hz (then
+/// the segment is fs/resolution samples, rounded up, so the resolution is at least as fine).
+/// Neither: the default rule (welch_segment_length of the shortest window, halved until it
+/// fits the longest gap-free record).
+struct SpectralResolution {
+    std::size_t segment = 0;
+    double resolution_hz = 0.0;
+};
+
 /// The comparison for model input `input` (an index into the network's input_names) and
 /// network output `output` (an index into the network's outputs, one that is measured),
 /// the model linearised at estimation window `window`'s start with parameters `params`.
 FrfComparison compare_frf(const IdentificationProblem& problem, const std::vector<double>& params, std::size_t input,
-                          std::size_t output, std::size_t window, AngleDependence angle_dependence);
+                          std::size_t output, std::size_t window, AngleDependence angle_dependence,
+                          const SpectralResolution& asked = {});
+/// A segment asked for that the windows cannot give (under 8 samples, or longer than the
+/// longest gap-free record) throws std::invalid_argument, naming the finest resolution they allow.
 
 }  // namespace tvid
