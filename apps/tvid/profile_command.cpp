@@ -6,6 +6,7 @@
 #include <iostream>
 
 #include "commands.hpp"
+#include "terminal.hpp"
 #include "tvid/report/report_directory.hpp"
 #include "tvid/experiment/overrides.hpp"
 #include "tvid/experiment/experiment.hpp"
@@ -79,7 +80,7 @@ int run_profile_command(const ProfileCommand& cmd) {
     const std::filesystem::path dir = cmd.output_dir.empty()
                                           ? report_directory(ex, "") / ("profile-" + cmd.parameter)
                                           : std::filesystem::path(cmd.output_dir);
-    const OutputDirectoryLock lock = prepare_output_directory(dir, "profile directory", {"profile.csv", "profile.json"});
+    const OutputDirectoryLock lock = prepare_output_directory(dir, "profile directory", {"profile.csv", "profile.json"}, "profile.json", cmd.force);
     const ProfileResult profile = profile_likelihood(ex, start, options);
     if (stop_requested()) {
         std::cerr << "tvid: interrupted; no profile written\n";
@@ -87,7 +88,7 @@ int run_profile_command(const ProfileCommand& cmd) {
     }
     const ProfileRunInfo run{TVID_VERSION, cmd.common.command_line, ex.name};
     write_profile_report(dir, profile, run);
-    if (cmd.common.json) std::cout << json_text(profile_json(profile, run)) << std::endl;
+    if (cmd.common.json) std::cout << json_with_report(profile_json(profile, run), dir) << std::endl;
     else if (!cmd.common.quiet) std::cout << profile_text(profile, dir.string()) << std::flush;
     return kExitDone;
 }

@@ -38,7 +38,8 @@ int run_sensitivity_command(const SensitivityCommand& cmd) {
     const std::filesystem::path dir =
         cmd.output_dir.empty() ? report_directory(ex, "") / "sensitivity" : std::filesystem::path(cmd.output_dir);
     // Before the work: an unusable place is bad input, and this run holds it until written.
-    const OutputDirectoryLock lock = prepare_output_directory(dir, "sensitivity directory", {"sensitivity.csv", "ranking.csv", "sensitivity.json"});
+    const OutputDirectoryLock lock = prepare_output_directory(dir, "sensitivity directory", {"sensitivity.csv", "ranking.csv", "sensitivity.json"},
+                                                              "sensitivity.json", cmd.force);
 
     std::vector<const Window*> windows;
     for (const Window& w : ex.estimation) windows.push_back(&w);
@@ -80,7 +81,7 @@ int run_sensitivity_command(const SensitivityCommand& cmd) {
     const SensitivityRunInfo run{TVID_VERSION, cmd.common.command_line, threads, seconds};
     write_sensitivity_report(dir, study, rankings, run);
     if (cmd.common.json) {
-        std::cout << json_text(sensitivity_json(study, rankings, run)) << std::endl;
+        std::cout << json_with_report(sensitivity_json(study, rankings, run), dir) << std::endl;
     } else if (!cmd.common.quiet) {
         std::cout << sensitivity_summary_text(study, rankings, run, dir.string()) << std::flush;
     }

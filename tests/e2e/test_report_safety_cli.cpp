@@ -124,6 +124,38 @@ TEST_CASE("the same fit again replaces its own report; anything else is refused 
     CHECK(nlohmann::json::parse(read_text(out / "summary.json"))["tool"] == "tvid");
 }
 
+TEST_CASE("a report's file that tvid did not write is never replaced without --force", "[e2e][report]") {
+    TempDir tmp;
+    // A folder holding only the user's own params.csv (no summary.json of tvid's): refused.
+    const fs::path out = tmp.path() / "mine";
+    tmp.write("mine/params.csv", "my,own\n1,2\n");
+    std::vector<std::string> args = quick_fit(out);
+    args.pop_back();  // without --force
+    const RunResult refused = run_tvid(args);
+    INFO(refused.err);
+    CHECK(refused.exit_code == 2);
+    CHECK(refused.err.find("params.csv") != std::string::npos);
+    CHECK(refused.err.find("--force") != std::string::npos);
+    CHECK(read_text(out / "params.csv") == "my,own\n1,2\n");
+    CHECK_FALSE(fs::exists(out / "summary.json"));
+    REQUIRE(run_tvid(quick_fit(out)).exit_code == 0);  // --force: replaced
+    CHECK(read_text(out / "params.csv") != "my,own\n1,2\n");
+
+    // The same rule for the analyses' directories: modes.csv of the user's is kept.
+    const fs::path modes = tmp.path() / "modes";
+    tmp.write("modes/modes.csv", "mine\n");
+    const std::vector<std::string> modes_args{"modes", (source_dir() / "configs/cvt_tipin_clean.yaml").string(), "-o",
+                                              modes.string()};
+    const RunResult modes_refused = run_tvid(modes_args);
+    CHECK(modes_refused.exit_code == 2);
+    CHECK(modes_refused.err.find("modes.csv") != std::string::npos);
+    CHECK(read_text(modes / "modes.csv") == "mine\n");
+    std::vector<std::string> forced = modes_args;
+    forced.push_back("--force");
+    REQUIRE(run_tvid(forced).exit_code == 0);
+    CHECK(run_tvid(modes_args).exit_code == 0);  // now tvid's own: replaced without --force
+}
+
 TEST_CASE("an unusable report place is bad input before the fit", "[e2e][report]") {
     TempDir tmp;
     const fs::path file = tmp.write("not-a-dir", "x");

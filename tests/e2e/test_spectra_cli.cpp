@@ -190,8 +190,9 @@ TEST_CASE("an engine fit's orders.csv holds orders 0.5 to 12 per cycle, the resi
 TEST_CASE("a report without a crank angle has spectra and no orders", "[e2e][spectra]") {
     TempDir tmp;
     const auto out = tmp.path() / "cvt";
-    // A stale orders.csv from an earlier report in the same directory goes.
+    // A stale orders.csv from an earlier report of tvid's in the same directory goes.
     std::filesystem::create_directories(out);
+    tmp.write("cvt/summary.json", R"({ "tool": "tvid", "experiment": "cvt-tipin-clean" })");
     tmp.write("cvt/orders.csv", "split\n");
     const RunResult r = run_tvid({"fit", (source_dir() / "configs/cvt_tipin_clean.yaml").string(), "-o", out.string(),
                                   "--optimizer", "lm", "--set", "estimation.cost=l2", "--quiet"});

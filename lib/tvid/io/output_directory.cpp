@@ -7,6 +7,9 @@
 #include <cctype>
 #include <cerrno>
 #include <cstring>
+#include <fstream>
+
+#include <nlohmann/json.hpp>
 
 #include "tvid/io/atomic_file.hpp"
 #include "tvid/util/input_error.hpp"
@@ -72,13 +75,43 @@ void check_output_files(const std::filesystem::path& dir, const std::vector<std:
     for (const std::string& name : files) check_output_target(dir / name);
 }
 
+std::string foreign_output(const std::filesystem::path& dir, const std::vector<std::string>& files,
+                           const std::string& manifest) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    std::string first;
+    for (const std::string& name : files)
+        if (fs::exists(dir / name, ec)) {
+            first = name;
+            break;
+        }
+    if (first.empty()) return "";
+    if (!fs::exists(dir / manifest, ec))
+        return "already holds " + first + ", and no " + manifest + " of tvid's says tvid wrote it";
+    // Read aside (not as one of the run's inputs, which it would then refuse to replace);
+    // check_output_files has made sure it is a regular file. A manifest of tvid's is small.
+    constexpr std::uintmax_t kLargestManifest = 64u << 20;
+    const std::uintmax_t size = fs::file_size(dir / manifest, ec);
+    if (!ec && size <= kLargestManifest) {
+        std::ifstream in(dir / manifest, std::ios::binary);
+        const nlohmann::json m = nlohmann::json::parse(in, nullptr, false);
+        if (!m.is_discarded() && m.is_object() && m.value("tool", "") == "tvid") return "";
+    }
+    return "already holds a " + manifest + " that tvid did not write";
+}
+
 OutputDirectoryLock prepare_output_directory(const std::filesystem::path& dir, const std::string& what,
-                                             const std::vector<std::string>& files) {
+                                             const std::vector<std::string>& files, const std::string& manifest,
+                                             bool force) {
     namespace fs = std::filesystem;
     const std::string where = dir.string();
     std::error_code ec;
     if (fs::exists(dir, ec) && !fs::is_directory(dir, ec)) throw InputError(where, 0, "", "the " + what + " is a file");
+    // Before the manifest is looked into: a FIFO of that name would block the reading.
     check_output_files(dir, files);
+    if (!manifest.empty() && !force)
+        if (const std::string why = foreign_output(dir, files, manifest); !why.empty())
+            throw InputError(where, 0, "", "the " + what + " " + why + ": use --force to replace it, or -o for another directory");
     fs::create_directories(dir, ec);
     if (ec) throw InputError(where, 0, "", "cannot create the " + what + ": " + ec.message());
     const fs::path probe = dir / (".tvid-write-test." + std::to_string(::getpid()));

@@ -35,8 +35,19 @@ private:
 /// first (check_output_target: not a FIFO, device or folder, not a file the run reads), so
 /// that such a report is refused before the work rather than half written after it. Keep
 /// the returned lock while writing into `dir`.
+///
+/// With a `manifest` (one of `files`, a JSON document that names the tool), files another
+/// program or a person wrote are never replaced silently: unless `force`, it also throws
+/// when `dir` holds any of `files` and no manifest of tvid's beside them (foreign_output).
 [[nodiscard]] OutputDirectoryLock prepare_output_directory(const std::filesystem::path& dir, const std::string& what,
-                                                           const std::vector<std::string>& files = {});
+                                                           const std::vector<std::string>& files = {},
+                                                           const std::string& manifest = "", bool force = false);
+
+/// Why the files of `files` already in `dir` are not tvid's: "" when there is none of them,
+/// or when `manifest` there is a JSON object with "tool": "tvid"; else what is there (the
+/// first of them, or a manifest another program wrote).
+std::string foreign_output(const std::filesystem::path& dir, const std::vector<std::string>& files,
+                           const std::string& manifest);
 
 /// check_output_target for each of `files` in `dir`.
 void check_output_files(const std::filesystem::path& dir, const std::vector<std::string>& files);

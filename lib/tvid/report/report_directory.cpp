@@ -11,18 +11,16 @@ namespace tvid {
 namespace {
 
 // Why the files already in `dir` are not a tvid report of `experiment`; "" when they are
-// (or when there is none).
+// (or when there is none): any of the report's files without a summary.json of tvid's
+// beside it (foreign_output), or the report of another experiment.
 std::string foreign_report(const std::filesystem::path& dir, const std::string& experiment) {
     namespace fs = std::filesystem;
+    if (std::string why = foreign_output(dir, fit_report_files(), "summary.json"); !why.empty()) return why;
     std::error_code ec;
-    const bool summary = fs::exists(dir / "summary.json", ec), params = fs::exists(dir / "params.json", ec);
-    if (!summary && !params) return "";
-    if (!summary) return "already holds params.json without a summary.json of tvid's";
+    if (!fs::exists(dir / "summary.json", ec)) return "";
     std::ifstream in(dir / "summary.json");
     const nlohmann::json manifest = nlohmann::json::parse(in, nullptr, false);
-    if (manifest.is_discarded() || !manifest.is_object() || manifest.value("tool", "") != "tvid")
-        return "already holds a summary.json that tvid did not write";
-    const std::string theirs = manifest.value("experiment", "");
+    const std::string theirs = manifest.is_object() ? manifest.value("experiment", "") : "";
     if (theirs != experiment) return "already holds the fit report of experiment '" + theirs + "'";
     return "";
 }
