@@ -1,14 +1,48 @@
-// `tvid models`: the preset networks with their parameters, inputs and outputs.
+// `tvid models`: the preset networks with their parameters, inputs and outputs, and the
+// element kinds a custom network is built from, with their keys and fields.
 
 #include <cstdio>
 #include <iostream>
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
+#include "tvid/model/element_catalogue.hpp"
 #include "tvid/model/presets.hpp"
 #include "tvid/io/json_text.hpp"
 
 namespace tvid::cli {
+
+namespace {
+
+nlohmann::json element_kinds_json() {
+    nlohmann::json kinds = nlohmann::json::array();
+    for (const ElementKindDoc& k : element_kind_catalogue()) {
+        nlohmann::json fields = nlohmann::json::array();
+        for (const ElementFieldDoc& f : k.fields)
+            fields.push_back({{"key", f.key}, {"unit", f.unit}, {"sign", f.sign}, {"meaning", f.role}});
+        kinds.push_back({{"type", k.type}, {"summary", k.summary}, {"keys", k.keys}, {"fields", fields},
+                         {"composite", k.composite}});
+    }
+    return kinds;
+}
+
+void print_element_kinds() {
+    std::cout << "element kinds of a custom network, model: { nodes: [...], elements: [...] } "
+                 "(docs/model-library.md):\n";
+    for (const ElementKindDoc& k : element_kind_catalogue()) {
+        std::cout << "\n" << k.type << "\n  " << k.summary << "\n  keys: ";
+        for (std::size_t i = 0; i < k.keys.size(); ++i) std::cout << (i ? ", " : "") << k.keys[i];
+        std::cout << '\n';
+        for (const ElementFieldDoc& f : k.fields) {
+            char line[256];
+            std::snprintf(line, sizeof line, "    %-14s %-14s %-5s %s\n", f.key.c_str(), f.unit.c_str(), f.sign.c_str(),
+                          f.role.c_str());
+            std::cout << line;
+        }
+    }
+}
+
+}  // namespace
 
 int run_models_command(bool json) {
     if (json) {
@@ -22,7 +56,7 @@ int run_models_command(bool json) {
                            {"parameters", params}, {"inputs", p.inputs}, {"outputs", p.outputs},
                            {"constants", p.constants}});
         }
-        std::cout << json_text(out) << std::endl;
+        std::cout << json_text({{"presets", out}, {"element_kinds", element_kinds_json()}}) << std::endl;
         return kExitDone;
     }
     for (const PresetInfo& p : preset_catalogue()) {
@@ -45,7 +79,7 @@ int run_models_command(bool json) {
         }
         std::cout << '\n';
     }
-    std::cout << "custom networks: model: { nodes: [...], elements: [...] } (see docs/model-library.md)\n";
+    print_element_kinds();
     return kExitDone;
 }
 

@@ -204,7 +204,11 @@ TEST_CASE("tvid fit --json prints the summary on stdout", "[e2e][fit]") {
     CHECK(s["parameters"][0]["name"] == "rho1");
     CHECK(s["parameters"][0]["value"].is_number());
     CHECK(s["verdict"]["summary"].is_string());
-    CHECK(s == read_json(tmp.path() / "r" / "summary.json"));
+    // The file's content, and where the report went.
+    CHECK(s["report"] == (tmp.path() / "r").string());
+    json without_path = s;
+    without_path.erase("report");
+    CHECK(without_path == read_json(tmp.path() / "r" / "summary.json"));
 }
 
 TEST_CASE("the report directory comes from report.dir relative to the experiment file", "[e2e][fit]") {
@@ -292,7 +296,7 @@ TEST_CASE("a start whose simulation diverges names the node, the time and what t
     CHECK(r.err.find("node hub's speed") != std::string::npos);  // the terminal says it too
 }
 
-TEST_CASE("tvid models lists the preset with its parameters, inputs and outputs", "[e2e][models]") {
+TEST_CASE("tvid models lists the presets and the element kinds with their fields", "[e2e][models]") {
     const RunResult r = run_tvid({"models"});
     REQUIRE(r.exit_code == 0);
     CHECK(r.out.find("cvt_clearance") != std::string::npos);
@@ -300,11 +304,29 @@ TEST_CASE("tvid models lists the preset with its parameters, inputs and outputs"
         CHECK(r.out.find(p) != std::string::npos);
     const RunResult j = run_tvid({"models", "--json"});
     REQUIRE(j.exit_code == 0);
-    const json m = json::parse(j.out);
+    const json all = json::parse(j.out);
+    const json& m = all["presets"];
     CHECK(m[0]["preset"] == "cvt_clearance");
     CHECK(m[0]["parameters"].size() == 9);
     CHECK(m[0]["inputs"] == json::array({"Ttm"}));
     CHECK(m[0]["outputs"] == json::array({"Tds"}));
+    // Every element kind with its fields, as its own file declares them.
+    std::map<std::string, json> kinds;
+    for (const json& k : all["element_kinds"]) kinds[k["type"].get<std::string>()] = k;
+    for (const char* type : {"spring_damper", "clearance", "friction", "gear_mesh", "torque", "cylinder", "order_torque",
+                             "speed_source", "speed_controller"}) {
+        INFO(type);
+        REQUIRE(kinds.count(type) == 1);
+        CHECK_FALSE(kinds[type]["summary"].get<std::string>().empty());
+    }
+    const json& sd = kinds["spring_damper"];
+    CHECK(sd["keys"] == json::array({"between", "k", "c"}));
+    REQUIRE(sd["fields"].size() == 2);
+    CHECK(sd["fields"][0]["key"] == "k");
+    CHECK(sd["fields"][0]["unit"] == "N m/rad");
+    CHECK(kinds["speed_controller"]["composite"] == true);
+    CHECK(r.out.find("element kinds of a custom network") != std::string::npos);
+    CHECK(r.out.find("N m s/rad") != std::string::npos);
 }
 
 TEST_CASE("command-line misuse exits 2", "[e2e]") {

@@ -38,6 +38,7 @@ template <class K>
 concept DescribedElementKind = requires(ElementSource& src, const std::string& name, const typename K::Spec& spec,
                                         typename K::Spec& lin, const LinearisationPoint& at) {
     { K::type_name } -> std::convertible_to<const char*>;
+    { K::summary } -> std::convertible_to<const char*>;  ///< one line for `tvid models`
     { K::keys[0] } -> std::convertible_to<const char*>;
     { K::read(src, name) } -> std::same_as<typename K::Spec>;
     { K::channel } -> std::convertible_to<ChannelUse>;
@@ -52,7 +53,7 @@ concept DescribedElementKind = requires(ElementSource& src, const std::string& n
 
 #define TVID_ELEMENT_KIND_CHECK(kind, Type, list)                                                             \
     static_assert(DescribedElementKind<elements::Type>,                                                       \
-                  "elements/" #kind ".hpp leaves out a rule: type_name, keys, read, channel, channel_of, "    \
+                  "elements/" #kind ".hpp leaves out a rule: type_name, summary, keys, read, channel, channel_of, "    \
                   "outputs, linearise or acts_at_rest");                                                      \
     static_assert(std::string_view(#kind) == elements::Type::type_name, #kind ": its row and its type_name differ");
 TVID_ELEMENT_KINDS(TVID_ELEMENT_KIND_CHECK)

@@ -74,6 +74,7 @@ struct Clearance {
     // ---- the experiment file: `{ type: clearance, between: [a, b], k_minus, k_plus, c_minus, c_plus, mu, sigma }`
     // (k and c stand for both signs' stiffness and damping; without sigma the non-smooth law)
     static constexpr const char* type_name = "clearance";
+    static constexpr const char* summary = "a spring and damper through a smoothed clearance (backlash) between two nodes or a node and ground (Yoshida & Takamatsu eqs. 7-11)";
     static constexpr const char* keys[] = {"between", "k", "c", "k_minus", "k_plus", "c_minus", "c_plus", "mu", "sigma"};
 
     static Spec read(ElementSource& src, const std::string& name) {

@@ -47,6 +47,7 @@ struct Cylinder {
     // ---- the experiment file: `{ type: cylinder, node: THROW, pressure: CHANNEL, phase_deg: DEG, bore: B,
     // crank_radius: R, rod_length: L, mass: M, p_atm: P }`
     static constexpr const char* type_name = "cylinder";
+    static constexpr const char* summary = "a piston engine cylinder on a crank throw: gas pressure by crank angle and the reciprocating mass (methodology paper eqs. 2, 4)";
     static constexpr const char* keys[] = {"node", "pressure", "phase_deg", "bore", "crank_radius",
                                            "rod_length", "mass", "p_atm"};
 

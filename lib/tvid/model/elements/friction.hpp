@@ -29,6 +29,7 @@ struct Friction {
 
     // ---- the experiment file: `{ type: friction, node: NODE, c: C }`
     static constexpr const char* type_name = "friction";
+    static constexpr const char* summary = "viscous friction of a node to ground: T = -c*omega";
     static constexpr const char* keys[] = {"node", "c"};
 
     static Spec read(ElementSource& src, const std::string& name) {

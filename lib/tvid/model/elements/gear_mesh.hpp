@@ -38,6 +38,7 @@ struct GearMesh {
     // ---- the experiment file: `{ type: gear_mesh, between: [a, b], ratio: N, k: K, c: C }`, with backlash
     // `mu` and the clearance law's keys (k and c stand for both signs')
     static constexpr const char* type_name = "gear_mesh";
+    static constexpr const char* summary = "a gear mesh between two nodes with a ratio, stiff and damped or with backlash";
     static constexpr const char* keys[] = {"between", "ratio",   "k",  "c",    "k_minus", "k_plus",
                                            "c_minus", "c_plus", "mu", "sigma"};
 

@@ -38,6 +38,7 @@ struct OrderTorque {
 
     // ---- the experiment file: `{ type: order_torque, node: NODE, order: K, amplitude: A, phase: PHI }`
     static constexpr const char* type_name = "order_torque";
+    static constexpr const char* summary = "a torque synchronous with a node's rotation: one order of a per-revolution disturbance";
     static constexpr const char* keys[] = {"node", "order", "amplitude", "phase"};
 
     static Spec read(ElementSource& src, const std::string& name) {

@@ -17,6 +17,7 @@ namespace tvid::elements {
 struct SpeedController {
     // ---- the experiment file: `{ type: speed_controller, node: NODE, setpoint: CHANNEL | RAD_PER_S, kp: KP, ki: KI }`
     static constexpr const char* type_name = "speed_controller";
+    static constexpr const char* summary = "a PI speed controller on a node: T = kp*(w_set - w) + ki*integral(w_set - w)";
     static constexpr const char* keys[] = {"node", "setpoint", "kp", "ki"};
 
     static void build(ElementSource& src, const std::string& name, NetworkSpec& net) {

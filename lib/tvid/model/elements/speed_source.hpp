@@ -40,6 +40,7 @@ struct SpeedSource {
     // ---- the experiment file: `{ type: speed_source, node: NODE, input: CHANNEL, scale: S }` or
     // `{ type: speed_source, node: NODE, speed: RAD_PER_S }`
     static constexpr const char* type_name = "speed_source";
+    static constexpr const char* summary = "a node held at a measured or constant speed, whatever torque that takes";
     static constexpr const char* keys[] = {"node", "input", "speed", "scale"};
 
     static Spec read(ElementSource& src, const std::string& name) {

@@ -30,6 +30,7 @@ struct SpringDamper {
 
     // ---- the experiment file: `{ type: spring_damper, between: [a, b], k: K, c: C }`
     static constexpr const char* type_name = "spring_damper";
+    static constexpr const char* summary = "a linear spring and viscous damper between two nodes, or a node and ground";
     static constexpr const char* keys[] = {"between", "k", "c"};
 
     static Spec read(ElementSource& src, const std::string& name) {

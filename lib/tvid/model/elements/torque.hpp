@@ -32,6 +32,7 @@ struct Torque {
 
     // ---- the experiment file: `{ type: torque, node: NODE, input: CHANNEL, offset: O, scale: S }`
     static constexpr const char* type_name = "torque";
+    static constexpr const char* summary = "an external torque on a node from a measured input channel";
     static constexpr const char* keys[] = {"node", "input", "offset", "scale"};
 
     static Spec read(ElementSource& src, const std::string& name) {
