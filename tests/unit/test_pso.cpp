@@ -147,3 +147,28 @@ TEST_CASE("a progress callback can stop the swarm", "[pso]") {
     CHECK(r.termination_type == TerminationType::stopped);
     CHECK(r.iterations == 4);
 }
+
+TEST_CASE("the swarm says how settled it is at its end: spread of the personal bests and recent improvement", "[pso]") {
+    PsoSettings s;
+    s.start = PsoStart::latin_hypercube;
+    s.particles = 30;
+    Bowl bowl;
+    s.iterations = 300;  // long enough to gather every particle at the minimum
+    const PsoSummary settled = run_pso(s, box3(), bowl);
+    REQUIRE(settled.convergence.spread.size() == 3);
+    CHECK(settled.convergence.window == 30);  // a tenth of the iterations
+    CHECK(settled.convergence.max_spread < 0.01);
+    CHECK(settled.convergence.recent_improvement >= 0.0);
+    // The improvement is the global best's relative fall over the window, from the history.
+    const double now = settled.history.back().best_cost, before = settled.history[300 - 30].best_cost;
+    CHECK(settled.convergence.recent_improvement == Approx((before - now) / now));
+    s.iterations = 12;  // stopped early: the personal bests still span much of the box
+    Bowl again;
+    const PsoSummary early = run_pso(s, box3(), again);
+    CHECK(early.convergence.window == 10);
+    CHECK(early.convergence.max_spread > 0.05);  // the verdict's still-spread threshold
+    CHECK(early.convergence.recent_improvement > 0.01);
+    double widest = 0;
+    for (double v : early.convergence.spread) widest = std::max(widest, v);
+    CHECK(widest == early.convergence.max_spread);
+}

@@ -72,6 +72,9 @@ struct OptimizerRun {
     /// 0 when every start failed). Empty for the others.
     std::vector<StartResult> starts;
     int best_start = 0;
+    /// An optimizer that runs the swarm: how settled the swarm was when it stopped (the
+    /// verdict warns when it was still spread or still improving). Empty for the others.
+    std::optional<PsoConvergence> swarm;
     /// The optimizer's own record, of the types its row chooses: its settings as run (seed
     /// resolved) and its own summary (PsoSummary, LmSummary, NloptSummary, HybridSummary,
     /// MultistartSummary, …). Read them with FitResult::summary_of / settings_of.

@@ -123,6 +123,34 @@ void judge_run(const FitResult& fit, Verdict& v) {
                "narrow range to where the model simulates, or a stiffer-safe integrator (rosenbrock4)"});
 }
 
+// A swarm that stopped still improving or still spread: its best is not yet an optimum.
+// After pso alone a warning; where least squares polished the swarm's best (pso+lm) a note,
+// since the polish goes on from there.
+void judge_swarm(const IdentificationProblem& problem, const FitResult& fit, Verdict& v) {
+    if (!fit.run.swarm || fit.interrupted) return;
+    const PsoConvergence& c = *fit.run.swarm;
+    const bool improving = c.recent_improvement > kSwarmStillImproving;
+    const bool spread = c.max_spread > kSwarmStillSpread;
+    if (!improving && !spread) return;
+    std::string widest;
+    for (std::size_t j = 0; j < c.spread.size() && j < problem.dimension(); ++j)
+        if (c.spread[j] == c.max_spread) widest = problem.free_names()[j];
+    std::string what;
+    if (improving)
+        what = "its best cost still fell " + pct(c.recent_improvement) + " over its last " + std::to_string(c.window) +
+               " iterations";
+    if (spread)
+        what += (what.empty() ? "" : ", and ") + std::string("its particles' best points still span ") +
+                pct(c.max_spread) + " of the box in " + widest;
+    const bool polished = optimizer_traits(problem.experiment().estimation_settings.optimizer).least_squares;
+    v.add({"swarm_not_converged", polished ? Severity::info : Severity::warning, "",
+           "the swarm stopped before it converged: " + what +
+               (polished ? "; the least-squares polish went on from its best" : ": its best need not be the optimum"),
+           polished ? "if the polish ended far from the swarm's best, give the swarm more iterations (estimation.pso.iterations)"
+                    : "run pso+lm (least squares from the swarm's best) or multistart, or more iterations "
+                      "(estimation.pso.iterations); scale: log for parameters whose box spans decades"});
+}
+
 void judge_windows(const Experiment& ex, const Evaluation& ev, Verdict& v) {
     const std::string failed = first_failed_window(ev);
     if (!failed.empty())
@@ -315,6 +343,7 @@ void judge_fit(const IdentificationProblem& problem, FitResult& fit) {
     const std::size_t outputs = ex.outputs.size();
     Verdict v;
     judge_run(fit, v);
+    if (fit.success) judge_swarm(problem, fit, v);
     if (fit.success) {
         fit.whiteness_estimation = split_whiteness(fit.evaluation.estimation, outputs);
         fit.whiteness_validation = split_whiteness(fit.evaluation.validation, outputs);

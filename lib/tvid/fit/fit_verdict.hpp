@@ -38,6 +38,12 @@ constexpr double kWideBoxDecades = 2.0;
 /// a systematic residual.
 constexpr double kPoorWindowPoints = 30.0;
 
+/// The swarm has not converged when, at its end, its global best still fell by more than
+/// this relative amount over its last iterations (PsoConvergence::window), or the particles'
+/// personal bests still span more than this share of the box in some parameter.
+constexpr double kSwarmStillImproving = 1e-3;
+constexpr double kSwarmStillSpread = 0.05;
+
 /// A delay parameter within this many samples of half way between two samples, whose cost
 /// one sample on comes within this fraction of its rise to the nearest whole sample, is
 /// judged to buy the interpolation's smoothing (delay_smoothing).

@@ -75,6 +75,39 @@ std::vector<double> pso_initial_positions(const PsoSettings& options, const Sear
     return pos;
 }
 
+namespace {
+
+// The swarm's settledness at its last iteration (PsoConvergence).
+PsoConvergence swarm_convergence(const std::vector<double>& personal, const std::vector<double>& personal_cost,
+                                 std::size_t n, std::size_t m, const SearchBox& box,
+                                 const std::vector<HistoryRow>& history) {
+    PsoConvergence c;
+    c.spread.assign(m, 0.0);
+    for (std::size_t j = 0; j < m; ++j) {
+        double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+        for (std::size_t i = 0; i < n; ++i) {
+            if (!std::isfinite(personal_cost[i])) continue;
+            lo = std::min(lo, personal[i * m + j]);
+            hi = std::max(hi, personal[i * m + j]);
+        }
+        const double width = box.upper[j] - box.lower[j];
+        c.spread[j] = hi >= lo && width > 0 && std::isfinite(width) ? (hi - lo) / width : 0.0;
+        c.max_spread = std::max(c.max_spread, c.spread[j]);
+    }
+    const int iterations = history.empty() ? 0 : history.back().iteration;
+    c.window = std::min(iterations, std::max(10, iterations / 10));
+    if (c.window > 0) {
+        const double now = history.back().best_cost;
+        const double before = history[history.size() - 1 - static_cast<std::size_t>(c.window)].best_cost;
+        c.recent_improvement = std::isfinite(now) && std::isfinite(before) && now != 0.0
+                                   ? (before - now) / std::abs(now)
+                                   : (std::isfinite(now) && !std::isfinite(before) ? 1.0 : 0.0);
+    }
+    return c;
+}
+
+}  // namespace
+
 PsoSummary run_pso(const PsoSettings& options, const SearchBox& box, CandidateEvaluator& evaluator,
                    const PsoProgress& progress) {
     const std::size_t m = box.lower.size();
@@ -176,6 +209,7 @@ PsoSummary run_pso(const PsoSettings& options, const SearchBox& box, CandidateEv
     }
     s.best = global;
     s.best_cost = global_cost;
+    s.convergence = swarm_convergence(personal, personal_cost, n, m, box, s.history);
     if (!std::isfinite(global_cost) && s.termination_type != TerminationType::stopped) {
         s.termination_type = TerminationType::all_failed;
         s.termination = "all candidates failed";

@@ -31,6 +31,21 @@ struct HistoryRow {
     double best_cost = 0.0;
 };
 
+/// How settled the swarm is when it stops. A swarm still spread over its box or still
+/// improving has not converged: its best is not yet the optimum of the basin it is in, and
+/// may not be in the optimum's basin at all.
+struct PsoConvergence {
+    /// Per searched parameter: the spread (max − min) of the particles' personal bests, over
+    /// the box's width (in the searched scale: ln p for `scale: log`). 0: every particle
+    /// remembers the same point.
+    std::vector<double> spread;
+    double max_spread = 0.0;          ///< the largest of them
+    /// The global best's relative fall over the last `window` iterations,
+    /// (J(k − window) − J(k)) / |J(k)|: 0 when it has stopped improving.
+    double recent_improvement = 0.0;
+    int window = 0;                   ///< max(10, iterations/10), at most the iterations run
+};
+
 struct PsoSummary {
     std::vector<double> best;        ///< global best position G
     double best_cost = 0.0;
@@ -48,6 +63,7 @@ struct PsoSummary {
     /// was stopped mid-batch: that iteration is dropped), "all candidates failed"
     std::string termination;
     TerminationType termination_type = TerminationType::iteration_limit;
+    PsoConvergence convergence;      ///< at the last iteration
 };
 
 /// Called after every iteration; return false to stop the swarm (e.g. on Ctrl-C).

@@ -43,6 +43,7 @@ OptimizerRun run_least_squares(const IdentificationProblem& problem, const FitOp
                      .jacobian_at_best = std::move(lm.jacobian_at_best),
                      .starts = {},
                      .best_start = 0,
+                     .swarm = {},
                      .settings = settings,
                      .summary = std::move(lm)};
     return run;

@@ -51,6 +51,7 @@ OptimizerRun run_multistart_fit(const IdentificationProblem& problem, const FitO
                      .jacobian_at_best = {},
                      .starts = m.starts,
                      .best_start = m.best_start,
+                     .swarm = {},
                      .settings = settings,
                      .summary = std::move(m)};
     return run;

@@ -38,6 +38,7 @@ OptimizerRun run_nlopt_fit(const IdentificationProblem& problem, const FitOption
                      .jacobian_at_best = {},
                      .starts = {},
                      .best_start = 0,
+                     .swarm = {},
                      .settings = settings,
                      .summary = std::move(nlopt)};
     return run;

@@ -47,6 +47,7 @@ OptimizerRun run_hybrid_fit(const IdentificationProblem& problem, const FitOptio
                      .jacobian_at_best = h.lm.best == h.best ? std::move(h.lm.jacobian_at_best) : Eigen::MatrixXd(),
                      .starts = {},
                      .best_start = 0,
+                     .swarm = h.pso.convergence,
                      .settings = settings,
                      .summary = std::move(h)};
     return run;
@@ -62,6 +63,7 @@ nlohmann::json hybrid_details(const Experiment& ex, const FitResult& fit) {
     swarm["evaluations"] = h.pso.evaluations;
     swarm["cost"] = number(h.pso.best_cost);
     swarm["termination"] = h.pso.termination;
+    swarm["convergence"] = optimizer_report::swarm_convergence(ex, h.pso.convergence);
     nlohmann::json polish = optimizer_report::lm_settings(ex, settings.lm);
     polish["ran"] = !h.lm.history.empty();
     polish["initial_cost"] = number(h.lm.initial_cost);

@@ -38,13 +38,17 @@ OptimizerRun run_swarm(const IdentificationProblem& problem, const FitOptions& o
                      .jacobian_at_best = {},
                      .starts = {},
                      .best_start = 0,
+                     .swarm = swarm.convergence,
                      .settings = settings,
                      .summary = std::move(swarm)};
     return run;
 }
 
-nlohmann::json swarm_details(const Experiment&, const FitResult& fit) {
-    return optimizer_report::swarm_settings(*fit.settings_of<PsoSettings>(), *fit.summary_of<PsoSummary>());
+nlohmann::json swarm_details(const Experiment& ex, const FitResult& fit) {
+    const PsoSummary& swarm = *fit.summary_of<PsoSummary>();
+    nlohmann::json j = optimizer_report::swarm_settings(*fit.settings_of<PsoSettings>(), swarm);
+    j["convergence"] = optimizer_report::swarm_convergence(ex, swarm.convergence);
+    return j;
 }
 
 int swarm_iterations(const EstimationSettings& settings) { return settings.pso.iterations; }

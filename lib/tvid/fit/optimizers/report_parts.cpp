@@ -26,6 +26,17 @@ json swarm_settings(const PsoSettings& ps, const PsoSummary& swarm) {
     return json{{"particles", swarm.particles}, {"seed", ps.seed}, {"w", ps.w}, {"c1", ps.c1}, {"c2", ps.c2}};
 }
 
+json swarm_convergence(const Experiment& ex, const PsoConvergence& c) {
+    json spread = json::object();
+    std::size_t j = 0;
+    for (const ParameterSetting& p : ex.parameters)
+        if (!p.fixed && j < c.spread.size()) spread[p.name] = number(c.spread[j++]);
+    return json{{"spread", spread},
+                {"max_spread", number(c.max_spread)},
+                {"recent_improvement", number(c.recent_improvement)},
+                {"window", c.window}};
+}
+
 const char* jacobian_name(const Experiment& ex) {
     return ex.estimation_settings.jacobian == JacobianKind::fd ? "fd" : "sensitivity";
 }

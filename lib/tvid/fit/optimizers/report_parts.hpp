@@ -24,6 +24,10 @@ std::string first_failure(const IdentificationProblem& problem, const PsoSummary
 /// The swarm's settings as run: particles, seed, w, c1, c2.
 nlohmann::json swarm_settings(const PsoSettings& settings, const PsoSummary& swarm);
 
+/// How settled the swarm was when it stopped: `spread` {parameter: spread of the personal
+/// bests over the box width}, `max_spread`, `recent_improvement`, `window` (PsoConvergence).
+nlohmann::json swarm_convergence(const Experiment& experiment, const PsoConvergence& convergence);
+
 /// The experiment's Jacobian kind as the report names it: "sensitivity" or "fd".
 const char* jacobian_name(const Experiment& experiment);
 
