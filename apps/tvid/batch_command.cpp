@@ -11,6 +11,7 @@
 #include <optional>
 
 #include "commands.hpp"
+#include "terminal.hpp"
 #include "tvid/report/report_directory.hpp"
 #include "tvid/experiment/overrides.hpp"
 #include "tvid/batch/batch_identity.hpp"
@@ -367,7 +368,7 @@ int run_batch_command(const BatchCommand& cmd) {
     write_output_file(dir, prepared->summary_file.filename().string(), json_text(json) + "\n");
 
     if (cmd.common.json) {
-        std::cout << json_text(json) << std::endl;
+        std::cout << json_with_report(json, dir) << std::endl;
     } else if (!cmd.common.quiet) {
         std::cout << batch_summary_text(summary, prepared->name, dir);
         if (cross) std::cout << cross_summary_text(json["cross"], dir);

@@ -58,6 +58,7 @@ struct SensitivityCommand {
     CommonOptions common;
     std::string params_file;            ///< --params P.json (empty: the experiment's init values)
     std::string output_dir;             ///< -o DIR (default: the report directory + /sensitivity)
+    bool force = false;                 ///< --force: replace files there that tvid did not write
     bool validation = false;            ///< --validation: the validation windows too
 };
 
@@ -68,6 +69,7 @@ struct ProfileCommand {
     std::optional<double> from, to;     ///< --from, --to: the grid's ends
     std::string params_file;            ///< --params P.json: where the fit to the optimum starts
     std::string output_dir;             ///< -o DIR (default: the report directory + /profile-NAME)
+    bool force = false;                 ///< --force: replace files there that tvid did not write
 };
 int run_profile_command(const ProfileCommand& cmd);
 
@@ -113,6 +115,7 @@ struct ModesCommand {
     CommonOptions common;
     std::string params_file;            ///< --params P.json (empty: the experiment's init values)
     std::string output_dir;             ///< -o DIR (default: the report directory + /modes)
+    bool force = false;                 ///< --force: replace files there that tvid did not write
     int window = 0;                     ///< --window N: the estimation window whose start is the operating point
     std::string angle_dependence = "revolution_mean";  ///< --angles revolution_mean|operating_point
 };
@@ -122,6 +125,8 @@ struct FrfCommand {
     ModesCommand modes;                 ///< the same options; -o default: the report directory + /frf
     std::string input;                  ///< --input NAME: a model input (or its CSV column)
     std::string output;                 ///< --output NAME: a measured output (or its CSV column)
+    std::size_t segment = 0;            ///< --segment N: Welch's segment in samples (0: the default rule)
+    double resolution_hz = 0.0;         ///< --resolution HZ: the frequency resolution asked (0: the default rule)
 };
 int run_frf_command(const FrfCommand& cmd);
 

@@ -82,7 +82,7 @@ int run_fit_command(const FitCommand& cmd) {
     const RunContext context{TVID_VERSION, cmd.common.command_line};
     write_fit_report(dir, problem, fit, context);
     if (cmd.common.json) {
-        std::cout << json_text(fit_summary_json(problem, fit, context)) << std::endl;
+        std::cout << json_with_report(fit_summary_json(problem, fit, context), dir) << std::endl;
     } else if (!cmd.common.quiet) {
         std::cout << fit_summary_text(problem, fit, dir.string()) << std::flush;
     }

@@ -141,6 +141,7 @@ int main(int argc, char** argv) {
     sens_cmd->add_option("-o,--output-dir,--output", sensitivity.output_dir,
                          "output directory (default: report.dir or results/NAME, then /sensitivity)")
         ->check(kNonEmptyPath);
+    sens_cmd->add_flag("--force", sensitivity.force, "replace files in the output directory that tvid did not write");
     sens_cmd->add_flag("--validation", sensitivity.validation, "include the validation windows");
 
     ProfileCommand profile;
@@ -155,6 +156,7 @@ int main(int argc, char** argv) {
     profile_cmd->add_option("-o,--output-dir,--output", profile.output_dir,
                             "output directory (default: report.dir or results/NAME, then /profile-PARAM)")
         ->check(kNonEmptyPath);
+    profile_cmd->add_flag("--force", profile.force, "replace files in the output directory that tvid did not write");
 
     CheckCommand check;
     auto* check_cmd = app.add_subcommand("check", "compare a fit report with a reference of expected values (CI)");
@@ -194,6 +196,7 @@ int main(int argc, char** argv) {
                         std::string("output directory (default: report.dir or results/NAME, then /") +
                             (sub == modes_cmd ? "modes)" : "frf)"))
             ->check(kNonEmptyPath);
+        sub->add_flag("--force", o->force, "replace files in the output directory that tvid did not write");
         sub->add_option("--window", o->window, "the estimation window (0, 1, ...) whose start is the operating point");
         sub->add_option("--angles", o->angle_dependence,
                         "angle-dependent elements (cylinders, order torques): revolution_mean (default) or operating_point")
@@ -201,6 +204,13 @@ int main(int argc, char** argv) {
     }
     frf_cmd->add_option("--input", frf.input, "the model input (or its CSV column)")->required();
     frf_cmd->add_option("--output", frf.output, "the measured output (or its CSV column)")->required();
+    auto* segment_option = frf_cmd->add_option("--segment", frf.segment,
+                                               "Welch's segment in samples (default: from the window lengths)")
+                               ->check(CLI::Range(std::size_t{8}, std::size_t{1} << 30));
+    frf_cmd->add_option("--resolution", frf.resolution_hz,
+                        "the frequency resolution in Hz: the segment is fs/HZ samples, rounded up")
+        ->check(CLI::PositiveNumber)
+        ->excludes(segment_option);
 
     bool models_json = false;
     auto* models_cmd = app.add_subcommand("models", "list the preset models with their parameters, inputs, outputs");

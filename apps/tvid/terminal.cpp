@@ -1,5 +1,7 @@
 #include "terminal.hpp"
 
+#include "tvid/io/json_text.hpp"
+
 #include "tvid/analysis/identifiability.hpp"
 #include "tvid/fit/optimizer_table.hpp"
 #include "tvid/report/spectra_report.hpp"
@@ -12,6 +14,12 @@
 #include <sstream>
 
 namespace tvid::cli {
+
+std::string json_with_report(nlohmann::json document, const std::filesystem::path& report_dir) {
+    document["report"] = report_dir.string();
+    return json_text(document);
+}
+
 
 bool is_terminal(int fd) { return ::isatty(fd) == 1; }
 
@@ -32,7 +40,7 @@ std::string duration_text(double seconds) {
 std::string progress_text(const HistoryRow& row, int planned, bool at_most, double elapsed) {
     const double rate = elapsed > 0 ? static_cast<double>(row.evaluations) / elapsed : 0.0;
     char line[256];
-    int n = std::snprintf(line, sizeof line, "iteration %d/%d  best cost %.6g  %.0f sim/s  %s elapsed", row.iteration,
+    int n = std::snprintf(line, sizeof line, "iteration %d/%d  best cost %.6g  %.0f eval/s  %s elapsed", row.iteration,
                           planned, row.best_cost, rate, duration_text(elapsed).c_str());
     // The remaining time from the mean time per iteration so far.
     if (row.iteration > 0 && planned > row.iteration && n > 0 && static_cast<std::size_t>(n) < sizeof line) {
@@ -121,13 +129,13 @@ std::string fit_summary_text(const IdentificationProblem& problem, const FitResu
     const std::string method = optimizer && optimizer->headline ? optimizer->headline(fit)
                                                                 : fit.run.name + " (" + fit.run.termination + ")";
     std::snprintf(line, sizeof line,
-                  "tvid fit %s: %s, %d iterations, %lld simulations (%lld failed), %.2f s on %d thread%s%s\n",
+                  "tvid fit %s: %s, %d iterations, %lld evaluations (%lld failed), %.2f s on %d thread%s%s\n",
                   ex.name.c_str(), method.c_str(), fit.run.iterations, fit.run.evaluations, fit.run.failed_evaluations,
                   fit.wall_seconds, fit.threads, fit.threads == 1 ? "" : "s",
                   fit.processes > 1 ? (" × " + std::to_string(fit.processes) + " processes").c_str() : "");
     out << line;
     if (!fit.run.first_failure.empty())
-        out << "  " << fit.run.failed_evaluations << " simulation" << (fit.run.failed_evaluations == 1 ? "" : "s")
+        out << "  " << fit.run.failed_evaluations << " evaluation" << (fit.run.failed_evaluations == 1 ? "" : "s")
             << " failed; the first: " << fit.run.first_failure << "\n";
     if (fit.interrupted && fit.success)
         out << "  interrupted: the report holds the best parameters after iteration " << fit.run.iterations

@@ -2,12 +2,19 @@
 // Terminal output: a live progress line for a person watching a terminal, and the summary.
 
 #include <chrono>
+#include <filesystem>
 #include <string>
+
+#include <nlohmann/json.hpp>
 
 #include "tvid/fit/fit_run.hpp"
 #include "tvid/report/sensitivity_report.hpp"
 
 namespace tvid::cli {
+
+/// What `--json` prints: the command's document with the directory its report was written
+/// to under "report", so that a script finds the files without rebuilding the path.
+std::string json_with_report(nlohmann::json document, const std::filesystem::path& report_dir);
 
 /// True when stream (1 = stdout, 2 = stderr) is a terminal.
 bool is_terminal(int fd);

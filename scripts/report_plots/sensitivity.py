@@ -130,7 +130,10 @@ def draw_series(info, free, raw, values, out_units, par_units, cycle, out_dir, d
                 common.mark_cycles(ax, [a for t, _ in series.values() for a in t], cycle, next(iter(series)))
             pu = par_units.get(p, "")
             value = value_of.get(p)
-            ax.set_title(f"{p} = {math.nan if value is None else value:.4g} {pu}".rstrip(), fontsize=9, loc="left")
+            title = f"{p} = {math.nan if value is None else value:.4g} {pu}".rstrip()
+            if raw[p]:  # said on the panel: its curve is of another quantity than the others'
+                title += f": at 0, p·∂{out}/∂p vanishes; shown unscaled, ∂{out}/∂{p}"
+            ax.set_title(title, fontsize=9, loc="left", color="tab:red" if raw[p] else "black")
             if raw[p]:
                 ax.set_ylabel(common.labelled(f"∂{out}/∂{p}", common.quotient_unit(unit, pu) if unit else ""),
                               fontsize=8)
@@ -144,8 +147,11 @@ def draw_series(info, free, raw, values, out_units, par_units, cycle, out_dir, d
             last = axes[max(i // cols for i in range(len(free)) if i % cols == c)][c]
             last.xaxis.set_tick_params(labelbottom=True)
             last.set_xlabel("crank angle [deg]" if cycle else "t [s]", fontsize=9)
+        unscaled = [p for p in free if raw[p]]
         fig.suptitle(f"{info.text('experiment', '?')}: scaled sensitivities p·∂{out}/∂p "
-                     f"(change of {out} for a 100 % change of p)", fontsize=11)
+                     f"(change of {out} for a 100 % change of p)"
+                     + (f"\n{', '.join(unscaled)} at 0: unscaled ∂{out}/∂p (red titles)" if unscaled else ""),
+                     fontsize=11)
         names.append(common.save(fig, out_dir, f"sensitivity_{out}.png", dpi))
     return names
 
@@ -192,8 +198,9 @@ def draw_ranking(info, out_units, errors, out_dir, dpi):
         ax.invert_yaxis()  # rank 1 on top
         ax.set_xscale("log")
         positive = [v for v in shown if math.isfinite(v)]
-        if positive:
-            ax.set_xlim(min(positive) / 3, max(positive) * (300 if errors else 30))  # room for the labels
+        if positive:  # the data's decades and no more: the labels stand in a column right of the axes
+            lo, hi = min(positive), max(positive)
+            ax.set_xlim(10 ** math.floor(math.log10(lo) - 0.1), 10 ** math.ceil(math.log10(hi) + 0.1))
         for yi, r, v in zip(y, rows, shown):
             rel = r["relative"]
             if math.isfinite(v):
@@ -203,7 +210,7 @@ def draw_ranking(info, out_units, errors, out_dir, dpi):
                     percent = 100 * se
                     text += "   σ/|p| undetermined" if math.isinf(se) else \
                         f"   σ/|p| {percent:.2g} %" if percent < 100 else f"   σ/|p| {percent:.0f} %"
-                ax.text(v * 1.15, yi, text, va="center", fontsize=8)
+                ax.text(1.02, yi, text, va="center", fontsize=8, transform=ax.get_yaxis_transform(), clip_on=False)
             elif r["value"] == 0:  # p·∂y/∂p vanishes at p = 0: no bar, its raw RMS instead
                 ax.text(0.01, yi, f"at {r['parameter']} = 0: RMS ∂{out}/∂{r['parameter']} = {r['rms_raw']:.3g}",
                         transform=ax.get_yaxis_transform(), va="center", fontsize=8, color="0.3")

@@ -84,8 +84,11 @@ TEST_CASE("tvid batch over recordings: a broken one is bad input, the others are
         CHECK(std::stod(t.rows[i][column(t, "evaluations")]) > 512);
     }
     CHECK(t.rows[1][0] == "run1");
-    const json s = json::parse(r.out);  // --json: batch_summary.json on stdout
-    CHECK(s == json::parse(read_text(out / "batch_summary.json")));
+    const json s = json::parse(r.out);  // --json: batch_summary.json on stdout, with where it went
+    CHECK(s["report"] == out.string());
+    json without_path = s;
+    without_path.erase("report");
+    CHECK(without_path == json::parse(read_text(out / "batch_summary.json")));
     CHECK(s["jobs"] == 3);
     CHECK(s["ok"] == 2);
     CHECK(s["bad_input"] == 1);

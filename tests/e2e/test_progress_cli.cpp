@@ -28,7 +28,7 @@ TEST_CASE("no progress text in pipes", "[e2e][progress]") {
     CHECK(r.err.empty());
     CHECK_FALSE(has(r.out, "\r"));
     CHECK_FALSE(has(r.out, "iteration 0/"));
-    CHECK_FALSE(has(r.out, "sim/s"));
+    CHECK_FALSE(has(r.out, "eval/s"));
     CHECK(has(r.out, "tvid fit cvt-tipin"));  // the summary itself is there
 }
 
@@ -38,7 +38,7 @@ TEST_CASE("on a terminal a live line shows iteration, best cost, simulations per
     INFO(r.out);
     REQUIRE(r.exit_code == 0);
     CHECK(has(r.out, "\r  iteration 0/6  best cost "));
-    CHECK(has(r.out, " sim/s "));
+    CHECK(has(r.out, " eval/s "));
     CHECK(has(r.out, " elapsed"));
     CHECK(has(r.out, "iteration 6/6"));   // the last iteration is always drawn
     CHECK(has(r.out, "\r\033[Ktvid fit cvt-tipin"));  // cleared before the summary
@@ -64,7 +64,7 @@ TEST_CASE("no progress line when stdout is piped, with --quiet or with --json", 
         args.push_back("--json");
         const RunResult r = run_tvid_on_terminal(args);
         REQUIRE(r.exit_code == 0);
-        CHECK_FALSE(has(r.out, "sim/s"));
+        CHECK_FALSE(has(r.out, "eval/s"));
         CHECK_FALSE(has(r.out, "\033[K"));
         const auto s = nlohmann::json::parse(r.out);  // the terminal's \r\n are JSON whitespace
         CHECK(s["interrupted"] == false);
