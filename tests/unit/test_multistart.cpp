@@ -137,21 +137,56 @@ struct SinusoidFailingAbove4 : SinusoidFit {
 
 TEST_CASE("multistart says how many starts failed and why the first of them did", "[multistart]") {
     const LeastSquaresFactory factory = [](int) { return std::make_unique<SinusoidFailingAbove4>(); };
-    const MultistartSummary s = run_multistart(starts(20), LmSettings{}, kBox, 2, factory);
+    MultistartSettings once = starts(20);
+    once.max_draws = 1;  // no redraw: a start at a point that cannot be simulated fails
+    const MultistartSummary s = run_multistart(once, LmSettings{}, kBox, 2, factory);
     int failed = 0, first = 0;
     for (const StartResult& r : s.starts)
         if (r.initial[1] > 4.0) {
             ++failed;
             if (first == 0) first = r.start;
             CHECK(r.termination == "start failed: frequency above 4");  // each start's own LM says why
+            CHECK(r.draws == 1);
         }
     REQUIRE(failed > 0);
     REQUIRE(failed < 20);
-    CHECK(s.termination.find("(" + std::to_string(failed) + " of 20 starts failed; start " + std::to_string(first) +
-                             ": start failed: frequency above 4)") != std::string::npos);
+    CHECK(s.termination.find("(" + std::to_string(failed) + " of 20 starts failed, each after 1 drawn point; start " +
+                             std::to_string(first) + ": start failed: frequency above 4)") != std::string::npos);
 
-    // Every start failing: the summary still says why.
+    // Every start failing at every point drawn: the summary still says why, and how many were drawn.
     const SearchBox high{{0.0, 4.5}, {10.0, 10.0}, {0.5, 4.5}, {3.0, 5.0}};
     const MultistartSummary all = run_multistart(starts(4), LmSettings{}, high, 1, factory);
-    CHECK(all.termination == "every start failed (4 of 4 starts failed; start 1: start failed: frequency above 4)");
+    CHECK(all.termination ==
+          "every start failed (4 of 4 starts failed, each after 10 drawn points; start 1: start failed: frequency above 4)");
+    for (const StartResult& r : all.starts) CHECK(r.draws == 10);
+}
+
+TEST_CASE("multistart redraws a start whose point cannot be simulated, so every start asked for runs", "[multistart]") {
+    const LeastSquaresFactory factory = [](int) { return std::make_unique<SinusoidFailingAbove4>(); };
+    const MultistartSummary s = run_multistart(starts(20), LmSettings{}, kBox, 2, factory);
+    int redrawn = 0;
+    for (const StartResult& r : s.starts) {
+        INFO("start " << r.start);
+        CHECK(std::isfinite(r.best_cost));   // every start ran
+        CHECK(r.termination_type != TerminationType::start_failed);
+        CHECK(r.initial[1] <= 4.0);          // from a point that can be simulated
+        CHECK(r.initial[1] >= kBox.range_lower[1]);
+        CHECK(r.initial[1] <= kBox.range_upper[1]);
+        CHECK(r.draws >= 1);
+        CHECK(r.draws <= 10);
+        redrawn += r.draws > 1;
+    }
+    CHECK(redrawn > 0);  // the Latin hypercube put some starts above 4
+    // The redraws come from each start's own stream: the same on one thread.
+    const MultistartSummary one = run_multistart(starts(20), LmSettings{}, kBox, 1, factory);
+    for (std::size_t i = 0; i < s.starts.size(); ++i) {
+        CHECK(one.starts[i].draws == s.starts[i].draws);
+        CHECK(one.starts[i].initial == s.starts[i].initial);
+    }
+    CHECK(one.best == s.best);
+    // A redraw is a point of the range box from (seed, start, draw) alone.
+    const auto a = multistart_redraw(starts(20), kBox, 3, 2), b = multistart_redraw(starts(20), kBox, 3, 2);
+    CHECK(a == b);
+    CHECK(multistart_redraw(starts(20), kBox, 3, 3) != a);
+    CHECK(multistart_redraw(starts(20, 6), kBox, 3, 2) != a);
 }

@@ -97,11 +97,12 @@ NloptSettings read_nlopt(const YamlMap& m) {
 }
 
 MultistartSettings read_multistart(const YamlMap& m) {
-    m.allow_only({"starts", "seed", "max_iterations"});
+    m.allow_only({"starts", "seed", "max_iterations", "max_draws"});
     MultistartSettings s;
     if (m.has("starts")) s.starts = saturated_int(m.integer("starts"));
     if (m.has("seed")) s.seed = read_seed(m);
     if (m.has("max_iterations")) s.max_iterations = saturated_int(m.integer("max_iterations"));
+    if (m.has("max_draws")) s.max_draws = saturated_int(m.integer("max_draws"));
     fail_on_problem(m, validate(s));
     return s;
 }

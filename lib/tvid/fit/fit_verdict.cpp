@@ -114,13 +114,24 @@ void judge_run(const FitResult& fit, Verdict& v) {
                    (fit.run.first_failure.empty() ? "" : "; the first: " + fit.run.first_failure),
                "narrow the search box, or a smaller simulation.step or integrator rosenbrock4 for stiff candidates"});
     }
-    int failed_starts = 0;
-    for (const StartResult& s : fit.run.starts) failed_starts += std::isfinite(s.best_cost) ? 0 : 1;
+    int failed_starts = 0, redrawn = 0, draws = 0;
+    for (const StartResult& s : fit.run.starts) {
+        failed_starts += std::isfinite(s.best_cost) ? 0 : 1;
+        redrawn += s.draws > 1 ? 1 : 0;
+        draws += s.draws;
+    }
     if (failed_starts > 0)
         v.add({"failed_starts", Severity::warning, "",
                std::to_string(failed_starts) + " of " + std::to_string(fit.run.starts.size()) +
-                   " multistart starts failed to simulate",
+                   " multistart starts failed to simulate at every point drawn for them (" + std::to_string(draws) +
+                   " points drawn in all)",
                "narrow range to where the model simulates, or a stiffer-safe integrator (rosenbrock4)"});
+    else if (redrawn > 0)
+        v.add({"redrawn_starts", Severity::info, "",
+               std::to_string(redrawn) + " of " + std::to_string(fit.run.starts.size()) +
+                   " multistart starts were drawn again because their first point could not be simulated (" +
+                   std::to_string(draws) + " points drawn for " + std::to_string(fit.run.starts.size()) + " starts)",
+               "the box reaches candidates the integrator cannot simulate: narrow range, or a smaller simulation.step"});
 }
 
 // A swarm that stopped still improving or still spread: its best is not yet an optimum.

@@ -23,7 +23,8 @@ namespace tvid {
 
 struct StartResult {
     int start = 0;                   ///< 1-based
-    std::vector<double> initial;     ///< the Latin-hypercube point
+    std::vector<double> initial;     ///< the point its LM started from: the Latin-hypercube point, or its last redraw
+    int draws = 1;                   ///< points drawn: 1 + the redraws of points that could not be simulated
     std::vector<double> best;        ///< where its LM stopped
     double initial_cost = 0.0;       ///< Σ r² at the start
     double best_cost = 0.0;          ///< Σ r² at `best` (+inf when the start failed)
@@ -65,6 +66,10 @@ using MultistartProgress = std::function<bool(const HistoryRow&)>;
 
 /// The N start points (start-major, M values each) of the range box: a Latin hypercube.
 std::vector<double> multistart_points(const MultistartSettings& settings, const SearchBox& box);
+
+/// Draw `draw` (2, 3, …) of start `start` (1-based): a point drawn uniformly in the range box
+/// from its own stream of (seed, start, draw), the same on any thread.
+std::vector<double> multistart_redraw(const MultistartSettings& settings, const SearchBox& box, int start, int draw);
 
 /// threads <= 0: all hardware threads. Throws std::invalid_argument when starts < 1.
 MultistartSummary run_multistart(const MultistartSettings& settings, const LmSettings& lm, const SearchBox& box,

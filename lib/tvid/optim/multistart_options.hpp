@@ -12,6 +12,11 @@ struct MultistartSettings {
     std::uint64_t seed = 1;    ///< seed of the Latin-hypercube sample
     /// Trial steps of each start's Levenberg–Marquardt; none: those of `lm.max_iterations`.
     std::optional<int> max_iterations;
+    /// Points drawn for one start at most. A drawn point whose simulation fails at the start
+    /// (a candidate the integrator cannot simulate) is replaced by another, drawn uniformly
+    /// in the range box from a stream of its own (the seed, the start, the draw), so that
+    /// the starts asked for are run; a start whose every draw fails is reported as failed.
+    int max_draws = 10;
 };
 
 }  // namespace tvid

@@ -1,6 +1,7 @@
 // The optimizer table's row of `multistart`: Levenberg–Marquardt from Latin-hypercube
 // starts of the range box, in parallel, the best kept; starts.csv lists every start.
 
+#include <cmath>
 #include <sstream>
 
 #include "tvid/estimation/residual_evaluator.hpp"
@@ -70,8 +71,17 @@ nlohmann::json multistart_details(const Experiment& ex, const FitResult& fit) {
                               {"iterations", s.iterations},
                               {"evaluations", s.evaluations},
                               {"termination", s.termination},
-                              {"converged", s.success}});
+                              {"converged", s.success},
+                              {"draws", s.draws}});
+    int draws = 0, run = 0;
+    for (const StartResult& s : ms.starts) {
+        draws += s.draws;
+        run += std::isfinite(s.best_cost) ? 1 : 0;
+    }
     return json{{"starts", settings.multistart.starts},
+                {"starts_run", run},
+                {"draws", draws},
+                {"max_draws", settings.multistart.max_draws},
                 {"seed", settings.multistart.seed},
                 {"best_start", ms.best_start},
                 {"parallel_starts", ms.threads},
@@ -87,21 +97,21 @@ int multistart_iterations(const EstimationSettings& settings) {
 }
 
 // starts.csv: start, the initial point, the final parameters, initial and final cost,
-// iterations, evaluations, termination, whether it is the best.
+// iterations, evaluations, termination, whether it is the best, the points drawn.
 std::string multistart_starts_csv(const IdentificationProblem& problem, const FitResult& fit) {
     using optimizer_report::csv_cell;
     std::ostringstream out;
     out << "start";
     for (const std::string& n : problem.free_names()) out << ',' << csv_field("initial_" + n);
     for (const std::string& n : problem.free_names()) out << ',' << csv_field("final_" + n);
-    out << ",initial_cost,cost,iterations,evaluations,termination,best\n";
+    out << ",initial_cost,cost,iterations,evaluations,termination,best,draws\n";
     for (const StartResult& s : fit.run.starts) {
         out << s.start;
         for (double v : s.initial) out << ',' << csv_cell(v);
         for (double v : s.best) out << ',' << csv_cell(v);
         out << ',' << csv_cell(s.initial_cost) << ',' << csv_cell(s.best_cost) << ',' << s.iterations << ','
             << s.evaluations << ',' << csv_field(s.termination) << ',' << (s.start == fit.run.best_start ? "true" : "false")
-            << '\n';
+            << ',' << s.draws << '\n';
     }
     return out.str();
 }
