@@ -46,7 +46,7 @@ parameters:
   b: { init: 0, min: -10, max: 10 }
 windows: { estimation: [ { samples: [0, 1000] } ] }
 initial_state: rest
-estimation: { optimizer: lm, cost: l2 }
+estimation: { optimizer: lm, cost: l2, lm: { stol: 0 } }   # each inner fit to its tolerance: the exact parabola
 )" + extra));
 }
 

@@ -67,12 +67,13 @@ PsoSettings read_pso(const YamlMap& m) {
 }
 
 LmSettings read_lm(const YamlMap& m) {
-    m.allow_only({"max_iterations", "ftol", "xtol", "gtol", "jacobian"});
+    m.allow_only({"max_iterations", "ftol", "xtol", "gtol", "stol", "jacobian"});
     LmSettings s;
     if (m.has("max_iterations")) s.max_iterations = saturated_int(m.integer("max_iterations"));
     if (m.has("ftol")) s.ftol = m.number("ftol");
     if (m.has("xtol")) s.xtol = m.number("xtol");
     if (m.has("gtol")) s.gtol = m.number("gtol");
+    if (m.has("stol")) s.stol = m.number("stol");
     fail_on_problem(m, validate(s));
     return s;
 }

@@ -3,7 +3,7 @@
 //
 //   optimizer: nlopt        # pso | lm | nlopt | pso+lm | multistart
 //   pso: { start: grid, grid: 2, iterations: 250, w: 1, c1: 0.4, c2: 0.4, seed: 1, ... }
-//   lm: { max_iterations: 200, ftol: 1e-10, xtol: 1e-10, gtol: 1e-10, jacobian: sensitivity }
+//   lm: { max_iterations: 200, ftol: 1e-10, xtol: 1e-10, gtol: 1e-10, stol: 0.1, jacobian: sensitivity }
 //   nlopt: { algorithm: LN_BOBYQA, local_algorithm: LN_SBPLX, max_evaluations: 5000,
 //            max_seconds: 600, xtol_rel: 1e-8, ftol_rel: 1e-12, population: 0, seed: 1 }
 //   multistart: { starts: 8, seed: 1, max_iterations: 100, max_draws: 10 }

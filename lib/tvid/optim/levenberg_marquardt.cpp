@@ -30,7 +30,7 @@ void check_arguments(const LmSettings& settings, const std::vector<double>& x0, 
     }
     if (settings.max_iterations < 0 || settings.max_consecutive_rejections < 1)
         throw std::invalid_argument("Levenberg-Marquardt: iteration limits must be positive");
-    if (!(settings.ftol >= 0) || !(settings.xtol >= 0) || !(settings.gtol >= 0))
+    if (!(settings.ftol >= 0) || !(settings.xtol >= 0) || !(settings.gtol >= 0) || !(settings.stol >= 0))
         throw std::invalid_argument("Levenberg-Marquardt: tolerances must not be negative");
     if (!(settings.initial_damping > 0) || !std::isfinite(settings.initial_damping))
         throw std::invalid_argument("Levenberg-Marquardt: the initial damping must be positive");
@@ -248,6 +248,10 @@ private:
             return false;
         }
         factorize_jacobian();
+        if (within_statistical_tolerance()) {
+            finish(TerminationType::converged, "optimum within stol standard errors");
+            return false;
+        }
         if (first_jacobian_) {
             first_jacobian_ = false;
             lambda_ = initial_damping();
@@ -264,6 +268,34 @@ private:
                 if (!held_[static_cast<std::size_t>(j)] && column_norm_[j] > 0)
                     g_norm = std::max(g_norm, std::abs(gradient_[j]) / (column_norm_[j] * r_norm));
         return g_norm;
+    }
+
+    // The statistical test (LmSettings::stol): ‖P r‖², r projected on the columns of J of the
+    // free parameters, is the Gauss–Newton model's whole achievable decrease of Σr² (a held
+    // parameter's column left out); below stol²·σ² with σ² = Σr²/(N − M_free), the linearised
+    // optimum is within stol standard errors. With a rank-deficient J the projection spans
+    // more than its columns: the test only errs towards going on.
+    bool within_statistical_tolerance() const {
+        if (!(settings_.stol > 0)) return false;
+        Index free = 0;
+        bool any_held = false;
+        for (Index j = 0; j < m_; ++j) {
+            if (held_[static_cast<std::size_t>(j)]) any_held = true;
+            else ++free;
+        }
+        if (free == 0 || n_ <= free) return false;
+        double reducible = qtr_.squaredNorm();
+        if (any_held) {
+            Eigen::MatrixXd free_columns = J_;
+            for (Index j = 0; j < m_; ++j)
+                if (held_[static_cast<std::size_t>(j)]) free_columns.col(j).setZero();
+            const Eigen::HouseholderQR<Eigen::MatrixXd> qr(free_columns);
+            Eigen::VectorXd qtr = r_;
+            qtr.applyOnTheLeft(qr.householderQ().adjoint());
+            reducible = qtr.head(std::min(n_, m_)).squaredNorm();
+        }
+        const double variance = 2.0 * f_ / static_cast<double>(n_ - free);
+        return reducible < settings_.stol * settings_.stol * variance;
     }
 
     // J = Q R once per Jacobian; each trial then solves only an M-sized system.
@@ -427,6 +459,23 @@ private:
         // A step that cannot be evaluated says nothing about convergence; a tiny evaluable
         // step means the iterates have settled, or that no smaller one lowers the cost
         // (MINPACK's xtol test), unless failed evaluations forced it to be that small.
+        // The statistical cost test (stol): accepted steps that lower Σr² by less than
+        // stol²·σ² (σ² = Σr²/(N − M)), as measured and as predicted, twice in a row: the
+        // cost has settled far below what the noise lets the data tell apart (the noise's
+        // own spread of Σr² is about σ²·√(2N)). On weakly determined problems LM otherwise
+        // crawls along a flat valley to its iteration limit.
+        // Not when failed evaluations since the last accepted step kept the step small:
+        // the cost is not stationary there (as for xtol below).
+        if (!evaluable || blocked) settled_steps_ = 0;
+        if (accepted && !blocked && settings_.stol > 0 && n_ > m_) {
+            const double noise = settings_.stol * settings_.stol * 2.0 * f_before / static_cast<double>(n_ - m_);
+            const bool settled = 2.0 * std::abs(actual) <= noise && 2.0 * trial.predicted <= noise;
+            settled_steps_ = settled ? settled_steps_ + 1 : 0;
+            if (settled_steps_ >= 2) {
+                finish(TerminationType::converged, "cost change below the noise (stol)");
+                return true;
+            }
+        }
         if (evaluable && small_step) {
             if (blocked) finish(TerminationType::no_progress, "no progress");
             else finish(TerminationType::converged, "step below xtol");
@@ -520,6 +569,7 @@ private:
     double lambda_ = 0.0, nu_ = 2.0;
     int rejected_in_row_ = 0;
     bool first_jacobian_ = true, fresh_jacobian_ = true;
+    int settled_steps_ = 0;        // accepted steps in a row that met the statistical cost test
     bool failed_since_accept_ = false;  // a trial since the last accepted step could not be evaluated
     // The trials evaluated ahead and the buffers of a side-by-side evaluation.
     std::size_t concurrency_ = 1;

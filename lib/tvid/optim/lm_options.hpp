@@ -17,6 +17,14 @@ struct LmSettings {
     /// Converged when the scaled gradient is small over the free parameters:
     /// max_j |J_jᵀ r| / (‖J_j‖ ‖r‖) < gtol, the cosine between r and each column (MINPACK).
     double gtol = 1e-10;
+    /// Converged when the optimum is within stol standard errors of the current point: the
+    /// Gauss–Newton model's whole achievable decrease of Σr² over the free parameters (‖r‖²
+    /// projected on the Jacobian's columns) is below stol²·σ², σ² = Σr²/(N − M) the
+    /// residuals' variance. That decrease is the squared Mahalanobis distance to the
+    /// linearised optimum in units of σ², so every combination of the parameters is then
+    /// within stol of its standard error: steps beyond it move nothing the data can tell.
+    /// Noise-free data (σ → 0) meet it only at the exact optimum. 0: no statistical test.
+    double stol = 0.1;
     /// τ in Moré's / Nielsen's start λ0 = τ · max_j (JᵀJ)_jj / d_j², i.e. relative to the
     /// diagonal of the scaled JᵀJ (its largest entry is 1 on the first iteration). Must be > 0.
     double initial_damping = 1e-3;

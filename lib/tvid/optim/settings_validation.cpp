@@ -23,7 +23,8 @@ std::optional<SettingsProblem> validate(const PsoSettings& s) {
 
 std::optional<SettingsProblem> validate(const LmSettings& s) {
     if (s.max_iterations < 0 || s.max_iterations > 1000000) return problem("max_iterations", "must be between 0 and 1e6");
-    for (const auto& [key, value] : {std::pair{"ftol", s.ftol}, std::pair{"xtol", s.xtol}, std::pair{"gtol", s.gtol}})
+    for (const auto& [key, value] : {std::pair{"ftol", s.ftol}, std::pair{"xtol", s.xtol}, std::pair{"gtol", s.gtol},
+                                     std::pair{"stol", s.stol}})
         if (!(value >= 0)) return problem(key, "a tolerance cannot be negative");
     return std::nullopt;
 }

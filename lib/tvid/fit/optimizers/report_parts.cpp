@@ -46,6 +46,7 @@ json lm_settings(const Experiment& ex, const LmSettings& ls) {
                 {"ftol", ls.ftol},
                 {"xtol", ls.xtol},
                 {"gtol", ls.gtol},
+                {"stol", ls.stol},
                 {"max_iterations", ls.max_iterations}};
 }
 
