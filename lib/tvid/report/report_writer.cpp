@@ -36,7 +36,8 @@ json metrics_json(const FitMetrics& m) {
                 {"e0", json_number(m.e0)},
                 {"fit_percent", json_number(m.fit_percent)},
                 {"rmse", json_number(m.rmse)},
-                {"max_abs_residual_ratio_percent", json_number(100.0 * m.max_abs_residual_ratio)}};
+                {"max_abs_residual_ratio_percent", json_number(100.0 * m.max_abs_residual_ratio)},
+                {"residual_ratio_min_abs_y", json_number(m.residual_ratio_min_abs_y)}};
 }
 
 // Index of free parameter for model parameter i, or -1.
@@ -276,12 +277,14 @@ std::string trace_csv(const Experiment& experiment, const SplitEvaluation& split
     out << '\n';
     for (const WindowEvaluation& w : split.windows) {
         const WindowTrace& tr = w.trace;
+        std::vector<double> floor;  // per output: the residual ratio's floor in this window (fit_metrics.hpp)
+        for (const std::vector<double>& y : tr.measured) floor.push_back(residual_ratio_floor(y));
         for (std::size_t i = 0; i < tr.time.size(); ++i) {
             out << csv_cell(tr.time[i], "%.9g") << ',' << csv_field(tr.window->label);
             for (std::size_t k = 0; k < tr.measured.size(); ++k) {
                 const double y = tr.measured[k][i], ys = tr.simulated[k][i];
                 out << ',' << csv_cell(y) << ',' << csv_cell(ys) << ',' << csv_cell(y - ys) << ','
-                    << csv_cell(100.0 * residual_ratio(y, ys));
+                    << csv_cell(100.0 * residual_ratio(y, ys, floor[k]));
             }
             if (with_angle) out << ',' << csv_cell(experiment.crank_angle[tr.samples[i]] * 180.0 / 3.14159265358979323846, "%.10g");
             out << '\n';
