@@ -35,6 +35,7 @@ import tempfile
 MODULES = [
     "fit",          # fit.png: measured vs simulated per window, Q and fit % in the titles
     "residuals",    # residual.png (y − y*, in the output's unit), residual_ratio.png
+    "residual_analysis",  # residual_analysis.png: residual autocorrelation, input cross-correlation, 99 % bands
     "history",      # cost_history.png
     "multistart",   # multistart.png: each start's cost, sorted, and the noise floor
     "sensitivity",  # sensitivity_OUTPUT.png, sensitivity_ranking.png

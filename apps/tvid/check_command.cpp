@@ -122,7 +122,7 @@ std::string table_text(const CheckResult& result) {
 
 int write_reference(const CheckCommand& cmd) {
     const FitReportFiles report = read_fit_report(cmd.report_dir);
-    const nlohmann::ordered_json reference = reference_from_report(report, cmd.rel);
+    const nlohmann::ordered_json reference = reference_from_report(report, cmd.rel, cmd.sigmas);
     // Checked before it is written: only a valid reference that this report passes reaches
     // the disk (its text parsed back, as a later tvid check reads it).
     const std::string text = json_text(reference) + "\n";

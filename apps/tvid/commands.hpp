@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "tvid/check/reference_check.hpp"
+
 namespace tvid {
 class ProcessGroup;
 }
@@ -77,7 +79,8 @@ struct CheckCommand {
     std::string report_dir;             ///< REPORT_DIR written by `tvid fit`
     std::string reference;              ///< --reference REF.json
     std::string write_reference;        ///< --write-reference REF.json: make a reference instead
-    double rel = 0.01;                  ///< --rel: the default relative tolerance written
+    double rel = 0.01;                  ///< --rel: the default relative tolerance written, and the floor
+    double sigmas = kReferenceStandardErrors;  ///< --sigmas: tolerances in standard errors and spreads
     bool quiet = false;                 ///< only the final line
     bool json = false;                  ///< the rows as JSON
 };

@@ -165,7 +165,14 @@ int main(int argc, char** argv) {
     auto* write_opt = check_cmd->add_option("--write-reference", check.write_reference,
                                             "write a reference from this known-good report instead");
     reference_opt->excludes(write_opt);
-    check_cmd->add_option("--rel", check.rel, "default relative tolerance written (default 0.01)")
+    check_cmd->add_option("--rel", check.rel,
+                          "relative tolerance written: the default, and the least a parameter, the cost and Q "
+                          "get (default 0.01)")
+        ->needs(write_opt)
+        ->check(kTolerance);
+    check_cmd->add_option("--sigmas", check.sigmas,
+                          "tolerance written for each parameter in its standard errors, and for the cost, Q and "
+                          "the residual ratio in their spread over the noise (default 5)")
         ->needs(write_opt)
         ->check(kTolerance);
     check_cmd->add_flag("-q,--quiet", check.quiet, "print only the final line");

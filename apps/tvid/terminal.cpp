@@ -154,9 +154,14 @@ std::string fit_summary_text(const IdentificationProblem& problem, const FitResu
     }
     out << split_lines(ex, fit.evaluation.estimation) << split_lines(ex, fit.evaluation.validation);
     // Where the estimation residual's variance lies: its dominant band, or order for an engine.
-    if (fit.success)
-        for (const ResidualSpectrumSummary& s : residual_spectrum_summary(ex, fit.evaluation.estimation))
-            if (const std::string text = residual_spectrum_line(s); !text.empty()) out << "  " << text << '\n';
+    // A white residual (the whiteness test passes) has no band to name, and the line says so.
+    if (fit.success) {
+        const std::vector<ResidualSpectrumSummary> spectra = residual_spectrum_summary(ex, fit.evaluation.estimation);
+        for (std::size_t k = 0; k < spectra.size(); ++k) {
+            const ResidualWhiteness* w = k < fit.whiteness_estimation.size() ? &fit.whiteness_estimation[k] : nullptr;
+            if (const std::string text = residual_spectrum_line(spectra[k], w); !text.empty()) out << "  " << text << '\n';
+        }
+    }
     const IdentifiabilityReport identifiability =
         assess_identifiability(problem, fit.uncertainty, fit.best_free);
     out << "  parameter        value            std error    relative\n";
@@ -190,6 +195,23 @@ std::string fit_summary_text(const IdentificationProblem& problem, const FitResu
         std::string row = line;
         row.erase(row.find_last_not_of(' ') + 1);
         out << row << '\n';
+    }
+    // Strongly correlated parameters (|r| > kStrongCorrelation): summary.json's correlated_pairs.
+    if (!identifiability.correlated_pairs.empty()) {
+        std::vector<CorrelatedPair> pairs = identifiability.correlated_pairs;
+        std::stable_sort(pairs.begin(), pairs.end(), [](const CorrelatedPair& a, const CorrelatedPair& b) {
+            return std::abs(a.correlation) > std::abs(b.correlation);
+        });
+        constexpr std::size_t kShownPairs = 8;
+        std::snprintf(line, sizeof line, "  correlated parameters (|r| > %.2g):", kStrongCorrelation);
+        std::string text = line;
+        for (std::size_t i = 0; i < pairs.size() && i < kShownPairs; ++i) {
+            std::snprintf(line, sizeof line, "%s %s and %s %+.3f", i ? "," : "", pairs[i].first.c_str(),
+                          pairs[i].second.c_str(), pairs[i].correlation);
+            text += line;
+        }
+        if (pairs.size() > kShownPairs) text += ", and " + std::to_string(pairs.size() - kShownPairs) + " more";
+        out << text << '\n';
     }
     if (fit.criteria.available) {
         std::snprintf(line, sizeof line, "  AIC %.6g  BIC %.6g  FPE %.4g  (%zu samples, %d parameters)\n", fit.criteria.aic,

@@ -3,15 +3,15 @@ per window and output, with its RMSE and the noise level the verdict estimated.
 
 residual_ratio.png: the residual ratio (y − y*)/y in percent (the methodology paper Figs.
 2b/3b). It is meant for a signal that stays away from zero, as the engine speed does; where
-a signal crosses zero (a torque) the ratio has a pole, so samples with |y| below 10 % of
-the window's largest |y| are left out, and the title says how many."""
+a signal crosses zero (a torque) the ratio has a pole, so tvid leaves out the samples with
+|y| below 10 % of the window's largest |y| (their cells in estimation.csv are empty; docs/
+report-format.md, fit metrics). The figure draws the cells as tvid wrote them and takes
+max |r| from summary.json, the figure the terminal and `tvid check` read; the title says
+how many samples were left out."""
 
 import math
 
 from . import common
-
-NEAR_ZERO = 0.10  # a sample with |y| < NEAR_ZERO · max |y| of its window has no meaningful ratio
-
 
 def noise_rms(summary, split, out):
     return summary.obj("residuals").obj(split).obj(out, nullable=True).num("noise_rms")
@@ -59,17 +59,20 @@ def draw_residual(summary, panels, outputs, out_dir, dpi):
 
 
 def ratio_shown(table, out):
-    """(the ratio [%] with NaN where |y| < NEAR_ZERO · max |y| of the window, count left out)."""
-    y = table[f"{out}_measured"]
-    largest = peak(y) or 0.0
-    shown, left_out = [], 0
-    for v, ratio in zip(y, table[f"{out}_residual_ratio"]):
-        if math.isfinite(v) and abs(v) >= NEAR_ZERO * largest and math.isfinite(ratio):
-            shown.append(ratio)
-        else:
-            shown.append(math.nan)  # a gap in the line
-            left_out += 1
-    return shown, left_out
+    """(the ratio [%] as estimation.csv holds it, NaN where tvid left the sample out, count left out)."""
+    shown = [r if math.isfinite(r) else math.nan for r in table[f"{out}_residual_ratio"]]
+    return shown, sum(1 for r in shown if not math.isfinite(r))
+
+
+def _ratio_text(metrics):
+    """"max |r| = 16 %" from a summary.json metrics object (None: not reported)."""
+    if metrics is None:
+        return None
+    value = metrics.num("max_abs_residual_ratio_percent")
+    if value is None:
+        fraction = metrics.num("max_abs_residual_ratio")  # a report from before the ratio was in percent
+        value = None if fraction is None else 100.0 * fraction
+    return value
 
 
 def draw_ratio(summary, panels, outputs, out_dir, dpi):
@@ -77,21 +80,25 @@ def draw_ratio(summary, panels, outputs, out_dir, dpi):
     for r, (split, windows) in enumerate(rows):
         for c, out in enumerate(outputs):
             ax = axes[r][c]
-            left_out, every = 0, []
+            left_out = 0
             samples = sum(len(table["t"]) for _, table in windows)
             for label, table in windows:
                 shown, n = ratio_shown(table, out)
                 left_out += n
-                every += shown
                 ax.plot(common.x_axis(table, by_angle)[0], shown, color="tab:blue", lw=0.8 if samples < 3000 else 0.4)
             ax.axhline(0.0, color="0.3", lw=0.7, zorder=1)
-            largest = peak(every)
+            if len(windows) == 1:
+                largest = _ratio_text(common.window_metrics(summary, split, windows[0][0], out))
+            else:  # the row's windows: the largest of theirs, as the pooled figure is
+                values = [_ratio_text(common.window_metrics(summary, split, label, out)) for label, _ in windows]
+                values = [v for v in values if v is not None]
+                largest = max(values) if values else None
             text = f"max |r| = {largest:.3g} %" if largest is not None else "no sample away from zero"
             if left_out:
-                text += f"   ({left_out} samples with |y| < {NEAR_ZERO * 100:.0f} % of max |y| left out)"
+                text += f"   ({left_out} samples with |y| < 10 % of the window's max |y| left out)"
 
             def window_peak(label):
-                value = peak(ratio_shown(dict(windows)[label], out)[0])
+                value = _ratio_text(common.window_metrics(summary, split, label, out))
                 return f"max |r| {value:.2g} %" if value is not None else ""
 
             common.decorate_row(ax, split, windows, by_angle, cycle, text, window_peak)

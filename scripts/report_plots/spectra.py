@@ -4,7 +4,8 @@ From a report directory written by `tvid fit` (docs/report-format.md):
   spectra.png  per output (rows) and split (columns): the Welch power spectral densities of
                the measured output, the simulated output and the residual in unit^2/Hz on a
                log axis (spectra.csv), the residual's dominant band shaded with its share of
-               the residual variance (summary.json `residual_spectrum`), both axes
+               the residual variance (summary.json `residual_spectrum`) unless the residual
+               passes the whiteness test (`residuals.SPLIT.OUTPUT.white`), both axes
                logarithmic, and the model's
                eigenfrequencies as vertical lines when summary.json has `modes.modes[]`
                (rigid-body modes left out)
@@ -88,6 +89,13 @@ def _residual_spectrum(summary, split, output):
     return summary.obj("residual_spectrum", nullable=True).obj(split, nullable=True).obj(output, nullable=True)
 
 
+def _white(summary, split, output):
+    """The Ljung-Box p of a residual that passes the whiteness test (summary.json's
+    residuals.SPLIT.OUTPUT.white), else None."""
+    w = summary.obj("residuals", nullable=True).obj(split, nullable=True).obj(output, nullable=True)
+    return w.num("ljung_box_p", 1.0) if w.flag("white") else None
+
+
 def _draw_spectra(directory, out_dir, dpi, summary):
     data, units = _spectra(os.path.join(directory, "spectra.csv"))
     splits = [s for s in ("estimation", "validation") if s in data and len(data[s]["f"]) > 1]
@@ -109,7 +117,10 @@ def _draw_spectra(directory, out_dir, dpi, summary):
             peak = _residual_spectrum(summary, split, output).obj("frequency", nullable=True)
             band = peak.nums("band_hz", nullable=True, length=2)
             share, peak_hz = peak.num("share"), peak.num("peak_hz")
-            if band and all(math.isfinite(b) for b in band) and share is not None and peak_hz is not None:
+            white = _white(summary, split, output)
+            if white is not None:  # the whiteness test passes: no band stands out of the noise
+                title += f"   residual white (Ljung-Box p = {white:.2g}): no peak band"
+            elif band and all(math.isfinite(b) for b in band) and share is not None and peak_hz is not None:
                 lo, hi = band
                 ax.axvspan(max(lo, f[1]), hi, color="tab:blue", alpha=0.12, lw=0,
                            label=f"residual band: {_percent(share)} of its variance")
@@ -168,7 +179,10 @@ def _draw_orders(directory, out_dir, dpi, summary):
             peak = _residual_spectrum(summary, split, output).obj("order", nullable=True)
             share, order, orders_share = peak.num("share"), peak.num("order"), peak.num("orders_share")
             title = f"{split}: {output}, RMS over {n} cycle{'s' if n != 1 else ''}"
-            if share is not None and order is not None:
+            white = _white(summary, split, output)
+            if white is not None:
+                title += f"   residual white (Ljung-Box p = {white:.2g}): no order stands out"
+            elif share is not None and order is not None:
                 title += f"   residual: {_percent(share)} of its variance at order {order:g}"
                 if orders_share is not None:
                     title += f", {_percent(orders_share)} up to order {peak.num('max_order', 0.0):g}"

@@ -2,6 +2,7 @@
 // fails by name (exit 1), and a missing report or a malformed reference is bad input (2).
 #include <catch2/catch.hpp>
 #include <algorithm>
+#include <cmath>
 #include <nlohmann/json.hpp>
 
 #include "support/run_tvid.hpp"
@@ -49,11 +50,12 @@ TEST_CASE("tvid check passes on the report its reference came from and names a p
     CHECK(count_lines(quiet.out) == 1);
     CHECK(quiet.out.rfind("tvid check: PASS", 0) == 0);
 
-    // Move one parameter's expected value by 10 % (the tolerance is 2 %).
+    // Move one parameter's expected value by 10 times its tolerance (2 %, or 5 standard errors).
     const std::string moved = reference["parameters"].begin().key();
-    const double value = reference["parameters"][moved].is_number() ? reference["parameters"][moved].get<double>()
-                                                                    : reference["parameters"][moved]["expected"].get<double>();
-    reference["parameters"][moved] = value == 0 ? 1.0 : 1.1 * value;
+    const ordered_json& check = reference["parameters"][moved];
+    const double value = check.is_number() ? check.get<double>() : check["expected"].get<double>();
+    const double allowed = check.is_number() ? 0.02 * std::abs(value) : check["abs"].get<double>();
+    reference["parameters"][moved] = {{"expected", value + 10 * allowed}, {"abs", allowed}};
     const auto edited = tmp.write("edited.json", reference.dump(2));
     const RunResult fail = run_tvid({"check", report, "--reference", edited.string()});
     INFO(fail.out << fail.err);

@@ -1,6 +1,8 @@
 // `tvid fit` end to end: the binary on the shipped experiment, every report file and
 // its fields, the summary it prints, and exit statuses.
 #include <catch2/catch.hpp>
+#include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -108,18 +110,34 @@ TEST_CASE("tvid fit writes a complete report directory", "[e2e][fit]") {
     const auto est_lines = lines_of(read_text(out / "estimation.csv"));
     REQUIRE(est_lines.size() == 1501);
     CHECK(est_lines[0] == "t [s],window,Tds_measured [N m],Tds_simulated [N m],Tds_residual [N m],Tds_residual_ratio [%]");
-    double abs_sum = 0;
+    double abs_sum = 0, largest_y = 0;
+    std::vector<std::vector<std::string>> rows;
     for (std::size_t i = 1; i < est_lines.size(); ++i) {
         std::vector<std::string> cells;
         std::string cell;
         std::istringstream row(est_lines[i]);
         while (std::getline(row, cell, ',')) cells.push_back(cell);
+        if (est_lines[i].back() == ',') cells.emplace_back();  // an empty last cell
         REQUIRE(cells.size() == 6);
         const double y = std::stod(cells[2]), ys = std::stod(cells[3]), e = std::stod(cells[4]);
         CHECK(e == Approx(y - ys).margin(1e-7));
         abs_sum += std::abs(e);
+        largest_y = std::max(largest_y, std::abs(y));
+        rows.push_back(cells);
     }
     CHECK(abs_sum / 1500 == Approx(cost).epsilon(1e-6));
+    // The residual ratio: empty below 10 % of the window's largest |y|, and its largest
+    // magnitude is the summary's.
+    double largest_ratio = 0;
+    std::size_t empty = 0;
+    for (const auto& cells : rows) {
+        const double y = std::stod(cells[2]);
+        CHECK(cells[5].empty() == (std::abs(y) < 0.1 * largest_y));
+        if (cells[5].empty()) ++empty;
+        else largest_ratio = std::max(largest_ratio, std::abs(std::stod(cells[5])));
+    }
+    CHECK(empty > 0);  // the torque crosses zero in the window
+    CHECK(largest_ratio == Approx(est["max_abs_residual_ratio_percent"].get<double>()).epsilon(1e-6));
     CHECK(lines_of(read_text(out / "validation.csv")).size() == 1001);
 
     // history.csv: one row per iteration k = 0..4, best cost non-increasing, ending at the cost.

@@ -56,7 +56,7 @@ endfunction()
 # A fit report (its spectra too) and its sensitivity run.
 run("tvid fit" ${TVID} fit ${cvt} -o ${report} --optimizer lm --set estimation.cost=l2 --quiet)
 run("tvid sensitivity" ${TVID} sensitivity ${cvt} --params ${report}/params.json -o ${WORK_DIR}/sens --quiet)
-plot("fit" ${report} "fit;residual;residual_ratio;cost_history;spectra;sensitivity_Tds;sensitivity_ranking"
+plot("fit" ${report} "fit;residual;residual_ratio;residual_analysis;cost_history;spectra;sensitivity_Tds;sensitivity_ranking"
      -o ${WORK_DIR}/plots --sensitivity ${WORK_DIR}/sens --dpi 50)
 
 # The fitted model's modes and its frequency response from the input torque to the
@@ -81,7 +81,7 @@ if(NOT engine_header MATCHES ",crank_deg \\[deg\\]$" OR NOT engine_first MATCHES
   message(FATAL_ERROR "engine estimation.csv: expected crank_deg last, 1440 deg at the start of cycle 2:\n"
                       "${engine_header}\n${engine_first}")
 endif()
-plot("engine" ${WORK_DIR}/engine "fit;residual;residual_ratio;cost_history" -o ${WORK_DIR}/engine-plots --dpi 50)
+plot("engine" ${WORK_DIR}/engine "fit;residual;residual_ratio;residual_analysis;cost_history" -o ${WORK_DIR}/engine-plots --dpi 50)
 
 # A multistart fit: 4 starts of 8 LM steps.
 run("tvid fit multistart" ${TVID} fit ${cvt} -o ${WORK_DIR}/multistart --optimizer multistart

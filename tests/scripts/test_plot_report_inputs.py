@@ -99,6 +99,9 @@ refused(d, f"{summary(d)}: cost.outputs: expected a list, found the text 'Tds'")
 d = damaged("summary-window-label", report,
             lambda d: edit_json(summary(d), lambda s: s["estimation"]["windows"][0].update(window=[1])))
 refused(d, f"{summary(d)}: estimation.windows[0].window: expected a text or a number, found a list of 1")
+d = damaged("summary-acf-text", report, lambda d: edit_json(
+    summary(d), lambda s: s["residual_analysis"]["estimation"]["outputs"]["Tds"].update(acf="white")))
+refused(d, f"{summary(d)}: residual_analysis.estimation.outputs.Tds.acf: expected a list, found the text 'white'")
 d = damaged("summary-deep", report, lambda d: write(summary(d), '{"cost": ' + "[" * 200000 + "]" * 200000 + "}"))
 refused(d, f"{summary(d)}: not a file tvid wrote: JSON nested too deeply")
 

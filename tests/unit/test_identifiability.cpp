@@ -76,7 +76,7 @@ TEST_CASE("relative standard errors, weak flags and strongly correlated pairs", 
     u.condition_number = 1e7;
     u.std_error = {0.1, 6.0, 0.5, 0.2};
     u.determined = {true, true, true, true};
-    u.correlation = {{1, 0.2, -0.97, 0}, {0.2, 1, 0.1, 0.95}, {-0.97, 0.1, 1, 0}, {0, 0.95, 0, 1}};
+    u.correlation = {{1, 0.2, -0.97, 0}, {0.2, 1, 0.1, 0.9}, {-0.97, 0.1, 1, 0}, {0, 0.9, 0, 1}};
     const auto r = assess_identifiability(u, {"J1", "J2", "C1", "C2"}, {1.0, -10.0, 0.99, 0.0});
     REQUIRE(r.parameters.size() == 4);
     CHECK(r.parameters[0].relative_std_error == Approx(0.1));
@@ -86,7 +86,7 @@ TEST_CASE("relative standard errors, weak flags and strongly correlated pairs", 
     CHECK(r.parameters[2].flag == IdentifiabilityFlag::weak);   // 50.5 %
     CHECK(std::isnan(r.parameters[3].relative_std_error));     // value 0: no relative error
     CHECK(r.parameters[3].flag == IdentifiabilityFlag::ok);
-    REQUIRE(r.correlated_pairs.size() == 1);  // 0.95 itself is not above the threshold
+    REQUIRE(r.correlated_pairs.size() == 1);  // 0.9 itself is not above the threshold
     CHECK(r.correlated_pairs[0].first == "J1");
     CHECK(r.correlated_pairs[0].second == "C1");
     CHECK(r.correlated_pairs[0].correlation == -0.97);

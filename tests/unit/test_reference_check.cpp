@@ -1,6 +1,7 @@
 // `tvid check`'s library: the reference format, the tolerance arithmetic, combinations
 // of parameters, and the rows a hand-made report gives against a reference.
 #include <catch2/catch.hpp>
+#include <cmath>
 
 #include "support/test_files.hpp"
 #include "tvid/check/parameter_expression.hpp"
@@ -251,6 +252,39 @@ TEST_CASE("a reference written from a report passes on it and leaves out undeter
     FitReportFiles failed = report;
     failed.summary["status"] = "failed";
     CHECK_THROWS_AS(reference_from_report(failed, 0.01), InputError);
+}
+
+TEST_CASE("a reference's tolerances come from the standard errors and the noise", "[reference-check]") {
+    FitReportFiles report = example_report();
+    report.params["parameters"][1]["std_error"] = 60.0;   // k_plus: 5 se = 300, 6 % of 5000
+    report.params["parameters"][2]["std_error"] = 0.3;    // d_ds at 0: 5 se = 1.5, below 1 % of the span 200
+    report.summary["cost"]["kind"] = "l2";
+    // 100 samples whose autocorrelation ρ(1) = 0.5 (and 0 beyond): N_eff = 100/1.5.
+    const json acf = {{"samples", 100}, {"acf", {1.0, 0.5, 0.0}}, {"band", 0.26}, {"lags_outside", {1}}};
+    report.summary["residual_analysis"] = {{"estimation", {{"lags", 2}, {"outputs", {{"Tds", acf}}}, {"inputs", json::object()}}},
+                                           {"validation", nullptr}};
+    report.summary["estimation"]["pooled"]["Tds"]["residual_ratio_min_abs_y"] = 4.0;
+    report.summary["residuals"] = {{"estimation", {{"Tds", {{"noise_rms", 0.08}}}}}};
+    const ordered_json written = reference_from_report(report, 0.01, 5.0);
+    CHECK(written["parameters"]["k_plus"]["expected"] == 5000.0);
+    CHECK(written["parameters"]["k_plus"]["abs"].get<double>() == Approx(300.0));
+    CHECK(written["parameters"]["d_ds"]["abs"].get<double>() == Approx(2.0));  // the floor: 1 % of the span
+    const double spread_l2 = std::sqrt(2.0 / (100.0 / 1.5));  // Σe² over N_eff Gaussian residuals
+    CHECK(written["cost"]["max"].get<double>() == Approx(0.05 * (1 + 5 * spread_l2)));
+    const double spread_l1 = std::sqrt(std::acos(-1.0) / 2 - 1) / std::sqrt(100.0 / 1.5);
+    CHECK(written["estimation"]["Tds"]["q_index_percent"]["min"].get<double>() == Approx(100 - 0.5 * (1 + 5 * spread_l1)));
+    // The validation split has no residual analysis: rel.
+    CHECK(written["validation"]["Tds"]["q_index_percent"]["min"].get<double>() == Approx(100 - 0.5 * 1.01));
+    // The ratio: 2 % · 1.01 + 5 · 0.08 / 4 · 100 % = 12.02 %.
+    CHECK(written["estimation"]["Tds"]["max_abs_residual_ratio_percent"]["max"].get<double>() == Approx(12.02));
+    CHECK(written["description"].get<std::string>().find("each parameter 5 standard errors (1 of them") !=
+          std::string::npos);
+    CHECK(check_report(report, parse_reference(written, "written.json")).passed());
+    FitReportFiles moved = report;
+    moved.params["parameters"][1]["value"] = 5200.0;  // 3.3 standard errors: within 5
+    CHECK(check_report(moved, parse_reference(written, "written.json")).passed());
+    moved.params["parameters"][1]["value"] = 5400.0;  // 6.7 standard errors
+    CHECK_FALSE(check_report(moved, parse_reference(written, "written.json")).passed());
 }
 
 TEST_CASE("a report directory that is missing, incomplete or not a tvid report", "[reference-check]") {

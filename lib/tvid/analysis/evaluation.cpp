@@ -4,6 +4,8 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <memory>
 
 namespace tvid {
@@ -28,8 +30,21 @@ SplitEvaluation assemble_split(const IdentificationProblem& problem, std::vector
         }
         split.windows.push_back(std::move(we));
     }
-    for (std::size_t k = 0; k < n_out; ++k)
+    for (std::size_t k = 0; k < n_out; ++k) {
         split.pooled.push_back(compute_fit_metrics(all_measured[k], all_simulated[k], offsets[k]));
+        // The residual ratio's floor is each window's own (fit_metrics.hpp): the pooled
+        // figure is the largest of the windows'.
+        if (split.pooled.back().samples == 0) continue;
+        double largest = 0.0, smallest_y = std::numeric_limits<double>::quiet_NaN();
+        for (const WindowEvaluation& w : split.windows) {
+            if (w.metrics[k].samples == 0) continue;
+            largest = std::max(largest, w.metrics[k].max_abs_residual_ratio);
+            const double y = w.metrics[k].residual_ratio_min_abs_y;
+            if (std::isfinite(y) && !(y >= smallest_y)) smallest_y = y;
+        }
+        split.pooled.back().max_abs_residual_ratio = largest;
+        split.pooled.back().residual_ratio_min_abs_y = smallest_y;
+    }
     return split;
 }
 

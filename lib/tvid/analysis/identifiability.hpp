@@ -18,8 +18,9 @@ namespace tvid {
 
 /// A parameter whose standard error exceeds this fraction of its value is weak.
 constexpr double kWeakRelativeError = 0.5;
-/// Pairs of parameters whose |correlation| exceeds this are reported.
-constexpr double kStrongCorrelation = 0.95;
+/// Pairs of parameters whose |correlation| exceeds this are reported (summary.json's
+/// correlated_pairs, and the terminal's summary).
+constexpr double kStrongCorrelation = 0.9;
 
 enum class IdentifiabilityFlag { ok, weak, undetermined };
 const char* to_string(IdentifiabilityFlag flag);

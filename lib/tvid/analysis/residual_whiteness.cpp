@@ -4,24 +4,11 @@
 #include <boost/math/distributions/chi_squared.hpp>
 #include <cmath>
 
+#include "tvid/analysis/residual_correlation.hpp"
+
 namespace tvid {
 
 namespace {
-
-// The finite runs of each segment: a non-finite residual splits a window.
-std::vector<std::vector<double>> finite_runs(const std::vector<std::vector<double>>& segments) {
-    std::vector<std::vector<double>> runs;
-    for (const std::vector<double>& s : segments) {
-        std::vector<double> run;
-        for (double e : s) {
-            if (std::isfinite(e)) { run.push_back(e); continue; }
-            if (!run.empty()) runs.push_back(std::move(run));
-            run.clear();
-        }
-        if (!run.empty()) runs.push_back(std::move(run));
-    }
-    return runs;
-}
 
 // The one-step prediction error variance of the best AR(L) predictor over the variance,
 // Π (1 − κ_k²), by the Levinson–Durbin recursion on ρ_0 = 1, ρ_1 … ρ_L.
@@ -48,46 +35,35 @@ ResidualWhiteness assess_whiteness(const std::vector<std::vector<double>>& segme
     ResidualWhiteness w;
     const std::vector<std::vector<double>> runs = finite_runs(segments);
     std::size_t n = 0, longest = 0;
-    double sum = 0.0, sum_sq = 0.0;
+    double sum_sq = 0.0;
     for (const auto& r : runs) {
         n += r.size();
         longest = std::max(longest, r.size());
-        for (double e : r) { sum += e; sum_sq += e * e; }
+        for (double e : r) sum_sq += e * e;
     }
     if (n < 8) return w;
-    const double mean = sum / static_cast<double>(n);
     w.samples = n;
     w.rms = std::sqrt(sum_sq / static_cast<double>(n));
     w.lags = std::max(1, std::min(lags, static_cast<int>(longest / 3)));
 
-    double variance_sum = 0.0;
-    std::vector<double> lagged(static_cast<std::size_t>(w.lags) + 1, 0.0);
-    for (const auto& r : runs) {
-        for (std::size_t i = 0; i < r.size(); ++i) {
-            const double e = r[i] - mean;
-            variance_sum += e * e;
-            for (std::size_t k = 1; k < lagged.size() && i + k < r.size(); ++k) lagged[k] += e * (r[i + k] - mean);
-        }
-    }
-    if (!(variance_sum > 0.0)) {  // a constant residual: nothing random in it at all
+    // ρ_0 … ρ_L as the residual analysis computes them (residual_correlation.hpp).
+    const PooledAutocorrelation a = pooled_autocorrelation(runs, w.lags);
+    if (!(a.sum_of_squares > 0.0)) {  // a constant residual: nothing random in it at all
         w.lag1_correlation = 1.0;
         w.systematic_share = w.rms > 0 ? 1.0 : 0.0;
         w.p_value = w.rms > 0 ? 0.0 : 1.0;
         return w;
     }
     const double dn = static_cast<double>(n);
-    std::vector<double> rho(lagged.size(), 1.0);
-    for (std::size_t k = 1; k < lagged.size(); ++k) {
-        rho[k] = lagged[k] / variance_sum;  // the biased estimate: a positive definite sequence
-        w.ljung_box += rho[k] * rho[k] / (dn - static_cast<double>(k));
-    }
+    const std::vector<double>& rho = a.rho;
+    for (std::size_t k = 1; k < rho.size(); ++k) w.ljung_box += rho[k] * rho[k] / (dn - static_cast<double>(k));
     w.lag1_correlation = rho[1];
     w.ljung_box *= dn * (dn + 2.0);
     const boost::math::chi_squared chi2(w.lags);
     w.p_value = boost::math::cdf(boost::math::complement(chi2, w.ljung_box));
     const double unpredictable = std::clamp(prediction_error_ratio(rho), 0.0, 1.0);
     w.systematic_share = 1.0 - unpredictable;
-    w.noise_rms = std::sqrt(unpredictable * variance_sum / dn);
+    w.noise_rms = std::sqrt(unpredictable * a.sum_of_squares / dn);
     return w;
 }
 

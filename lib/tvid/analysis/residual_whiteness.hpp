@@ -1,7 +1,8 @@
 #pragma once
 // Is a residual noise, or a misfit the model leaves? Per output, over the windows (each a
 // contiguous stretch of samples; no lag crosses a window boundary):
-//   ρ_k   = Σ e_i e_{i+k} / Σ e_i²                 (normalised autocorrelation, e mean-free)
+//   ρ_k   = Σ e_i e_{i+k} / Σ e_i²                 (normalised autocorrelation, e mean-free:
+//                                                  the residual analysis's, residual_correlation.hpp)
 //   Q     = N (N+2) Σ_{k=1..L} ρ_k² / (N − k)      (Ljung & Box 1978), χ²(L) when e is white
 //   share = 1 − Π_{k=1..L} (1 − κ_k²)             (the share of the residual variance that its
 //                                                  own past L samples predict: κ_k are the

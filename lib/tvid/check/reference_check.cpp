@@ -1,6 +1,8 @@
 #include "tvid/check/reference_check.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <limits>
 #include <map>
@@ -407,7 +409,35 @@ json check_result_json(const CheckResult& result) {
                 {"checks", result.rows.size()}, {"failed", result.failures()}, {"rows", rows}};
 }
 
-ordered_json reference_from_report(const FitReportFiles& report, double rel) {
+namespace {
+
+// The effective number of independent residuals of one output's split: N/(1 + 2 Σ_k ρ_k²)
+// from summary.json's residual_analysis (its autocorrelation at lags 1 … M); 0 when the
+// report has none (written before it, or no samples).
+double effective_samples(const json& s, const std::string& split, const std::string& output) {
+    if (!s.contains("residual_analysis") || !s["residual_analysis"].is_object()) return 0.0;
+    const json& block = s["residual_analysis"].value(split, json());
+    if (!block.is_object() || !block.contains("outputs") || !block["outputs"].is_object()) return 0.0;
+    const json& a = block["outputs"].value(output, json());
+    if (!a.is_object() || !a.value("samples", json()).is_number() || !a.value("acf", json()).is_array()) return 0.0;
+    double sum = 0.0;
+    const json& acf = a["acf"];
+    for (std::size_t k = 1; k < acf.size(); ++k)
+        if (acf[k].is_number()) sum += acf[k].get<double>() * acf[k].get<double>();
+    return a["samples"].get<double>() / (1.0 + 2.0 * sum);
+}
+
+// The relative spread (standard deviation over the mean) of a cost over N_eff residuals of
+// Gaussian noise: Σe² is σ²χ²(N), sqrt(2/N); the mean |e| sqrt(π/2 − 1)/sqrt(N). 0 when
+// N_eff is unknown.
+double cost_spread(bool l2, double effective) {
+    if (!(effective > 0.0)) return 0.0;
+    return (l2 ? std::sqrt(2.0) : std::sqrt(std::acos(-1.0) / 2.0 - 1.0)) / std::sqrt(effective);
+}
+
+}  // namespace
+
+ordered_json reference_from_report(const FitReportFiles& report, double rel, double sigmas) {
     const json& s = report.summary;
     if (s["status"] != "ok")
         throw InputError(report.summary_file(), 0, "status",
@@ -416,24 +446,45 @@ ordered_json reference_from_report(const FitReportFiles& report, double rel) {
     const json& identifiability = s.value("identifiability", json::object());
     if (identifiability.value("available", false))
         for (const json& n : identifiability.value("undetermined", json::array())) undetermined.push_back(n.get<std::string>());
-    const double grow = 1.0 + rel;
 
+    // Each parameter within `sigmas` standard errors, and never closer than rel of its value.
     ordered_json parameters = ordered_json::object();
+    int from_errors = 0;
     for (const json& p : report.params["parameters"]) {
         const std::string name = p["name"].get<std::string>();
         if (p.value("fixed", false) || is_one_of(name, undetermined) || !p["value"].is_number()) continue;
         const double v = p["value"].get<double>();
-        if (v != 0) {
+        const json se = p.value("std_error", json());
+        const double by_error = se.is_number() ? sigmas * se.get<double>() : 0.0;
+        if (v != 0 && !(by_error > rel * std::abs(v))) {
             parameters[name] = v;
             continue;
         }
         // 0 has no relative tolerance: rel of the bound span (or of 1) as an absolute one.
         const double span = p["min"].is_number() && p["max"].is_number() ? as_double(p["max"]) - as_double(p["min"]) : 1.0;
-        parameters[name] = {{"expected", 0.0}, {"abs", rel * span}};
+        const double floor = v != 0 ? rel * std::abs(v) : rel * span;
+        from_errors += by_error > floor ? 1 : 0;
+        parameters[name] = {{"expected", v}, {"abs", std::max(by_error, floor)}};
+    }
+
+    // The cost and the metrics may grow by what a new noise realisation moves them: `sigmas`
+    // times their relative spread, and at least by rel.
+    const bool l2 = s["cost"].value("kind", "") == "l2";
+    double cost_growth = rel;
+    for (const auto& [out, m] : s["estimation"]["pooled"].items()) {
+        (void)m;
+        cost_growth = std::max(cost_growth, sigmas * cost_spread(l2, effective_samples(s, "estimation", out)));
     }
 
     std::string description = "written by tvid check --write-reference from " + report.dir.string();
     if (s.contains("command") && s["command"].is_string()) description += " (" + s["command"].get<std::string>() + ")";
+    char rule[400];
+    std::snprintf(rule, sizeof rule,
+                  "; tolerances: each parameter %g standard errors (%d of them; rel %g of its value where that is "
+                  "more), the cost and 100 - Q %g times their spread over the noise (at least %g), the max residual "
+                  "ratio %g times the noise over the smallest |y| it counts",
+                  sigmas, from_errors, rel, sigmas, rel, sigmas);
+    description += rule;
     if (!undetermined.empty())
         description += "; left out the undetermined parameters " + join_words(undetermined) + ": check combinations";
 
@@ -444,19 +495,29 @@ ordered_json reference_from_report(const FitReportFiles& report, double rel) {
     r["defaults"] = {{"rel", rel}, {"abs", 0.0}};
     r["parameters"] = parameters;
     if (s["cost"].contains("value") && s["cost"]["value"].is_number())
-        r["cost"] = {{"max", s["cost"]["value"].get<double>() * grow}};
+        r["cost"] = {{"max", s["cost"]["value"].get<double>() * (1.0 + cost_growth)}};
     for (const char* split : {"estimation", "validation"}) {
         ordered_json block = ordered_json::object();
         for (const auto& [out, m] : s[split]["pooled"].items()) {
             if (m.value("samples", 0) == 0) continue;
             ordered_json checks = ordered_json::object();
+            // 100 − Q is the mean |e| over E0: its spread is the l1 cost's.
+            const double q_growth = std::max(rel, sigmas * cost_spread(false, effective_samples(s, split, out)));
             if (m.contains("q_index_percent") && m["q_index_percent"].is_number())
-                checks["q_index_percent"] = {{"min", 100.0 - (100.0 - m["q_index_percent"].get<double>()) * grow}};
+                checks["q_index_percent"] = {{"min", 100.0 - (100.0 - m["q_index_percent"].get<double>()) * (1.0 + q_growth)}};
             const json ratio = m.contains("max_abs_residual_ratio_percent") || m.contains("max_abs_residual_ratio")
                                    ? metric_value(m, report.summary_file(), {}, "max_abs_residual_ratio_percent")
                                    : json();
-            if (ratio.is_number())
-                checks["max_abs_residual_ratio_percent"] = {{"max", ratio.get<double>() * grow}};
+            if (ratio.is_number()) {
+                // The largest ratio is set by a few samples of small |y|: a new noise
+                // realisation moves it by about the noise over the smallest |y| counted.
+                double noise = 0.0;
+                const json& smallest = m.value("residual_ratio_min_abs_y", json());
+                const json& w = s.value("residuals", json::object()).value(split, json::object()).value(out, json::object());
+                if (smallest.is_number() && smallest.get<double>() > 0 && w.value("noise_rms", json()).is_number())
+                    noise = 100.0 * sigmas * w["noise_rms"].get<double>() / smallest.get<double>();
+                checks["max_abs_residual_ratio_percent"] = {{"max", ratio.get<double>() * (1.0 + rel) + noise}};
+            }
             if (!checks.empty()) block[out] = checks;
         }
         if (!block.empty()) r[split] = block;

@@ -103,10 +103,21 @@ CheckResult check_report(const FitReportFiles& report, const Reference& referenc
 /// `tvid check --json`: the rows with numbers, and the verdict.
 nlohmann::json check_result_json(const CheckResult& result);
 
-/// A reference from a known-good report (`--write-reference`): every free parameter the
-/// report does not list as undetermined, expected at its value within `rel`; the cost,
-/// 100 − Q and the max residual ratio of each split and output may grow by a factor
-/// 1 + rel; the status must stay ok and, if it converged, the optimizer must converge.
-nlohmann::ordered_json reference_from_report(const FitReportFiles& report, double rel);
+/// --write-reference: a parameter's tolerance in standard errors (params.json's std_error).
+/// A refit on a new noise realisation differs from this fit by about √2 standard errors per
+/// parameter, so 5 leaves each parameter 3.5 of those: one refit in about 2500 fails a given
+/// parameter by chance.
+constexpr double kReferenceStandardErrors = 5.0;
+
+/// A reference from a known-good report (`--write-reference`, docs/reference-checks.md):
+/// every free parameter the report does not list as undetermined, expected at its value
+/// within `sigmas` standard errors (at least `rel` of its value); the cost and 100 − Q of
+/// each split and output may grow by `sigmas` times their relative spread over the noise,
+/// sqrt(2/N_eff) for Σe² and sqrt(π/2 − 1)/sqrt(N_eff) for a mean |e| with
+/// N_eff = N/(1 + 2 Σ_k ρ_k²) from the residual's autocorrelation (at least by `rel`); the max
+/// residual ratio by `rel`, plus `sigmas` times the noise over the smallest |y| it counts; the status must stay
+/// ok and, if it converged, the optimizer must converge.
+nlohmann::ordered_json reference_from_report(const FitReportFiles& report, double rel,
+                                             double sigmas = kReferenceStandardErrors);
 
 }  // namespace tvid

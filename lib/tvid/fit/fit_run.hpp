@@ -13,6 +13,7 @@
 
 #include "tvid/analysis/evaluation.hpp"
 #include "tvid/analysis/information_criteria.hpp"
+#include "tvid/analysis/residual_correlation.hpp"
 #include "tvid/analysis/residual_whiteness.hpp"
 #include "tvid/analysis/step_stability.hpp"
 #include "tvid/analysis/verdict.hpp"
@@ -92,6 +93,9 @@ struct FitResult {
     ParameterUncertainty uncertainty;
     /// Per output: whether the residuals are noise, in the estimation and validation windows.
     std::vector<ResidualWhiteness> whiteness_estimation, whiteness_validation;
+    /// Per split: the residuals' autocorrelation and their cross-correlation with each input
+    /// read by time (fit/fit_verdict.hpp, correlated_inputs), with 99 % bands.
+    ResidualCorrelation correlation_estimation, correlation_validation;
     InformationCriteria criteria;           ///< over the estimation windows
     StepStability stability;                ///< of an rk4 simulation at the optimum
     Verdict verdict;                        ///< what the figures above say (fit/fit_verdict.hpp)

@@ -43,6 +43,33 @@ std::vector<ResidualWhiteness> split_whiteness(const SplitEvaluation& split, std
     return out;
 }
 
+// The residual analysis of a split: each output's residual and each input read by time, at
+// the scored samples of every simulated window; the inputs as the parameters read them (a
+// delay parameter's channel shifted by its fitted delay).
+ResidualCorrelation split_correlation(const IdentificationProblem& problem, const SplitEvaluation& split,
+                                      const std::vector<double>& params) {
+    const Experiment& ex = problem.experiment();
+    const std::unique_ptr<ProblemWorkspace> ws = problem.make_workspace();
+    problem.use_parameters(params, *ws);
+    const std::vector<std::size_t> inputs = correlated_inputs(ex);
+    std::vector<std::vector<std::vector<double>>> residuals(ex.outputs.size()), input_values(inputs.size());
+    for (const WindowEvaluation& w : split.windows) {
+        if (w.trace.status != SimulationStatus::ok) continue;
+        for (std::size_t k = 0; k < ex.outputs.size() && k < w.trace.measured.size(); ++k) {
+            std::vector<double> e(w.trace.measured[k].size());
+            for (std::size_t i = 0; i < e.size(); ++i) e[i] = w.trace.measured[k][i] - w.trace.simulated[k][i];
+            residuals[k].push_back(std::move(e));
+        }
+        // The time inputs come first in the channels, in the order of experiment.inputs.
+        for (std::size_t q = 0; q < inputs.size(); ++q) {
+            std::vector<double> u(w.trace.samples.size());
+            for (std::size_t i = 0; i < u.size(); ++i) u[i] = ws->inputs->value(q, w.trace.samples[i]);
+            input_values[q].push_back(std::move(u));
+        }
+    }
+    return analyse_residual_correlation(residuals, input_values);
+}
+
 // The N × n_y prediction errors of the estimation windows.
 InformationCriteria estimation_criteria(const SplitEvaluation& split, std::size_t outputs, int parameters) {
     Eigen::Index rows = 0;
@@ -194,6 +221,50 @@ bool exact_fit(const SplitEvaluation& split, std::size_t k) {
     return k < split.pooled.size() && split.pooled[k].fit_percent >= kExactFitPercent;
 }
 
+// The residual analysis of the estimation windows: an input whose cross-correlation with a
+// residual leaves its band at more lags τ ≥ 0 than chance, and a residual whose
+// autocorrelation does while the whiteness test above raised nothing.
+void judge_correlations(const Experiment& ex, const FitResult& fit, Verdict& v) {
+    const ResidualCorrelation& c = fit.correlation_estimation;
+    const std::vector<std::size_t> inputs = correlated_inputs(ex);
+    for (std::size_t k = 0; k < ex.outputs.size() && k < c.autocorrelation.size(); ++k) {
+        if (exact_fit(fit.evaluation.estimation, k)) continue;
+        const std::string& output = ex.outputs[k].model_name;
+        for (std::size_t q = 0; q < inputs.size() && q < c.cross_correlation.size(); ++q) {
+            const CorrelationTest& t = c.cross_correlation[q][k];
+            const int outside = t.outside_from(0), tested = t.tested(0);
+            if (!t.available || !correlation_beyond_chance(outside, tested)) continue;
+            // The largest |r| at τ ≥ 0 (the lags run from −M, so τ = 0 is at index M).
+            std::size_t largest = static_cast<std::size_t>(c.lags);
+            for (std::size_t i = largest; i < t.values.size(); ++i)
+                if (std::abs(t.values[i]) > std::abs(t.values[largest])) largest = i;
+            const std::string& input = ex.inputs[inputs[q]].model_name;
+            v.add({"missing_input_dynamic", Severity::warning, input,
+                   output + "'s residual follows input " + input + ": their cross-correlation lies outside its 99 % band "
+                       "at " + std::to_string(outside) + " of the " + std::to_string(tested) + " lags tau = 0 to " +
+                       std::to_string(c.lags) + " samples (largest " + num(t.values[largest]) + " at tau = " +
+                       std::to_string(t.lags[largest]) + ", band +-" + num(t.band) + "): a dynamic from " + input +
+                       " is missing from the model",
+                   "model how " + input + " reaches " + output + ": a missing element or mode on its path, a wrong "
+                       "stiffness or damping there, or a delay on " + input + " (delay:); residual_analysis.png shows "
+                       "the lags"});
+        }
+        const CorrelationTest& a = c.autocorrelation[k];
+        if (!a.available || !correlation_beyond_chance(a.outside_from(1), a.tested(1))) continue;
+        const bool said = std::any_of(v.findings.begin(), v.findings.end(), [&](const Finding& f) {
+            return f.code == "residuals_not_white" && f.subject == output;
+        });
+        if (said) continue;
+        v.add({"residual_autocorrelation", Severity::info, output,
+               output + ": the residual's autocorrelation lies outside its 99 % band at " +
+                   std::to_string(a.outside_from(1)) + " of " + std::to_string(a.tested(1)) +
+                   " lags (not white), though only " + pct(k < fit.whiteness_estimation.size()
+                                                               ? fit.whiteness_estimation[k].systematic_share : 0.0) +
+                   " of its variance is systematic",
+               "a small misfit or coloured noise: read residual_analysis.png and the residual spectrum"});
+    }
+}
+
 void judge_residuals(const Experiment& ex, const FitResult& fit, Verdict& v) {
     for (std::size_t k = 0; k < ex.outputs.size() && k < fit.whiteness_estimation.size(); ++k) {
         const ResidualWhiteness& w = fit.whiteness_estimation[k];
@@ -209,6 +280,7 @@ void judge_residuals(const Experiment& ex, const FitResult& fit, Verdict& v) {
                "the model misses what the data hold: another start or optimizer, wider bounds, scale: log on wide "
                "boxes, or a model element (a delay, a mode)"});
     }
+    judge_correlations(ex, fit, v);
     for (std::size_t k = 0; k < ex.outputs.size() && k < fit.whiteness_validation.size(); ++k) {
         const ResidualWhiteness& e = fit.whiteness_estimation[k];
         const ResidualWhiteness& val = fit.whiteness_validation[k];
@@ -349,6 +421,19 @@ void judge_delays(const IdentificationProblem& problem, const FitResult& fit, Ve
     }
 }
 
+bool correlation_beyond_chance(int outside, int tested) {
+    return static_cast<double>(outside) > kCorrelationChanceShare * tested + kCorrelationLagMargin;
+}
+
+bool residual_is_white(const ResidualWhiteness& w) { return w.samples > 0 && w.p_value >= kWhitenessP; }
+
+std::vector<std::size_t> correlated_inputs(const Experiment& experiment) {
+    std::vector<std::size_t> out;
+    for (std::size_t q = 0; q < experiment.inputs.size(); ++q)
+        if (!experiment.inputs[q].by_angle) out.push_back(q);
+    return out;
+}
+
 void judge_fit(const IdentificationProblem& problem, FitResult& fit) {
     const Experiment& ex = problem.experiment();
     const std::size_t outputs = ex.outputs.size();
@@ -358,6 +443,8 @@ void judge_fit(const IdentificationProblem& problem, FitResult& fit) {
     if (fit.success) {
         fit.whiteness_estimation = split_whiteness(fit.evaluation.estimation, outputs);
         fit.whiteness_validation = split_whiteness(fit.evaluation.validation, outputs);
+        fit.correlation_estimation = split_correlation(problem, fit.evaluation.estimation, fit.best_params);
+        fit.correlation_validation = split_correlation(problem, fit.evaluation.validation, fit.best_params);
         fit.criteria = estimation_criteria(fit.evaluation.estimation, outputs, static_cast<int>(problem.dimension()));
         if (!fit.interrupted) fit.stability = assess_step_stability(problem, fit.best_params);
         bound_intervals(problem, fit.best_free, fit.uncertainty);

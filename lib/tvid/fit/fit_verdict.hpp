@@ -1,6 +1,6 @@
 #pragma once
 // The judgement of a finished fit (analysis/verdict.hpp): the figures it rests on — residual
-// whiteness per output and split, the information criteria, the RK4 step's stability
+// whiteness and correlations per output and split, the information criteria, the RK4 step's stability
 // margin, bound-aware intervals — and the findings drawn from them. run_fit calls it last.
 
 #include "tvid/fit/fit_run.hpp"
@@ -13,6 +13,16 @@ namespace tvid {
 constexpr double kSystematicShareError = 0.5;
 constexpr double kSystematicShareWarning = 0.1;
 constexpr double kWhitenessP = 1e-3;
+/// The residual analysis (analysis/residual_correlation.hpp): a correlation outside its 99 %
+/// band at more than kCorrelationChanceShare of the lags tested plus kCorrelationLagMargin
+/// lags is more than chance (a white residual leaves 1 % of its lags outside; 3 or more of
+/// the 26 lags τ = 0 … 25 happen to 0.2 % of white residuals when the lags are independent,
+/// and to at most about 1 % when a smooth input makes neighbouring lags cross together, as
+/// the 99 % band says). An input's cross-correlation
+/// is judged at τ ≥ 0, where the residual follows the input (missing_input_dynamic); the
+/// autocorrelation at k ≥ 1 (residual_autocorrelation).
+constexpr double kCorrelationChanceShare = 0.01;
+constexpr int kCorrelationLagMargin = 2;
 /// A pooled fit from this on is exact (noise-free data): its residual is not judged.
 constexpr double kExactFitPercent = 99.99;
 /// Validation RMSE over estimation RMSE (each over its sample-to-sample noise).
@@ -50,7 +60,19 @@ constexpr double kSwarmStillSpread = 0.05;
 constexpr double kHalfSampleBand = 0.15;
 constexpr double kHalfSampleRecurrence = 0.5;
 
-/// Fills fit's whiteness, criteria, stability, interval kinds and verdict.
+/// Whether `outside` of `tested` lags outside the 99 % band are more than chance.
+bool correlation_beyond_chance(int outside, int tested);
+
+/// Whether a residual passes the whiteness test: Ljung–Box p ≥ kWhitenessP. A white residual
+/// has no band or order worth naming (the terminal and spectra.png then name none).
+bool residual_is_white(const ResidualWhiteness& w);
+
+/// The inputs whose cross-correlation with the residuals the residual analysis computes:
+/// those read by time (a crank-angle channel has no value per time sample), as indices into
+/// experiment.inputs, in the order of FitResult::correlation_*.cross_correlation.
+std::vector<std::size_t> correlated_inputs(const Experiment& experiment);
+
+/// Fills fit's whiteness, residual correlations, criteria, stability, interval kinds and verdict.
 void judge_fit(const IdentificationProblem& problem, FitResult& fit);
 
 }  // namespace tvid

@@ -7,6 +7,7 @@
 
 #include "tvid/analysis/fit_metrics.hpp"
 #include "tvid/analysis/identifiability.hpp"
+#include "tvid/fit/fit_verdict.hpp"
 #include "tvid/io/atomic_file.hpp"
 #include "tvid/io/output_directory.hpp"
 #include "tvid/model/parameter_units.hpp"
@@ -36,7 +37,8 @@ json metrics_json(const FitMetrics& m) {
                 {"e0", json_number(m.e0)},
                 {"fit_percent", json_number(m.fit_percent)},
                 {"rmse", json_number(m.rmse)},
-                {"max_abs_residual_ratio_percent", json_number(100.0 * m.max_abs_residual_ratio)}};
+                {"max_abs_residual_ratio_percent", json_number(100.0 * m.max_abs_residual_ratio)},
+                {"residual_ratio_min_abs_y", json_number(m.residual_ratio_min_abs_y)}};
 }
 
 // Index of free parameter for model parameter i, or -1.
@@ -150,9 +152,46 @@ json whiteness_json(const Experiment& ex, const std::vector<ResidualWhiteness>& 
                                          {"lag1_correlation", json_number(w.lag1_correlation)},
                                          {"ljung_box", json_number(w.ljung_box)},
                                          {"ljung_box_lags", w.lags},
-                                         {"ljung_box_p", json_number(w.p_value)}};
+                                         {"ljung_box_p", json_number(w.p_value)},
+                                         {"white", residual_is_white(w)}};
     }
     return out;
+}
+
+json correlation_json(const CorrelationTest& t, const char* values) {
+    if (!t.available) return nullptr;
+    json out{{"samples", t.samples}, {values, json::array()}, {"band", json_number(t.band)},
+             {"lags_outside", t.outside}};
+    for (double x : t.values) out[values].push_back(json_number(x));
+    if (std::string(values) == "ccf") out["variance_factor"] = json_number(t.variance_factor);
+    return out;
+}
+
+// The residual analysis of a split (analysis/residual_correlation.hpp); null without a
+// window to analyse.
+json split_correlation_json(const Experiment& ex, const ResidualCorrelation& c) {
+    bool any = false;
+    json outputs = json::object(), inputs = json::object();
+    for (std::size_t k = 0; k < ex.outputs.size() && k < c.autocorrelation.size(); ++k) {
+        outputs[ex.outputs[k].model_name] = correlation_json(c.autocorrelation[k], "acf");
+        any = any || c.autocorrelation[k].available;
+    }
+    const std::vector<std::size_t> names = correlated_inputs(ex);
+    for (std::size_t q = 0; q < names.size() && q < c.cross_correlation.size(); ++q) {
+        json per_output = json::object();
+        for (std::size_t k = 0; k < ex.outputs.size() && k < c.cross_correlation[q].size(); ++k)
+            per_output[ex.outputs[k].model_name] = correlation_json(c.cross_correlation[q][k], "ccf");
+        inputs[ex.inputs[names[q]].model_name] = per_output;
+    }
+    if (!any) return nullptr;
+    return {{"lags", c.lags}, {"outputs", outputs}, {"inputs", inputs}};
+}
+
+json residual_analysis_json(const Experiment& ex, const FitResult& fit) {
+    return {{"confidence", kCorrelationConfidence},
+            {"z", kCorrelationZ},
+            {"estimation", split_correlation_json(ex, fit.correlation_estimation)},
+            {"validation", split_correlation_json(ex, fit.correlation_validation)}};
 }
 
 json criteria_json(const InformationCriteria& c) {
@@ -250,6 +289,7 @@ json fit_summary_json(const IdentificationProblem& problem, const FitResult& fit
            {"parameters", parameters_json(problem, fit)["parameters"]},
            {"residuals", {{"estimation", whiteness_json(ex, fit.whiteness_estimation)},
                           {"validation", whiteness_json(ex, fit.whiteness_validation)}}},
+           {"residual_analysis", residual_analysis_json(ex, fit)},
            {"residual_spectrum", residual_spectrum_json(ex, fit.evaluation)},
            {"information_criteria", criteria_json(fit.criteria)},
            {"step_stability", stability_json(fit.stability)},
@@ -276,12 +316,14 @@ std::string trace_csv(const Experiment& experiment, const SplitEvaluation& split
     out << '\n';
     for (const WindowEvaluation& w : split.windows) {
         const WindowTrace& tr = w.trace;
+        std::vector<double> floor;  // per output: the residual ratio's floor in this window (fit_metrics.hpp)
+        for (const std::vector<double>& y : tr.measured) floor.push_back(residual_ratio_floor(y));
         for (std::size_t i = 0; i < tr.time.size(); ++i) {
             out << csv_cell(tr.time[i], "%.9g") << ',' << csv_field(tr.window->label);
             for (std::size_t k = 0; k < tr.measured.size(); ++k) {
                 const double y = tr.measured[k][i], ys = tr.simulated[k][i];
                 out << ',' << csv_cell(y) << ',' << csv_cell(ys) << ',' << csv_cell(y - ys) << ','
-                    << csv_cell(100.0 * residual_ratio(y, ys));
+                    << csv_cell(100.0 * residual_ratio(y, ys, floor[k]));
             }
             if (with_angle) out << ',' << csv_cell(experiment.crank_angle[tr.samples[i]] * 180.0 / 3.14159265358979323846, "%.10g");
             out << '\n';

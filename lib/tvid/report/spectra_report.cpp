@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <sstream>
 
+#include "tvid/fit/fit_verdict.hpp"
 #include "tvid/model/parameter_units.hpp"
 #include "tvid/report/report_values.hpp"
 
@@ -141,7 +142,14 @@ nlohmann::json residual_spectrum_json(const Experiment& ex, const Evaluation& ev
             {"validation", split_residual_spectrum_json(ex, ev.validation)}};
 }
 
-std::string residual_spectrum_line(const ResidualSpectrumSummary& s) {
+std::string residual_spectrum_line(const ResidualSpectrumSummary& s, const ResidualWhiteness* whiteness) {
+    if (whiteness && residual_is_white(*whiteness) && (s.band.available || s.order.available)) {
+        char white[200];
+        std::snprintf(white, sizeof white, "residual %s: white (Ljung-Box p %.2g over %d lags), no %s stands out",
+                      s.output.c_str(), whiteness->p_value, whiteness->lags,
+                      s.engine && s.order.available ? "order" : "band");
+        return white;
+    }
     // A share as a person reads it: "38 %", "0.39 %".
     const auto percent = [](double share) {
         char buf[32];

@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "tvid/analysis/evaluation.hpp"
+#include "tvid/analysis/residual_whiteness.hpp"
 #include "tvid/analysis/split_spectra.hpp"
 #include "tvid/experiment/experiment.hpp"
 
@@ -53,7 +54,9 @@ nlohmann::json residual_spectrum_json(const Experiment& ex, const Evaluation& ev
 
 /// The terminal's line for one output: "residual OUT: 38 % of its variance at 52–56 Hz
 /// (peak 54.1 Hz)", or at an order for an engine (an input read by crank angle); empty
-/// when nothing was assessed.
-std::string residual_spectrum_line(const ResidualSpectrumSummary& s);
+/// when nothing was assessed. A residual that passes the whiteness test (`whiteness`,
+/// fit/fit_verdict.hpp's residual_is_white) has no band worth naming: "residual OUT: white
+/// (Ljung-Box p 0.65 over 20 lags), no band stands out".
+std::string residual_spectrum_line(const ResidualSpectrumSummary& s, const ResidualWhiteness* whiteness = nullptr);
 
 }  // namespace tvid
