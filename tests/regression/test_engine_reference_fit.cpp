@@ -7,6 +7,8 @@
 #include "support/test_files.hpp"
 #include "tvid/analysis/evaluation.hpp"
 #include "tvid/experiment/experiment.hpp"
+#include "tvid/analysis/determined_combinations.hpp"
+#include "tvid/analysis/identifiability.hpp"
 #include "tvid/fit/fit_run.hpp"
 
 using namespace tvid;
@@ -112,4 +114,25 @@ TEST_CASE("engine: LM on the noisy recording validates on every other cycle", "[
     CHECK(total_friction(fit.best_params) == Approx(total_friction(p_true)).epsilon(0.02));
     // No fit can be much below the truth's cost on the same noisy data.
     CHECK(fit.evaluation.cost > 0.8 * evaluate_parameters(problem, p_true).cost);
+    // LM ends on a tolerance, not on its iteration limit.
+    CHECK(fit.run.converged);
+    CHECK(fit.run.iterations < 60);
+    // The dampings C1, C2, C3 are weak one by one; the verdict names their combination the
+    // data determine: the drag of the wheel, four throws and the flywheel, C1 + 4 C2 + C3,
+    // scaled by 1/4, within 3 of its standard errors of the truth.
+    const Finding* apart = nullptr;
+    for (const Finding& f : fit.verdict.findings)
+        if (f.code == "weak_apart") apart = &f;
+    REQUIRE(apart != nullptr);
+    CHECK(apart->message.find("0.25·C1 + C2 + 0.25·C3") != std::string::npos);
+    const IdentifiabilityReport id = assess_identifiability(problem, fit.uncertainty, fit.best_free);
+    const auto groups = determined_combinations(fit.uncertainty, id, fit.best_free);
+    REQUIRE(groups.size() == 1);
+    const DeterminedCombination& c = groups.front();
+    double truth = 0.0;
+    for (std::size_t k = 0; k < c.members.size(); ++k)
+        truth += c.weights[k] * p_true[problem.free_indices()[c.members[k]]];
+    INFO("combination " << c.value << " ± " << c.std_error << ", truth " << truth);
+    CHECK(std::abs(c.value - truth) < 3.0 * c.std_error);
+    CHECK(c.std_error < 1e-3 * c.value);
 }

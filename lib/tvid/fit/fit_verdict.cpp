@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "tvid/analysis/determined_combinations.hpp"
 #include "tvid/analysis/identifiability.hpp"
 
 namespace tvid {
@@ -324,8 +325,32 @@ void judge_parameters(const IdentificationProblem& problem, const FitResult& fit
                    ? "fix one of these parameters at a known value, or add an output that separates them"
                    : "fix one parameter of each combination at a known value, or add outputs that separate them"});
     }
+    // Weak parameters that trade against each other, whose combination the data do pin:
+    // one finding for the group, naming that combination, instead of one per member.
+    std::vector<bool> in_group(names.size(), false);
+    for (const DeterminedCombination& c : determined_combinations(fit.uncertainty, id, fit.best_free, kCorrelatedGroup)) {
+        if (!(c.std_error <= kWeakRelativeError * std::abs(c.value))) continue;
+        std::string members, combination;
+        for (std::size_t k = 0; k < c.members.size(); ++k) {
+            const std::string& n = names[c.members[k]];
+            in_group[c.members[k]] = true;
+            members += (k == 0 ? "" : k + 1 == c.members.size() ? " and " : ", ") + n;
+            const double w = c.weights[k];
+            combination += (k == 0 ? (w < 0 ? "-" : "") : (w < 0 ? " - " : " + ")) +
+                           (std::abs(std::abs(w) - 1.0) < 5e-4 ? std::string() : num(std::abs(w)) + "·") + n;
+        }
+        v.add({"weak_apart", Severity::warning, names[c.members.front()],
+               members + " are weakly determined one by one (standard errors " + pct(c.smallest_member_error) + " to " +
+                   pct(c.largest_member_error) + "), trading against each other (|correlation| >= " +
+                   num(c.weakest_correlation) + "); the data determine their combination " + combination + " = " +
+                   num(c.value) + " ± " + num(c.std_error) + " (" + num(100.0 * c.std_error / std::abs(c.value)) + " %)",
+               "fix all but one of them at known values (e.g. from a run-down or a component test), or estimate over "
+               "more windows or cycles (windows.estimation), where they separate"});
+    }
     for (const ParameterIdentifiability& q : id.parameters) {
         if (q.flag != IdentifiabilityFlag::weak) continue;
+        const auto j = static_cast<std::size_t>(&q - id.parameters.data());
+        if (j < in_group.size() && in_group[j]) continue;
         v.add({"weakly_determined", Severity::warning, q.name,
                q.name + " is weakly determined: standard error " + pct(q.judged_std_error) + " of " + q.judged_against,
                "fix it, excite it more (another window or cycle), or read its profile"});

@@ -48,6 +48,10 @@ constexpr double kWideBoxDecades = 2.0;
 /// a systematic residual.
 constexpr double kPoorWindowPoints = 30.0;
 
+/// Weakly determined parameters linked by |correlation| from this on form a group whose
+/// best-determined combination the verdict names (weak_apart, analysis/determined_combinations.hpp).
+constexpr double kCorrelatedGroup = 0.9;
+
 /// The swarm has not converged when, at its end, its global best still fell by more than
 /// this relative amount over its last iterations (PsoConvergence::window), or the particles'
 /// personal bests still span more than this share of the box in some parameter.
