@@ -140,7 +140,7 @@ TEST_CASE("each kind's field walk visits each field once, in step over a spec an
         {"clearance", {"k_minus", "k_plus", "c_minus", "c_plus", "mu", "sigma"}},
         {"friction", {"c"}},
         {"gear_mesh", {"ratio", "k", "c", "k_minus", "k_plus", "c_minus", "c_plus", "mu", "sigma"}},
-        {"torque", {"offset", "scale"}},
+        {"torque", {"offset", "scale", "value"}},
         {"cylinder", {"bore", "crank_radius", "rod_length", "mass", "p_atm"}},
         {"order_torque", {"amplitude", "phase"}},
         {"speed_source", {"speed", "scale"}}};
