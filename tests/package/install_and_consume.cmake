@@ -7,6 +7,16 @@
 file(REMOVE_RECURSE ${WORK_DIR})
 set(prefix ${WORK_DIR}/prefix)
 
+# Fails with `what` unless the numbers a and b agree to `rel` of b.
+function(require_close what a b rel)
+  execute_process(COMMAND /usr/bin/python3 -c
+    "import sys; a, b, rel = map(float, sys.argv[1:]); sys.exit(0 if abs(a - b) <= rel * max(abs(b), 1e-300) else 1)"
+    ${a} ${b} ${rel} RESULT_VARIABLE same)
+  if(NOT same EQUAL 0)
+    message(FATAL_ERROR "${what}: ${a} against ${b}")
+  endif()
+endfunction()
+
 function(run what)
   execute_process(COMMAND ${ARGN} RESULT_VARIABLE status OUTPUT_VARIABLE out ERROR_VARIABLE err)
   if(NOT status EQUAL 0)
@@ -71,12 +81,10 @@ run("the installed tvid simulate" ${prefix}/bin/tvid simulate ${experiment} --js
 string(JSON tvid_cost GET "${run_output}" cost)
 # Same library, same parameters, same windows: the same number to the last printed digit
 # up to the 17-digit round trip of two formatters.
-execute_process(COMMAND /usr/bin/python3 -c
-  "import sys; a, b = float(sys.argv[1]), float(sys.argv[2]); sys.exit(0 if a > 0 and abs(a - b) <= 1e-12 * abs(b) else 1)"
-  ${consumer_cost} ${tvid_cost} RESULT_VARIABLE same)
-if(NOT same EQUAL 0)
-  message(FATAL_ERROR "the consumer's cost ${consumer_cost} differs from tvid simulate's ${tvid_cost}")
+if(NOT consumer_cost GREATER 0)
+  message(FATAL_ERROR "the consumer's cost ${consumer_cost} is not positive")
 endif()
+require_close("the consumer's cost against tvid simulate's" ${consumer_cost} ${tvid_cost} 1e-12)
 
 # The fit through the API: the parameters `tvid fit` finds for the same experiment.
 run("the installed tvid fit" ${prefix}/bin/tvid fit ${experiment} --set estimation.optimizer=lm --set estimation.cost=l2
@@ -95,12 +103,7 @@ foreach(i RANGE ${last})
   if(NOT consumer_output MATCHES "param ${name} ([-+0-9.eE]+) ")
     message(FATAL_ERROR "the consumer's fit printed no ${name}:\n${consumer_output}")
   endif()
-  execute_process(COMMAND /usr/bin/python3 -c
-    "import sys; a, b = float(sys.argv[1]), float(sys.argv[2]); sys.exit(0 if abs(a - b) <= 1e-9 * max(abs(b), 1e-300) else 1)"
-    ${CMAKE_MATCH_1} ${value} RESULT_VARIABLE same)
-  if(NOT same EQUAL 0)
-    message(FATAL_ERROR "the consumer's fit gives ${name} = ${CMAKE_MATCH_1}, tvid fit ${value}")
-  endif()
+  require_close("the consumer's fit against tvid fit for ${name}" ${CMAKE_MATCH_1} ${value} 1e-9)
   math(EXPR compared "${compared} + 1")
 endforeach()
 if(compared EQUAL 0)
