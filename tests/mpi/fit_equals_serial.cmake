@@ -19,7 +19,15 @@ endforeach()
 
 read_required("${WORK_DIR}/serial/summary.json" serial_summary)
 read_required("${WORK_DIR}/mpi/summary.json" mpi_summary)
-if(NOT mpi_summary STREQUAL "${mpi_out}")  # --json printed summary.json once, from the root
+# --json printed summary.json once, from the root, with the report's directory added.
+string(JSON printed_report ERROR_VARIABLE no_report GET "${mpi_out}" report)
+if(no_report OR NOT printed_report STREQUAL "${WORK_DIR}/mpi")
+  message(FATAL_ERROR "the printed summary names report '${printed_report}', not ${WORK_DIR}/mpi:\n${mpi_out}")
+endif()
+string(JSON printed_summary REMOVE "${mpi_out}" report)
+string(JSON stored_summary SET "${mpi_summary}" report "null")  # the same serializer on both sides
+string(JSON stored_summary REMOVE "${stored_summary}" report)
+if(NOT stored_summary STREQUAL printed_summary)
   message(FATAL_ERROR "the printed summary differs from summary.json:\n${mpi_out}")
 endif()
 string(JSON serial_cost GET "${serial_summary}" cost value)
