@@ -23,8 +23,12 @@
 #include "tvid/model/network_spec.hpp"
 #include "tvid/model/parameter_units.hpp"
 #include "tvid/simd/pack.hpp"
+#include "support/text_element_source.hpp"
 
 using namespace tvid;
+using tvid::test::TextSource;
+using tvid::test::read_error;
+using tvid::test::two_nodes;
 
 namespace {
 
@@ -35,7 +39,11 @@ double typical_value(const std::string& field) {
         {"c_plus", 2.5},  {"mu", 0.01},        {"sigma", 10.0},       {"ratio", 2.5},    {"offset", 0.3},
         {"scale", 1.7},   {"bore", 0.08},      {"crank_radius", 0.04}, {"rod_length", 0.13},
         {"mass", 0.4},    {"p_atm", 1.0e5},    {"amplitude", 4.0},     {"phase", 0.7},
-        {"speed", 12.0}};
+        {"speed", 12.0},  {"c_negative", 0.7}, {"coulomb", 0.8},        {"coulomb_negative", 0.6},
+        {"breakaway", 1.2}, {"stribeck_speed", 6.0}, {"smoothing_speed", 5.0},
+        {"a", 3.0},       {"b", 0.2},          {"efficiency", 0.9},    {"smoothing_power", 300.0},
+        {"stages.angle", 0.1}, {"stages.k", 150.0}, {"stages_negative.angle", 0.05}, {"stages_negative.k", 90.0},
+        {"smoothing_angle", 0.05}};
     return values.at(field);
 }
 
@@ -60,9 +68,14 @@ struct AllKindsNetwork {
         spec.spring_dampers.push_back(SpringDamperSpec{"spring", 0, 1, {}, {}});
         spec.clearances.push_back(ClearanceSpec{"stop", 1, kGround, {}, {}, {}, {}, {}, {}, true});
         spec.frictions.push_back(FrictionSpec{"bearing", 2, {}});
+        FrictionSpec slip{"slip", 2, {}, 1};  // dry, Stribeck and each direction its own, between n2 and n1
+        slip.dry = slip.asymmetric = slip.stribeck = true;
+        spec.frictions.push_back(slip);
         GearMeshSpec stiff_gear{"stiff_gear", 1, 2, {}, {}, {}, false, {}, {}, {}, {}, {}, {}, true};
         GearMeshSpec loose_gear{"loose_gear", 0, 2, {}, {}, {}, true, {}, {}, {}, {}, {}, {}, true};
-        spec.gear_meshes = {stiff_gear, loose_gear};
+        GearMeshSpec lossy_gear{"lossy_gear", 0, 1, {}, {}, {}, false, {}, {}, {}, {}, {}, {}, true};
+        lossy_gear.lossy = true;
+        spec.gear_meshes = {stiff_gear, loose_gear, lossy_gear};
         spec.torques.push_back(TorqueSpec{"drive", 0, 0, {}, {}});
         CylinderSpec cylinder;
         cylinder.name = "cylinder";
@@ -73,15 +86,24 @@ struct AllKindsNetwork {
         spec.spring_dampers.push_back(SpringDamperSpec{"coupling", 3, 0, {}, {}});
         spec.input_rates = {0};
         spec.speed_sources.push_back(SpeedSourceSpec{"prescribed", 3, 0, 1, {}, {}});
+        spec.road_loads.push_back(RoadLoadSpec{"road", 1, {}, {}, {}, {}});
+        MultistageSpringSpec damper;  // two stages on the positive side, one of its own on the negative
+        damper.name = "damper";
+        damper.a = 0;
+        damper.b = 1;
+        damper.stages = 2;
+        damper.stages_negative = 1;
+        spec.multistage_springs.push_back(damper);
 
         for_each_element_kind([&](auto kind) {
             using Kind = decltype(kind);
             for (auto& e : ElementRow<Kind>::list(spec)) {
+                std::map<std::string, int> seen;  // a list's fields (stages.k) repeat: each its own value
                 Kind::for_each_field(
                     [&](const FieldInfo& info, Field& f) {
                         if (!info.in_use) return;
                         spec.parameter_names.push_back(e.name + "." + info.name);
-                        p.push_back(typical_value(info.name));
+                        p.push_back(typical_value(info.name) * (1.0 + 0.5 * seen[info.name]++));
                         f = Field::param(static_cast<int>(p.size() - 1));
                     },
                     e);
@@ -128,7 +150,8 @@ TEST_CASE("every element kind has one row of the table", "[model][elements]") {
     });
     CHECK(position == kElementKindCount);
     CHECK(names == std::set<std::string>{"spring_damper", "clearance", "friction", "gear_mesh", "torque", "cylinder",
-                                         "order_torque", "speed_source"});
+                                         "order_torque", "speed_source", "road_load",
+                                         "multistage_spring"});
     // The test network below has elements of every kind.
     const AllKindsNetwork net;
     for (std::size_t count : element_counts(net.spec)) CHECK(count >= 1);
@@ -138,12 +161,16 @@ TEST_CASE("each kind's field walk visits each field once, in step over a spec an
     const std::map<std::string, std::vector<std::string>> expected = {
         {"spring_damper", {"k", "c"}},
         {"clearance", {"k_minus", "k_plus", "c_minus", "c_plus", "mu", "sigma"}},
-        {"friction", {"c"}},
-        {"gear_mesh", {"ratio", "k", "c", "k_minus", "k_plus", "c_minus", "c_plus", "mu", "sigma"}},
+        {"friction", {"c", "c_negative", "coulomb", "coulomb_negative", "breakaway", "stribeck_speed", "smoothing_speed"}},
+        {"gear_mesh",
+         {"ratio", "k", "c", "k_minus", "k_plus", "c_minus", "c_plus", "mu", "sigma", "efficiency", "smoothing_power"}},
         {"torque", {"offset", "scale", "value"}},
         {"cylinder", {"bore", "crank_radius", "rod_length", "mass", "p_atm"}},
         {"order_torque", {"amplitude", "phase"}},
-        {"speed_source", {"speed", "scale"}}};
+        {"speed_source", {"speed", "scale"}},
+        {"road_load", {"a", "b", "c", "smoothing_speed"}},
+        {"multistage_spring",
+         {"stages.angle", "stages.k", "stages_negative.angle", "stages_negative.k", "c", "smoothing_angle"}}};
     for_each_element_kind([&](auto kind) {
         using Kind = decltype(kind);
         typename Kind::Spec spec{};
@@ -289,7 +316,8 @@ TEST_CASE("each kind declares its type name, keys, field units, channel and outp
                 INFO(info.name);
                 REQUIRE(info.unit != nullptr);
                 CHECK(std::string(info.unit) != "");
-                CHECK(keys.count(info.name) == 1);  // the reader may read it
+                const std::string name = info.name;  // a key, or a list's key and the entry's (stages.k)
+                CHECK(keys.count(name.substr(0, name.find('.'))) == 1);  // the reader may read it
                 if (info.shorthand != nullptr) CHECK(keys.count(info.shorthand) == 1);
             },
             spec);
@@ -367,58 +395,6 @@ TEST_CASE("the units of fields, inputs and outputs come from the tables", "[mode
     });
     CHECK(keys == std::set<std::string>{"speed", "angle", "torque"});
 }
-
-namespace {
-
-// An element entry as plain text values, with the nodes a, b and the parameter p; fail()
-// throws "key: problem".
-class TextSource final : public ElementSource {
-public:
-    explicit TextSource(std::map<std::string, std::string> values) : values_(std::move(values)) {}
-    bool has(const std::string& key) const override { return values_.count(key) > 0; }
-    Field field(const std::string& key) const override {
-        if (!has(key)) fail_missing(key);
-        return values_.at(key) == "p" ? Field::param(0) : Field::value(std::stod(values_.at(key)));
-    }
-    bool names_constant(const std::string& key) const override { return values_.at(key) != "w"; }
-    double number(const std::string& key) const override { return std::stod(values_.at(key)); }
-    std::string text(const std::string& key) const override { return values_.at(key); }
-    int node(const std::string& key) const override { return values_.at(key) == "a" ? 0 : 1; }
-    std::pair<int, int> between(bool) const override { return {0, 1}; }
-    std::string node_name(int node) const override { return node == 0 ? "a" : "b"; }
-    int time_input(const std::string&, const char*) override { return 0; }
-    int angle_input(const std::string&) override { return 0; }
-    bool claim_name(const std::string&) override { return true; }
-    [[noreturn]] void fail(const std::string& key, const std::string& problem) const override {
-        throw std::runtime_error(key + ": " + problem);
-    }
-    [[noreturn]] void fail_missing(const std::string& key, const std::string& = "") const override {
-        fail(key, "missing");
-    }
-
-private:
-    std::map<std::string, std::string> values_;
-};
-
-NetworkSpec two_nodes() {
-    NetworkSpec net;
-    net.parameter_names = {"p"};
-    net.input_names = {"u"};
-    net.nodes = {NodeSpec{"a", Field::value(1.0), false}, NodeSpec{"b", Field::value(1.0), false}};
-    return net;
-}
-
-std::string read_error(TextSource source, const std::function<void(TextSource&, NetworkSpec&)>& read) {
-    NetworkSpec net = two_nodes();
-    try {
-        read(source, net);
-    } catch (const std::runtime_error& e) {
-        return e.what();
-    }
-    return "";
-}
-
-}  // namespace
 
 TEST_CASE("a kind reads its entry and the table checks its fields' signs", "[model][elements]") {
     NetworkSpec net = two_nodes();

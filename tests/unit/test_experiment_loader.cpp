@@ -960,7 +960,7 @@ TEST_CASE("a custom network loads into the right NetworkSpec", "[experiment][net
 
     REQUIRE(n.frictions.size() == 1);
     CHECK(n.frictions[0].name == "bearing");
-    CHECK(n.frictions[0].node == 1);
+    CHECK(n.frictions[0].a == 1);
     CHECK(param(n.frictions[0].c, "c_f"));
 
     REQUIRE(n.gear_meshes.size() == 1);

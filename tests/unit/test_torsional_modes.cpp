@@ -147,7 +147,7 @@ TEST_CASE("a line free of ground reports a rigid-body mode", "[modes]") {
     spec.gear_meshes = {g};
     FrictionSpec f;
     f.name = "bearing";
-    f.node = 1;
+    f.a = 1;
     f.c = Field::value(0.05);
     spec.frictions = {f};
     const ModalAnalysis m = modes_of(spec);

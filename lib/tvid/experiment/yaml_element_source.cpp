@@ -59,6 +59,22 @@ std::pair<int, int> YamlElementSource::between(bool ground_ok) const {
     return {a, c};
 }
 
+std::vector<std::unique_ptr<ElementSource>> YamlElementSource::entries(const std::string& key,
+                                                                       const std::vector<std::string>& allowed) const {
+    if (!m_.has(key)) m_.fail_missing(key);
+    const YAML::Node list = m_.get(key);
+    const std::string path = m_.key_path(key);
+    if (!list.IsSequence() || list.size() == 0)
+        src_.fail(list, path, "expected a list of mappings [{" + join_words(allowed) + "}, ...]");
+    std::vector<std::unique_ptr<ElementSource>> out;
+    for (std::size_t i = 0; i < list.size(); ++i) {
+        YamlMap entry(src_, list[i], path + "[" + std::to_string(i) + "]");
+        entry.allow_only(allowed);
+        out.push_back(std::make_unique<YamlElementSource>(std::move(entry), net_, names_));
+    }
+    return out;
+}
+
 std::string YamlElementSource::node_name(int node) const {
     return node == kGround ? std::string("ground") : net_.nodes[static_cast<std::size_t>(node)].name;
 }

@@ -17,8 +17,8 @@ class YamlElementSource final : public ElementSource {
 public:
     /// `net`: the network read so far (its nodes, parameters and inputs; new inputs are
     /// added to it); `names`: the element names taken so far.
-    YamlElementSource(const YamlMap& entry, NetworkSpec& net, std::set<std::string>& names)
-        : m_(entry), src_(entry.source()), net_(net), names_(names) {}
+    YamlElementSource(YamlMap entry, NetworkSpec& net, std::set<std::string>& names)
+        : m_(std::move(entry)), src_(m_.source()), net_(net), names_(names) {}
 
     bool has(const std::string& key) const override { return m_.has(key); }
     Field field(const std::string& key) const override;
@@ -29,6 +29,8 @@ public:
     int node(const std::string& key) const override;
     std::pair<int, int> between(bool ground_ok) const override;
     std::string node_name(int node) const override;
+    std::vector<std::unique_ptr<ElementSource>> entries(const std::string& key,
+                                                        const std::vector<std::string>& allowed) const override;
 
     int time_input(const std::string& key, const char* what) override;
     int angle_input(const std::string& key) override;
@@ -43,7 +45,7 @@ private:
     int node_at(const YAML::Node& value, bool ground_ok) const;
     std::string node_names() const;
 
-    const YamlMap& m_;
+    YamlMap m_;
     const YamlSource& src_;
     NetworkSpec& net_;
     std::set<std::string>& names_;

@@ -4,8 +4,10 @@
 // YAML. The experiment floor implements it (experiment/model_reader.cpp). Every
 // problem is reported by fail(): one line "FILE:LINE: key.path: what is wrong".
 
+#include <memory>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "tvid/model/field.hpp"
 
@@ -30,6 +32,11 @@ public:
     virtual int node(const std::string& key) const = 0;
     /// `between: [a, b]`, `[a]` or `[a, ground]` (the last two only when `ground_ok`).
     virtual std::pair<int, int> between(bool ground_ok) const = 0;
+    /// The entries of the list of mappings at `key` (a multi-stage spring's `stages`), each a
+    /// source of its own whose keys are limited to `allowed` and whose problems name
+    /// `key[i].subkey`; fails when the value is absent or not a non-empty list of mappings.
+    virtual std::vector<std::unique_ptr<ElementSource>> entries(const std::string& key,
+                                                                const std::vector<std::string>& allowed) const = 0;
     /// A node's name, for messages.
     virtual std::string node_name(int node) const = 0;
 

@@ -204,7 +204,9 @@ private:
         const T* theta = x;
         const auto element_torque = [&](const ElementRef& ref, TorqueSide side) {
             const T t = torque_of(ref, theta, omega);
-            return side == TorqueSide::output ? output_side_torque(ref, t) : t;
+            return side == TorqueSide::output
+                       ? output_side_torque(ref, t, NodeMotion<T>{theta, omega, nullptr, angle_inputs_, true})
+                       : t;
         };
         T y{};
         for_each_output_kind([&](auto kind) __attribute__((always_inline)) {
@@ -214,14 +216,14 @@ private:
         return output_gains_[k] * y + output_offsets_[k];  // a gain of 1 gives y + offset to the bit
     }
 
-    // Element ref's torque t as its output side carries it (elements/gear_mesh.hpp).
-    T output_side_torque(const ElementRef& ref, const T& t) const {
+    // Element ref's torque t as its output side carries it in `motion` (elements/gear_mesh.hpp).
+    T output_side_torque(const ElementRef& ref, const T& t, const NodeMotion<T>& motion) const {
         T y = t;
         for_each_element_kind([&](auto kind) {
             using Kind = decltype(kind);
-            if constexpr (requires { Kind::output_side_torque(elements_of<Kind>()[0], t); })
+            if constexpr (requires { Kind::output_side_torque(elements_of<Kind>()[0], t, motion); })
                 if (ref.kind == ElementRow<Kind>::kind)
-                    y = Kind::output_side_torque(elements_of<Kind>()[static_cast<std::size_t>(ref.index)], t);
+                    y = Kind::output_side_torque(elements_of<Kind>()[static_cast<std::size_t>(ref.index)], t, motion);
         });
         return y;
     }

@@ -48,7 +48,8 @@ concept DescribedElementKind = requires(ElementSource& src, const std::string& n
     { K::acts_at_rest } -> std::convertible_to<bool>;
     // A kind with a torque on each side says what its output side carries.
     requires K::outputs != ElementOutputs::torque_each_side ||
-                 requires(const typename K::template Bound<double>& e, const double& t) { K::output_side_torque(e, t); };
+                 requires(const typename K::template Bound<double>& e, const double& t,
+                          const NodeMotion<double>& m) { K::output_side_torque(e, t, m); };
 };
 
 #define TVID_ELEMENT_KIND_CHECK(kind, Type, list)                                                             \

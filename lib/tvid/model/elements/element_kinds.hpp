@@ -18,7 +18,9 @@
 #include "tvid/model/elements/cylinder.hpp"
 #include "tvid/model/elements/friction.hpp"
 #include "tvid/model/elements/gear_mesh.hpp"
+#include "tvid/model/elements/multistage_spring.hpp"
 #include "tvid/model/elements/order_torque.hpp"
+#include "tvid/model/elements/road_load.hpp"
 #include "tvid/model/elements/speed_source.hpp"
 #include "tvid/model/elements/spring_damper.hpp"
 #include "tvid/model/elements/torque.hpp"
@@ -32,4 +34,6 @@
     X(torque, Torque, torques)                     \
     X(cylinder, Cylinder, cylinders)               \
     X(order_torque, OrderTorque, order_torques)    \
-    X(speed_source, SpeedSource, speed_sources)
+    X(speed_source, SpeedSource, speed_sources)    \
+    X(road_load, RoadLoad, road_loads)             \
+    X(multistage_spring, MultistageSpring, multistage_springs)

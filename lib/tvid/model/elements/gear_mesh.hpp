@@ -1,6 +1,7 @@
 #pragma once
 // A gear mesh between two nodes, stiff and damped or with backlash.
 
+#include <cmath>
 #include <string>
 #include <tuple>
 
@@ -10,11 +11,15 @@
 #include "tvid/model/elements/node_motion.hpp"
 #include "tvid/model/field.hpp"
 #include "tvid/model/smooth_clearance.hpp"
+#include "tvid/model/smooth_sign.hpp"
 
 namespace tvid {
 
 /// Gear mesh between a and b with ratio n: twist θa − n·θb; mesh torque T = k·twist + c·twist'
-/// (or the clearance law when `has_clearance`); torque −T on a and +n·T on b.
+/// (or the clearance law when `has_clearance`); torque −T on a and +n·T·f on b. A lossless
+/// mesh has f = 1; one with efficiency η loses (1 − η) of the power where it flows:
+/// f = η^tanh(P/P_s) with P = T·ωa the power a gives the mesh (η when a drives b, 1/η when
+/// b drives a, 1 through zero power over the smoothing power P_s).
 struct GearMeshSpec {
     std::string name;
     int a = 0, b = 0;
@@ -22,6 +27,8 @@ struct GearMeshSpec {
     bool has_clearance = false;
     Field k_minus, k_plus, c_minus, c_plus, mu, sigma;  ///< used when has_clearance
     bool smooth = true;                                 ///< false: no sigma, eq. 7
+    bool lossy = false;                                 ///< efficiency given
+    Field efficiency = Field::value(1.0), smoothing_power = Field::value(1.0);
 };
 
 namespace elements {
@@ -33,14 +40,23 @@ struct GearMesh {
         int a = 0, b = 0;
         T ratio, k, c;
         bool has_clearance = false;
+        T efficiency = T(1.0), smoothing_power = T(1.0);
+        bool lossy = false;
+        T log_efficiency = T(0.0), inverse_smoothing_power = T(0.0);  ///< ln η, 1/P_s
     };
 
+    /// The default power over which a lossy mesh's factor passes from 1/η to η [W]: small
+    /// beside a powertrain's kilowatts.
+    static constexpr double kDefaultSmoothingPower = 1.0;
+
     // ---- the experiment file: `{ type: gear_mesh, between: [a, b], ratio: N, k: K, c: C }`, with backlash
-    // `mu` and the clearance law's keys (k and c stand for both signs')
+    // `mu` and the clearance law's keys (k and c stand for both signs'), losses with `efficiency`
+    // (0 < η ≤ 1) and `smoothing_power`
     static constexpr const char* type_name = "gear_mesh";
-    static constexpr const char* summary = "a gear mesh between two nodes with a ratio, stiff and damped or with backlash";
-    static constexpr const char* keys[] = {"between", "ratio",   "k",  "c",    "k_minus", "k_plus",
-                                           "c_minus", "c_plus", "mu", "sigma"};
+    static constexpr const char* summary =
+        "a gear mesh between two nodes with a ratio, stiff and damped or with backlash, lossless or with an efficiency";
+    static constexpr const char* keys[] = {"between", "ratio",  "k",  "c",     "k_minus",    "k_plus",
+                                           "c_minus", "c_plus", "mu", "sigma", "efficiency", "smoothing_power"};
 
     static Spec read(ElementSource& src, const std::string& name) {
         Spec e;
@@ -57,7 +73,18 @@ struct GearMesh {
             e.k = src.field_or("k", Field{});
             read_clearance_law(src, e, src.has("k") ? &e.k : nullptr, &e.c);
         }
+        e.lossy = src.has("efficiency");
+        if (src.has("smoothing_power") && !e.lossy)
+            src.fail("smoothing_power", "smooths a lossy mesh's power flow: give efficiency:");
+        e.efficiency = src.field_or("efficiency", Field::value(1.0));
+        e.smoothing_power = src.field_or("smoothing_power", Field::value(kDefaultSmoothingPower));
         return e;
+    }
+
+    /// After the sign rules: an efficiency is at most 1 (a parameter is held by its bounds).
+    static void check(const Spec& e, const ElementSource& src) {
+        if (e.lossy && !e.efficiency.is_parameter() && e.efficiency.constant > 1.0)
+            src.fail("efficiency", "must be at most 1 (got " + linear_number(e.efficiency.constant) + ")");
     }
 
     /// f(info, field...) for each numeric field, of each of s, e... (a spec first, then bound elements) in step.
@@ -67,6 +94,9 @@ struct GearMesh {
         f(FieldInfo{"k", "a mesh stiffness", SignRule::non_negative, "N m/rad"}, s.k, e.k...);
         f(FieldInfo{"c", "a mesh damping coefficient", SignRule::non_negative, "N m s/rad"}, s.c, e.c...);
         for_each_clearance_law_field(f, s.has_clearance, s.smooth, s, e...);
+        f(FieldInfo{"efficiency", "an efficiency", SignRule::positive, "1", s.lossy}, s.efficiency, e.efficiency...);
+        f(FieldInfo{"smoothing_power", "a smoothing power", SignRule::positive, "W", s.lossy}, s.smoothing_power,
+          e.smoothing_power...);
     }
 
     static constexpr ChannelUse channel{};  ///< reads no channel
@@ -79,6 +109,15 @@ struct GearMesh {
         if (e.has_clearance)
             return {"operating_point",
                     "backlash law linearised at the mesh twist " + linear_number(at.twist(e.a, e.b, ratio)) + " rad"};
+        if (e.lossy) {
+            const std::size_t n = at.node_names.size();
+            const double wa = at.x[n + static_cast<std::size_t>(e.a)], wb = at.x[n + static_cast<std::size_t>(e.b)];
+            const double t = at.value(e.k) * at.twist(e.a, e.b, ratio) + at.value(e.c) * (wa - ratio * wb);
+            const double f = std::pow(at.value(e.efficiency), std::tanh(t * wa / at.value(e.smoothing_power)));
+            return {"operating_point", "ratio " + linear_number(ratio) + ", efficiency " +
+                                           linear_number(at.value(e.efficiency)) + ": output side n*T*f with f = " +
+                                           linear_number(f) + " at the power " + linear_number(t * wa) + " W"};
+        }
         return {"exact", "linear (ratio " + linear_number(ratio) + ")"};
     }
 
@@ -91,6 +130,18 @@ struct GearMesh {
         e.has_clearance = s.has_clearance;
         e.smooth = s.smooth;
         e.prepare();
+        e.lossy = s.lossy;
+        if (s.lossy) {
+            e.log_efficiency = math::log1p(e.efficiency - T(1.0));
+            e.inverse_smoothing_power = T(1.0) / e.smoothing_power;
+        }
+    }
+
+    /// The factor f = η^tanh(P/P_s) of the output side's torque n·T·f (1 at rest).
+    template <class T>
+    [[gnu::always_inline]] static T loss_factor(const Bound<T>& e, const T& t, const NodeMotion<T>& m) {
+        if (!m.moving()) return T(1.0);
+        return math::exp(smooth_sign(t * m.omega[e.a] * e.inverse_smoothing_power) * e.log_efficiency);
     }
 
     static constexpr bool acts_at_rest = true;
@@ -104,16 +155,17 @@ struct GearMesh {
     }
 
     template <class T>
-    [[gnu::always_inline]] static void load(const Bound<T>& e, const T& t, const NodeMotion<T>&, T* node_torque) {
-        node_torque[e.a] -= t;            // mesh torque T on a
-        node_torque[e.b] += e.ratio * t;  // and n·T on b
+    [[gnu::always_inline]] static void load(const Bound<T>& e, const T& t, const NodeMotion<T>& m, T* node_torque) {
+        node_torque[e.a] -= t;                            // mesh torque T on a
+        node_torque[e.b] += output_side_torque(e, t, m);  // and n·T·f on b
     }
 
-    /// The torque on the output shaft b of mesh torque t: n·T (a transducer on the
+    /// The torque on the output shaft b of mesh torque t: n·T·f (a transducer on the
     /// output shaft reads this).
     template <class T>
-    [[gnu::always_inline]] static T output_side_torque(const Bound<T>& e, const T& t) {
-        return e.ratio * t;
+    [[gnu::always_inline]] static T output_side_torque(const Bound<T>& e, const T& t, const NodeMotion<T>& m) {
+        if (!e.lossy) return e.ratio * t;
+        return e.ratio * t * loss_factor(e, t, m);
     }
 };
 
