@@ -1,0 +1,147 @@
+// The elements of real drivetrains, fitted by `tvid fit` on recordings made by independent
+// numpy scripts (scripts/generate_NAME_data.py, each with its own RK4): dry friction with
+// a Stribeck rise and each direction its own, a road load, a clutch damper of two spring
+// stages with friction hysteresis, a lossy gear. The noise-free recordings give every
+// parameter back; the noisy ones reach their noise floor with the truth within its errors.
+// The inverse-model set-up (a speed source at the measured speed) gives with dry friction
+// as an element the parameters an exact sign column gives.
+#include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <string>
+
+#include "support/run_tvid.hpp"
+#include "support/test_files.hpp"
+
+using namespace tvid::test;
+using nlohmann::json;
+
+namespace {
+
+json truth_of(const std::string& recording) {
+    return json::parse(read_text(source_dir() / "data" / recording / "truth.json"));
+}
+
+json fit(const TempDir& tmp, const std::string& config) {
+    const RunResult r = run_tvid({"fit", (source_dir() / "configs" / (config + ".yaml")).string(), "-o",
+                                  (tmp.path() / config).string(), "--threads", "2", "--json"});
+    INFO(r.err);
+    REQUIRE(r.exit_code == 0);
+    return json::parse(r.out);
+}
+
+std::map<std::string, json> parameters_of(const json& summary) {
+    std::map<std::string, json> out;
+    for (const json& p : summary["parameters"]) out[p["name"].get<std::string>()] = p;
+    return out;
+}
+
+}  // namespace
+
+TEST_CASE("each new element's noise-free recording gives every parameter back", "[e2e][element_fits]") {
+    const TempDir tmp;
+    for (const std::string recording : {"dry_friction", "road_load", "clutch_damper", "lossy_gear"}) {
+        INFO(recording);
+        const json s = fit(tmp, recording + "_clean");
+        CHECK(s["optimizer"]["converged"] == true);
+        const json truth = truth_of(recording)["parameters"];
+        const auto fitted = parameters_of(s);
+        CHECK(fitted.size() == truth.size());
+        for (auto it = truth.begin(); it != truth.end(); ++it) {
+            INFO(it.key() << " = " << fitted.at(it.key())["value"] << ", truth " << it.value());
+            CHECK(fitted.at(it.key())["value"].get<double>() == Approx(it.value().get<double>()).epsilon(1e-6));
+        }
+    }
+}
+
+TEST_CASE("each new element's noisy recording: the noise floor, the truth within its errors", "[e2e][element_fits]") {
+    const TempDir tmp;
+    for (const std::string recording : {"dry_friction", "road_load", "clutch_damper", "lossy_gear"}) {
+        INFO(recording);
+        const json s = fit(tmp, recording);
+        const json t = truth_of(recording);
+        // Validation over time the fit never saw: at the sensors' noise.
+        const json& v = s["validation"]["pooled"];
+        for (auto it = t["noise_std"].begin(); it != t["noise_std"].end(); ++it) {
+            INFO(it.key() << ": validation RMSE " << v[it.key()]["rmse"] << ", noise " << it.value());
+            CHECK(v[it.key()]["rmse"].get<double>() < 1.1 * it.value().get<double>());
+        }
+        for (const auto& [name, p] : parameters_of(s)) {
+            const double value = p["value"].get<double>(), se = p["std_error"].get<double>();
+            const double truth = t["parameters"][name].get<double>();
+            INFO(name << " = " << value << " ± " << se << ", truth " << truth);
+            CHECK(std::abs(value - truth) < 4.0 * se);
+        }
+        CHECK(s["verdict"]["errors"] == 0);
+    }
+}
+
+TEST_CASE("inverse model: dry friction as an element gives the exact sign column's parameters within 1 %",
+          "[e2e][element_fits]") {
+    const TempDir tmp;
+    const auto element = parameters_of(fit(tmp, "inverse_friction"));
+    const auto sign = parameters_of(fit(tmp, "inverse_friction_sign"));
+    for (const std::string name : {"J", "c", "Fc"}) {
+        const double a = element.at(name)["value"].get<double>(), b = sign.at(name)["value"].get<double>();
+        INFO(name << ": element " << a << ", sign column " << b);
+        CHECK(std::abs(a - b) < 0.01 * std::abs(b));
+    }
+}
+
+TEST_CASE("the new elements' units reach the report", "[e2e][element_fits]") {
+    const TempDir tmp;
+    const auto friction = parameters_of(fit(tmp, "dry_friction_clean"));
+    CHECK(friction.at("coulomb")["unit"] == "N m");
+    CHECK(friction.at("stribeck_speed")["unit"] == "rad/s");
+    CHECK(friction.at("c_negative")["unit"] == "N m s/rad");
+    const auto damper = parameters_of(fit(tmp, "clutch_damper_clean"));
+    CHECK(damper.at("k2")["unit"] == "N m/rad");
+    CHECK(damper.at("theta1")["unit"] == "rad");
+    CHECK(damper.at("Fh")["unit"] == "N m");
+    const auto road = parameters_of(fit(tmp, "road_load_clean"));
+    CHECK(road.at("c_air")["unit"] == "N m s^2/rad^2");
+    const auto gear = parameters_of(fit(tmp, "lossy_gear_clean"));
+    CHECK(gear.at("eta")["unit"] == "1");
+}
+
+TEST_CASE("a new element's bad entry is one line naming the file, line and key, exit 2", "[e2e][elements]") {
+    const TempDir tmp;
+    std::filesystem::create_directories(tmp.path() / "data");
+    const auto variant = [&](const std::string& config, const std::string& from, const std::string& to) {
+        std::string text = read_text(source_dir() / "configs" / (config + ".yaml"));
+        REQUIRE(text.find(from) != std::string::npos);
+        text.replace(text.find(from), from.size(), to);
+        const auto file = tmp.write("configs/variant.yaml", text);
+        return run_tvid({"simulate", file.string(), "-o", (tmp.path() / "simulated.csv").string()});
+    };
+    struct Case {
+        std::string config, from, to, key, says;
+    };
+    const Case cases[] = {
+        {"dry_friction", "coulomb: coulomb, coulomb_negative: coulomb_negative, breakaway: breakaway,",
+         "coulomb: 5, coulomb_negative: coulomb_negative, breakaway: 1,", "breakaway", "must be at least coulomb"},
+        {"dry_friction", "name: bearing, node: shaft,", "name: bearing, node: shaft, between: [shaft],", "between",
+         "not both"},
+        {"dry_friction", "stribeck_speed: stribeck_speed,", "", "breakaway", "needs both breakaway"},
+        {"clutch_damper", "{ angle: theta1, k: k2 }", "{ angle: theta1, stiffness: k2 }", "stages[1].stiffness",
+         "unknown key 'stiffness'"},
+        {"clutch_damper", "stages: [", "stages_negative: 3, stages: [", "stages_negative", "expected a list"},
+        {"lossy_gear", "efficiency: eta", "efficiency: 1.5", "efficiency", "must be at most 1"},
+        {"road_load", "smoothing_speed: 0.1", "smoothing_speed: -1", "smoothing_speed", "must be positive"},
+    };
+    for (const Case& c : cases) {
+        const std::string data = "data/" + c.config;
+        if (!std::filesystem::exists(tmp.path() / data))
+            std::filesystem::copy(source_dir() / data, tmp.path() / data);
+        const RunResult r = variant(c.config, c.from, c.to);
+        INFO(c.config << ": " << c.to << "\n" << r.err);
+        CHECK(r.exit_code == 2);
+        CHECK(r.err.find("variant.yaml:") != std::string::npos);
+        CHECK(r.err.find(c.key + ":") != std::string::npos);
+        CHECK(r.err.find(c.says) != std::string::npos);
+        CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+    }
+}
