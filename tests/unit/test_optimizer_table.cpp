@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "tvid/experiment/optimizer_settings_reader.hpp"
 #include "tvid/fit/optimizer_table.hpp"
 
 using namespace tvid;
@@ -91,4 +92,14 @@ TEST_CASE("each optimizer kind's traits are what its run does") {
         CHECK(find_optimizer_kind(row.name) == &row);
     }
     CHECK(find_optimizer_kind("pso_lm") == nullptr);
+}
+
+TEST_CASE("the settings sections under estimation: come from the kinds' own files, each with its keys") {
+    CHECK(optimizer_section_keys() == std::vector<std::string>{"pso", "lm", "nlopt", "multistart"});
+    // A kind's keys are its section's whole vocabulary (the reader refuses any other key).
+    CHECK(std::size(PsoKind::keys) == 10);
+    CHECK(std::string(LmKind::keys[5]) == "jacobian");  // read with lm:, used by every optimizer's errors
+    CHECK(std::string(optimizer_kind_row(OptimizerKind::pso_lm).summary) == PsoLmKind::summary);
+    CHECK(optimizer_kind_row(OptimizerKind::nlopt).check_parameters != nullptr);  // a global algorithm needs bounds
+    CHECK(optimizer_kind_row(OptimizerKind::lm).check_parameters == nullptr);
 }

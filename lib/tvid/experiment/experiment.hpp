@@ -15,11 +15,7 @@
 #include "tvid/io/csv_table.hpp"
 #include "tvid/model/network_spec.hpp"
 #include "tvid/model/presets.hpp"
-#include "tvid/optim/lm_options.hpp"
-#include "tvid/optim/multistart_options.hpp"
-#include "tvid/optim/nlopt_options.hpp"
 #include "tvid/optim/parameter_scale.hpp"
-#include "tvid/optim/pso_options.hpp"
 #include "tvid/sim/simulation_settings.hpp"
 
 namespace tvid {
@@ -115,10 +111,11 @@ struct EstimationSettings {
     CostKind cost = CostKind::l1;
     OutputNormalization normalize = OutputNormalization::automatic;  ///< `normalize: spread | none`
     OptimizerKind optimizer = OptimizerKind::pso;
-    PsoSettings pso;
-    LmSettings lm;
-    NloptSettings nlopt;                 ///< `nlopt: { algorithm, local_algorithm, ... }`
-    MultistartSettings multistart;       ///< `multistart: { starts, seed, max_iterations }`
+    /// Each optimizer kind's own settings section (`pso:`, `lm:`, `nlopt:`, `multistart:`; a
+    /// field each, experiment/optimizer_kinds/table.hpp).
+#define TVID_OPTIMIZER_SETTINGS_FIELD(section, Kind) Kind::Settings section;
+    TVID_OPTIMIZER_SECTIONS(TVID_OPTIMIZER_SETTINGS_FIELD)
+#undef TVID_OPTIMIZER_SETTINGS_FIELD
     JacobianKind jacobian = JacobianKind::sensitivity;  ///< `lm: { jacobian: sensitivity | fd }`
     /// `strict: true`: a verdict with an error (fit/fit_verdict.hpp) makes `tvid fit` exit 1,
     /// as `--strict` does.

@@ -225,7 +225,9 @@ SteadyStartSpec read_steady_start(const YamlMap& m, const NetworkSpec& network, 
 }
 
 EstimationSettings read_estimation(const YamlMap& m) {
-    m.allow_only({"cost", "normalize", "optimizer", "pso", "lm", "nlopt", "multistart", "strict"});
+    std::vector<std::string> keys{"cost", "normalize", "optimizer", "strict"};
+    for (std::string& section : optimizer_section_keys()) keys.push_back(std::move(section));
+    m.allow_only(keys);
     EstimationSettings s;
     if (m.has("strict")) s.strict = m.flag("strict");
     if (m.has("cost")) s.cost = m.choice("cost", {"l1", "l2"}) == "l1" ? CostKind::l1 : CostKind::l2;
@@ -233,15 +235,7 @@ EstimationSettings read_estimation(const YamlMap& m) {
         s.normalize = m.choice("normalize", {"spread", "none"}) == "spread" ? OutputNormalization::spread
                                                                             : OutputNormalization::none;
     if (m.has("optimizer")) s.optimizer = read_optimizer_kind(m);
-    if (m.has("pso")) s.pso = read_pso(m.map("pso"));
-    if (m.has("nlopt")) s.nlopt = read_nlopt(m.map("nlopt"));
-    if (m.has("multistart")) s.multistart = read_multistart(m.map("multistart"));
-    if (m.has("lm")) {
-        const YamlMap lm = m.map("lm");
-        s.lm = read_lm(lm);
-        if (lm.has("jacobian"))
-            s.jacobian = lm.choice("jacobian", {"sensitivity", "fd"}) == "fd" ? JacobianKind::fd : JacobianKind::sensitivity;
-    }
+    read_optimizer_sections(m, s);
     // Levenberg–Marquardt minimizes a sum of squares (the methodology paper eq. 7), also as the polish
     // of pso+lm and in every start of multistart.
     if (optimizer_traits(s.optimizer).least_squares && s.cost != CostKind::l2)

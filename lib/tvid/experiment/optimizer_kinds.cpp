@@ -5,36 +5,29 @@
 
 #include "tvid/experiment/experiment.hpp"
 #include "tvid/experiment/yaml_reader.hpp"
-#include "tvid/optim/nlopt_algorithms.hpp"
 
 namespace tvid {
 
 namespace {
 
-// A global NLopt algorithm searches within the bounds.
-void check_nlopt_parameters(const YamlMap& parameters, const std::vector<ParameterSetting>& settings,
-                            const EstimationSettings& estimation) {
-    if (!find_nlopt_algorithm(estimation.nlopt.algorithm)->global) return;
-    for (const ParameterSetting& p : settings)
-        if (!p.fixed && !(p.has_min && p.has_max))
-            parameters.fail(p.name, "the global NLopt algorithm " + estimation.nlopt.algorithm +
-                                        " searches within the bounds: give both min and max");
+// A kind's check of the parameters beyond its traits, when it declares one.
+template <class Kind>
+constexpr auto parameter_check() {
+    using Check = void (*)(const YamlMap&, const std::vector<ParameterSetting>&, const EstimationSettings&);
+    if constexpr (requires { &Kind::template check_parameters<YamlMap, ParameterSetting, EstimationSettings>; })
+        return Check{&Kind::template check_parameters<YamlMap, ParameterSetting, EstimationSettings>};
+    else
+        return Check{nullptr};
 }
 
 }  // namespace
 
 const std::vector<OptimizerKindRow>& optimizer_kinds() {
     static const std::vector<OptimizerKindRow> rows{
-        {OptimizerKind::pso, "pso", "the particle swarm (Yoshida & Takamatsu) over the search box",
-         {.swarm = true}},
-        {OptimizerKind::lm, "lm", "Levenberg-Marquardt least squares from init (the methodology paper)",
-         {.least_squares = true, .starts_at_init = true}},
-        {OptimizerKind::nlopt, "nlopt", "any NLopt algorithm by name, from init",
-         {}, check_nlopt_parameters},
-        {OptimizerKind::pso_lm, "pso+lm", "the swarm, then Levenberg-Marquardt from its best particle",
-         {.least_squares = true, .swarm = true}},
-        {OptimizerKind::multistart, "multistart", "Levenberg-Marquardt from Latin-hypercube starts of the box",
-         {.least_squares = true, .samples_box = true}},
+#define TVID_OPTIMIZER_KIND_ROW(kind, Kind) \
+    {OptimizerKind::kind, Kind::name, Kind::summary, Kind::traits, parameter_check<Kind>()},
+        TVID_OPTIMIZER_KINDS(TVID_OPTIMIZER_KIND_ROW)
+#undef TVID_OPTIMIZER_KIND_ROW
     };
     return rows;
 }

@@ -1,17 +1,15 @@
 #pragma once
 // The optimizers an experiment can name, one row each, on the floor the experiment reader
-// stands on: each kind's name and the traits the reader and the verdict ask about (after
-// pagmo2's problem that describes itself). The fit floor's table
+// stands on: each kind's name and the traits the reader and the verdict ask about, made
+// from the kinds' own files (experiment/optimizer_kinds/table.hpp). The fit floor's table
 // (fit/optimizer_table.hpp) holds how each one runs and what it reports. Nothing else
 // switches on an optimizer's kind.
-//
-// Adding an optimizer: its OptimizerKind value and its row in optimizer_kinds.cpp, its
-// settings section (if it has its own) in optimizer_settings_reader.cpp, and its run file
-// with its row in fit/optimizers/.
 
 #include <span>
 #include <string_view>
 #include <vector>
+
+#include "tvid/experiment/optimizer_kinds/table.hpp"
 
 namespace tvid {
 
@@ -19,16 +17,11 @@ class YamlMap;
 struct ParameterSetting;
 struct EstimationSettings;
 
-enum class OptimizerKind { pso, lm, nlopt, pso_lm, multistart };
-
-/// What the reader and the verdict need to know of an optimizer.
-struct OptimizerTraits {
-    bool least_squares = false;   ///< minimizes Σe² through the residuals (needs cost: l2)
-    bool swarm = false;           ///< runs the particle swarm (its search box, its grid start)
-    bool samples_box = false;     ///< draws its starts in the range box (needs range or both bounds)
-    bool starts_at_init = false;  ///< starts at init: the box is only a bound, never sampled
+enum class OptimizerKind {
+#define TVID_OPTIMIZER_KIND_ENUMERATOR(kind, Kind) kind,
+    TVID_OPTIMIZER_KINDS(TVID_OPTIMIZER_KIND_ENUMERATOR)
+#undef TVID_OPTIMIZER_KIND_ENUMERATOR
 };
-
 struct OptimizerKindRow {
     OptimizerKind kind;
     const char* name;             ///< in experiment files, on the command line and in reports

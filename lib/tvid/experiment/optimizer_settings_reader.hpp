@@ -1,5 +1,5 @@
 #pragma once
-// The optimizer choice and the optimizers' settings under `estimation:`:
+// The optimizer choice and the optimizers' settings sections under `estimation:`:
 //
 //   optimizer: nlopt        # pso | lm | nlopt | pso+lm | multistart
 //   pso: { start: grid, grid: 2, iterations: 250, w: 1, c1: 0.4, c2: 0.4, seed: 1, ... }
@@ -8,30 +8,26 @@
 //            max_seconds: 600, xtol_rel: 1e-8, ftol_rel: 1e-12, population: 0, seed: 1 }
 //   multistart: { starts: 8, seed: 1, max_iterations: 100, max_draws: 10 }
 //
-// Each reader reads its keys, then validates the settings in one call
-// (optim/settings_validation.hpp). Then the checks that need the parameters too (a global
-// NLopt algorithm searches within the bounds; multistart samples the range box).
+// Each section is read by its kind (experiment/optimizer_kinds/NAME.hpp: its keys, its
+// reader, which validates the settings in one call). Then the checks that need the
+// parameters too (a global NLopt algorithm searches within the bounds; multistart samples
+// the range box).
 
+#include <string>
 #include <vector>
 
 #include "tvid/experiment/yaml_reader.hpp"
 
 namespace tvid {
 
-/// `optimizer:`, one of the five names; otherwise an error listing them.
+/// `optimizer:`, one of the kinds' names; otherwise an error listing them.
 OptimizerKind read_optimizer_kind(const YamlMap& estimation);
 
-/// `pso:`.
-PsoSettings read_pso(const YamlMap& m);
+/// The keys of the optimizers' settings sections (`pso`, `lm`, ...).
+std::vector<std::string> optimizer_section_keys();
 
-/// `lm:` but its `jacobian:` (an experiment setting: the standard errors use it too).
-LmSettings read_lm(const YamlMap& m);
-
-/// `nlopt:`. An algorithm name NLopt does not know is an error listing the valid ones.
-NloptSettings read_nlopt(const YamlMap& m);
-
-/// `multistart:`.
-MultistartSettings read_multistart(const YamlMap& m);
+/// Every settings section `estimation` gives, each read by its kind into `settings`.
+void read_optimizer_sections(const YamlMap& estimation, EstimationSettings& settings);
 
 /// Fails at the first free parameter the optimizer cannot work with: without both bounds
 /// for a global NLopt algorithm, without a range or both bounds for multistart.

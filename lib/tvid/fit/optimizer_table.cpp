@@ -5,16 +5,17 @@
 
 namespace tvid {
 
-// Each optimizer's row, defined in lib/tvid/fit/optimizers/<name>_run.cpp.
-OptimizerEntry pso_optimizer();
-OptimizerEntry lm_optimizer();
-OptimizerEntry nlopt_optimizer();
-OptimizerEntry pso_lm_optimizer();
-OptimizerEntry multistart_optimizer();
+// Each optimizer kind's row (experiment/optimizer_kinds/table.hpp), defined in
+// lib/tvid/fit/optimizers/<kind>_run.cpp.
+#define TVID_OPTIMIZER_ENTRY_DECLARATION(kind, Kind) OptimizerEntry kind##_optimizer();
+TVID_OPTIMIZER_KINDS(TVID_OPTIMIZER_ENTRY_DECLARATION)
+#undef TVID_OPTIMIZER_ENTRY_DECLARATION
 
 const std::vector<OptimizerEntry>& optimizer_table() {
     static const std::vector<OptimizerEntry> table{
-        pso_optimizer(), lm_optimizer(), nlopt_optimizer(), pso_lm_optimizer(), multistart_optimizer(),
+#define TVID_OPTIMIZER_ENTRY(kind, Kind) kind##_optimizer(),
+        TVID_OPTIMIZER_KINDS(TVID_OPTIMIZER_ENTRY)
+#undef TVID_OPTIMIZER_ENTRY
     };
     return table;
 }

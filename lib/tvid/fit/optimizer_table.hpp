@@ -3,12 +3,12 @@
 // it plans for the progress line. run_fit, the report and `tvid fit` look an optimizer up
 // here and nowhere else.
 //
-// Adding an optimizer: a file lib/tvid/fit/optimizers/NAME_run.cpp that defines its row
-// (`OptimizerEntry NAME_optimizer()`), and that row in optimizer_table.cpp. Its name and
-// traits are read with the experiment (its row in experiment/optimizer_kinds.cpp; its own
-// settings section, if any, in experiment/optimizer_settings_reader.cpp: the experiment
-// floor cannot see this one). Its run keeps its own settings as run and its own summary
-// in OptimizerRun::settings and ::summary, which its report functions read back.
+// Adding an optimizer: its kind's file and row on the experiment floor (its name, traits
+// and settings section: experiment/optimizer_kinds/table.hpp, which the experiment reader
+// walks), and a file lib/tvid/fit/optimizers/NAME_run.cpp that defines its run's row
+// (`OptimizerEntry NAME_optimizer()`), which this table takes from the same row. Its run
+// keeps its own settings as run and its own summary in OptimizerRun::settings and
+// ::summary, which its report functions read back.
 
 #include <string>
 #include <string_view>
