@@ -1,7 +1,8 @@
 // The elements of real drivetrains, fitted by `tvid fit` on recordings made by independent
 // numpy scripts (scripts/generate_NAME_data.py, each with its own RK4): dry friction with
 // a Stribeck rise and each direction its own, a road load, a clutch damper of two spring
-// stages with friction hysteresis, a lossy gear. The noise-free recordings give every
+// stages with friction hysteresis, a lossy gear, a positioning drive under its PD position
+// controller. The noise-free recordings give every
 // parameter back; the noisy ones reach their noise floor with the truth within its errors.
 // The inverse-model set-up (a speed source at the measured speed) gives with dry friction
 // as an element the parameters an exact sign column gives.
@@ -43,7 +44,7 @@ std::map<std::string, json> parameters_of(const json& summary) {
 
 TEST_CASE("each new element's noise-free recording gives every parameter back", "[e2e][element_fits]") {
     const TempDir tmp;
-    for (const std::string recording : {"dry_friction", "road_load", "clutch_damper", "lossy_gear"}) {
+    for (const std::string recording : {"dry_friction", "road_load", "clutch_damper", "lossy_gear", "positioning_drive"}) {
         INFO(recording);
         const json s = fit(tmp, recording + "_clean");
         CHECK(s["optimizer"]["converged"] == true);
@@ -59,7 +60,7 @@ TEST_CASE("each new element's noise-free recording gives every parameter back", 
 
 TEST_CASE("each new element's noisy recording: the noise floor, the truth within its errors", "[e2e][element_fits]") {
     const TempDir tmp;
-    for (const std::string recording : {"dry_friction", "road_load", "clutch_damper", "lossy_gear"}) {
+    for (const std::string recording : {"dry_friction", "road_load", "clutch_damper", "lossy_gear", "positioning_drive"}) {
         INFO(recording);
         const json s = fit(tmp, recording);
         const json t = truth_of(recording);
@@ -131,6 +132,7 @@ TEST_CASE("a new element's bad entry is one line naming the file, line and key, 
         {"clutch_damper", "stages: [", "stages_negative: 3, stages: [", "stages_negative", "expected a list"},
         {"lossy_gear", "efficiency: eta", "efficiency: 1.5", "efficiency", "must be at most 1"},
         {"road_load", "smoothing_speed: 0.1", "smoothing_speed: -1", "smoothing_speed", "must be positive"},
+        {"positioning_drive", "kp: kp, kd: kd", "kp: kp, ki: 5, kd: kd", "ki", "a continuous position controller is PD"},
     };
     for (const Case& c : cases) {
         const std::string data = "data/" + c.config;

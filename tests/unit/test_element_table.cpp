@@ -43,7 +43,7 @@ double typical_value(const std::string& field) {
         {"breakaway", 1.2}, {"stribeck_speed", 6.0}, {"smoothing_speed", 5.0},
         {"a", 3.0},       {"b", 0.2},          {"efficiency", 0.9},    {"smoothing_power", 300.0},
         {"stages.angle", 0.1}, {"stages.k", 150.0}, {"stages_negative.angle", 0.05}, {"stages_negative.k", 90.0},
-        {"smoothing_angle", 0.05}};
+        {"smoothing_angle", 0.05}, {"setpoint", 0.2}, {"kp", 50.0}, {"kd", 0.8}};
     return values.at(field);
 }
 
@@ -94,6 +94,7 @@ struct AllKindsNetwork {
         damper.stages = 2;
         damper.stages_negative = 1;
         spec.multistage_springs.push_back(damper);
+        spec.position_controllers.push_back(PositionControllerSpec{"servo", 2, -1, {}, {}, {}});
 
         for_each_element_kind([&](auto kind) {
             using Kind = decltype(kind);
@@ -151,7 +152,7 @@ TEST_CASE("every element kind has one row of the table", "[model][elements]") {
     CHECK(position == kElementKindCount);
     CHECK(names == std::set<std::string>{"spring_damper", "clearance", "friction", "gear_mesh", "torque", "cylinder",
                                          "order_torque", "speed_source", "road_load",
-                                         "multistage_spring"});
+                                         "multistage_spring", "position_controller"});
     // The test network below has elements of every kind.
     const AllKindsNetwork net;
     for (std::size_t count : element_counts(net.spec)) CHECK(count >= 1);
@@ -170,7 +171,8 @@ TEST_CASE("each kind's field walk visits each field once, in step over a spec an
         {"speed_source", {"speed", "scale"}},
         {"road_load", {"a", "b", "c", "smoothing_speed"}},
         {"multistage_spring",
-         {"stages.angle", "stages.k", "stages_negative.angle", "stages_negative.k", "c", "smoothing_angle"}}};
+         {"stages.angle", "stages.k", "stages_negative.angle", "stages_negative.k", "c", "smoothing_angle"}},
+        {"position_controller", {"setpoint", "kp", "kd"}}};
     for_each_element_kind([&](auto kind) {
         using Kind = decltype(kind);
         typename Kind::Spec spec{};

@@ -20,6 +20,7 @@
 #include "tvid/model/elements/gear_mesh.hpp"
 #include "tvid/model/elements/multistage_spring.hpp"
 #include "tvid/model/elements/order_torque.hpp"
+#include "tvid/model/elements/position_controller.hpp"
 #include "tvid/model/elements/road_load.hpp"
 #include "tvid/model/elements/speed_source.hpp"
 #include "tvid/model/elements/spring_damper.hpp"
@@ -36,4 +37,5 @@
     X(order_torque, OrderTorque, order_torques)    \
     X(speed_source, SpeedSource, speed_sources)    \
     X(road_load, RoadLoad, road_loads)             \
-    X(multistage_spring, MultistageSpring, multistage_springs)
+    X(multistage_spring, MultistageSpring, multistage_springs) \
+    X(position_controller, PositionController, position_controllers)

@@ -1,0 +1,63 @@
+// The position controller (lib/tvid/model/elements/position_controller.hpp): PD on the angle
+// error with the derivative on the measured speed, its setpoint a channel or a constant.
+#include <catch2/catch.hpp>
+
+#include "support/text_element_source.hpp"
+#include "tvid/model/dual.hpp"
+#include "tvid/model/elements/position_controller.hpp"
+#include "tvid/model/network_model.hpp"
+
+using namespace tvid;
+using tvid::test::read_error;
+using tvid::test::TextSource;
+
+TEST_CASE("a position controller pulls its node to the setpoint channel and damps its measured speed",
+          "[model][position_controller]") {
+    NetworkSpec net = tvid::test::two_nodes();
+    TextSource given({{"node", "b"}, {"setpoint", "w"}, {"kp", "p"}, {"kd", "0.4"}});  // "w" names a channel
+    read_element<elements::PositionController>(given, "servo", net);
+    REQUIRE(net.position_controllers.size() == 1);
+    CHECK(net.position_controllers[0].input == 0);
+    OutputSpec torque;
+    torque.name = "servo";
+    torque.kind = OutputKind::torque;
+    REQUIRE(net.find_element("servo", torque.element));
+    net.outputs.push_back(torque);
+
+    NetworkModel<Dual> model(net);
+    const Dual p[1] = {Dual::variable(20.0, 0, 1)};  // kp
+    model.set_parameters(p);
+    const double u[1] = {1.5};                          // the setpoint [rad]
+    const Dual x[4] = {Dual(0.0), Dual(1.2), Dual(0.0), Dual(-2.0)};
+    Dual f[4];
+    model.derivative(x, u, f);
+    const double t = 20.0 * (1.5 - 1.2) - 0.4 * -2.0;  // a setpoint step gives no derivative kick: kd acts on ω
+    CHECK(f[3].value() == Approx(t).epsilon(1e-15));     // J = 1
+    CHECK(f[3].derivative(0) == Approx(0.3).epsilon(1e-15));
+    CHECK(f[2].value() == 0.0);
+    CHECK(model.output(0, x, u).value() == Approx(t).epsilon(1e-15));
+    // At rest it holds the node where the setpoint is.
+    double torques[2];
+    NetworkModel<double> plain(net);
+    const double pd[1] = {20.0}, at_setpoint[2] = {0.0, 1.5};
+    plain.set_parameters(pd);
+    plain.static_torques(at_setpoint, u, torques);
+    CHECK(torques[1] == 0.0);
+}
+
+TEST_CASE("the position controller's reader", "[model][position_controller]") {
+    NetworkSpec net = tvid::test::two_nodes();
+    TextSource constant({{"node", "a"}, {"setpoint", "0.5"}, {"kp", "10"}});
+    read_element<elements::PositionController>(constant, "servo", net);
+    CHECK(net.position_controllers[0].input == -1);
+    CHECK(net.position_controllers[0].setpoint.constant == 0.5);
+    CHECK(net.position_controllers[0].kd.constant == 0.0);
+
+    const auto read = [](TextSource& s, NetworkSpec& n) { read_element<elements::PositionController>(s, "servo", n); };
+    CHECK(read_error(TextSource({{"node", "a"}, {"kp", "10"}}), read) == "setpoint: missing");
+    CHECK(read_error(TextSource({{"node", "a"}, {"setpoint", "0"}, {"kp", "-1"}}), read) ==
+          "kp: cannot be negative: a controller gain (got -1)");
+    CHECK(read_error(TextSource({{"node", "a"}, {"setpoint", "0"}, {"kp", "10"}, {"ki", "2"}}), read).rfind(
+              "ki: a continuous position controller is PD", 0) == 0);
+    CHECK(read_error(TextSource({{"node", "a"}, {"setpoint", "0"}, {"kp", "10"}, {"ki", "0"}}), read).empty());
+}
