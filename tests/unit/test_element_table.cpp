@@ -381,10 +381,10 @@ TEST_CASE("the units of fields, inputs and outputs come from the tables", "[mode
     CHECK(unit_of("ripple.phase") == "rad");
     CHECK(unit_of("drive.offset") == "N m");
     CHECK(unit_of("J_n0") == "kg m^2");
-    CHECK(std::string(input_unit(net.spec, 0)) == "N m");  // the torque reads u (and so does the speed source)
+    CHECK(input_unit(net.spec, 0) == "N m");  // the torque reads u (and so does the speed source)
     net.spec.torques.clear();
-    CHECK(std::string(input_unit(net.spec, 0)) == "rad/s");
-    CHECK(std::string(input_unit(net.spec, 5)) == "");
+    CHECK(input_unit(net.spec, 0) == "rad/s");
+    CHECK(input_unit(net.spec, 5).empty());
 
     std::size_t position = 0;
     std::set<std::string> keys;

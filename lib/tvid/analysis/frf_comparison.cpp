@@ -20,7 +20,7 @@ FrfComparison compare_frf(const IdentificationProblem& problem, const std::vecto
     r.input = d.network.input_names.at(input);
     r.output = d.network.outputs.at(output).name;
     r.input_unit = input_unit(d.network, input);
-    r.output_unit = output_unit(d.network.outputs[output]);
+    r.output_unit = output_unit(d.network, d.network.outputs[output]);
     r.angle_dependence = angle_dependence;
     r.operating_point = window_operating_point(problem, params, window);
     const LinearNetwork sys = linearise_network(d.network, params, &d.angle_inputs, r.operating_point.x,

@@ -42,7 +42,7 @@ std::vector<OutputScore> scores(const tvid::Experiment& ex, const SplitEvaluatio
     for (std::size_t o = 0; o < split.pooled.size() && o < ex.outputs.size(); ++o) {
         const FitMetrics& m = split.pooled[o];
         const auto& spec = ex.network.outputs[static_cast<std::size_t>(ex.output_indices[o])];
-        out.push_back({ex.outputs[o].model_name, output_unit(spec), m.rmse, m.fit_percent, m.q_index,
+        out.push_back({ex.outputs[o].model_name, output_unit(ex.network, spec), m.rmse, m.fit_percent, m.q_index,
                        m.max_abs_residual_ratio});
     }
     return out;

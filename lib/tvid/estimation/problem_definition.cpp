@@ -55,7 +55,9 @@ double speed_limit(const ProblemDefinition& d, const Experiment& experiment, con
             take(u.outputs[k]);
     // The measured speeds the model reads (a speed source's channel).
     for (std::size_t k = 0; k < d.network.input_names.size() && k < u.inputs.size(); ++k)
-        if (std::string_view(input_unit(d.network, k)) == outputs::Speed::unit) take(u.inputs[k]);
+        if (const std::string unit = input_unit(d.network, k);
+            unit == outputs::Speed::unit || unit == translational_unit(outputs::Speed::unit))
+            take(u.inputs[k]);
     if (experiment.initial_state == InitialStateKind::steady) {
         if (d.steady_speed_input >= 0) take(u.inputs[static_cast<std::size_t>(d.steady_speed_input)]);
         else if (d.steady_speed_output >= 0) take(u.outputs[static_cast<std::size_t>(d.steady_speed_output)]);

@@ -27,6 +27,9 @@ const UnitFactor kUnits[] = {
     {"N m", 1.0},       {"Nm", 1.0},          {"kN m", 1e3},         {"kNm", 1e3},
     {"rad", 1.0},       {"deg", kPi / 180.0}, {"rad/s", 1.0},        {"rpm", 2.0 * kPi / 60.0},
     {"deg/s", kPi / 180.0}, {"1", 1.0},
+    // a translational node's channels (motion: linear)
+    {"N", 1.0},         {"kN", 1e3},          {"m", 1.0},            {"mm", 1e-3},
+    {"m/s", 1.0},       {"mm/s", 1e-3},
 };
 
 std::string unit_list() {

@@ -68,13 +68,13 @@ private:
     }
 
     void read_nodes() {
-        if (!model_.has("nodes")) model_.fail_missing("nodes", "(a list of { name, J } or { name, inverse_J })");
+        if (!model_.has("nodes")) model_.fail_missing("nodes", "(a list of { name, J } or { name, inverse_J }, optionally motion: linear)");
         const YAML::Node list = model_.get("nodes");
         const std::string path = model_.key_path("nodes");
         if (!list.IsSequence() || list.size() == 0) src_.fail(list, path, "expected a non-empty list of nodes");
         for (std::size_t i = 0; i < list.size(); ++i) {
             const YamlMap m(src_, list[i], path + "[" + std::to_string(i) + "]");
-            m.allow_only({"name", "J", "inverse_J"});
+            m.allow_only({"name", "J", "inverse_J", "motion"});
             NodeSpec n;
             n.name = m.text("name");
             if (n.name == "ground") m.fail("name", "'ground' is the fixed base; give the node another name");
@@ -86,6 +86,7 @@ private:
             n.inertia = field(m, n.inverse ? "inverse_J" : "J");
             if (!n.inertia.is_parameter() && !(n.inertia.constant > 0))
                 m.fail(n.inverse ? "inverse_J" : "J", "an inertia must be positive");
+            if (m.has("motion")) n.linear = m.choice("motion", {"rotational", "linear"}) == "linear";
             net_.nodes.push_back(n);
         }
     }

@@ -27,7 +27,19 @@ struct NodeSpec {
     std::string name;
     Field inertia;               ///< J [kg m²], or 1/J when `inverse` is set
     bool inverse = false;        ///< the CVT paper estimates ρ1 = 1/I1
+    /// `motion: linear`: a translational node written as its rotational analogue (mass as J,
+    /// force as torque, position as angle); only the units it reports change (m, m/s, kg, N).
+    bool linear = false;
 };
+
+/// The node an element's fields and torque are counted on: its `node`, or its first node
+/// `a` (each kind names its nodes so), or −1.
+template <class Spec>
+int element_node(const Spec& e) {
+    if constexpr (requires { e.node; }) return e.node;
+    else if constexpr (requires { e.a; }) return e.a;
+    else return -1;
+}
 
 /// What every element kind's file declares (docs/architecture.md, "Adding an element"): its
 /// type name and keys in the experiment file and its reader; each field's unit (FieldInfo

@@ -8,23 +8,60 @@ namespace tvid {
 
 namespace {
 
-void assign(std::vector<std::string>& units, const Field& field, const char* unit) {
+void assign(std::vector<std::string>& units, const Field& field, const std::string& unit) {
     if (!field.is_parameter()) return;
     std::string& u = units[static_cast<std::size_t>(field.parameter)];
     if (u.empty()) u = unit;
 }
 
+void replace_all(std::string& text, const std::string& from, const std::string& to) {
+    for (std::size_t at = text.find(from); at != std::string::npos; at = text.find(from, at + to.size()))
+        text.replace(at, from.size(), to);
+}
+
+bool is_linear(const NetworkSpec& network, int node) {
+    return node >= 0 && network.nodes[static_cast<std::size_t>(node)].linear;
+}
+
+// A unit as node `node` reads it.
+std::string unit_on(const NetworkSpec& network, int node, const std::string& unit) {
+    return is_linear(network, node) ? translational_unit(unit) : unit;
+}
+
 }  // namespace
 
-const char* output_unit(const OutputSpec& output) { return output_kind_unit(output.kind); }
+std::string translational_unit(const std::string& rotational) {
+    if (rotational == "1/(kg m^2)") return "1/kg";
+    std::string u = rotational;
+    replace_all(u, "kg m^2", "kg");
+    replace_all(u, "N m", "N");
+    replace_all(u, "rad", "m");
+    return u;
+}
 
-const char* input_unit(const NetworkSpec& network, std::size_t input) {
-    const char* unit = "";
+std::string output_unit(const NetworkSpec& network, const OutputSpec& output) {
+    int node = output.node;
+    if (output.kind == OutputKind::torque) {
+        // An element's torque: on its first node, or on its output shaft b (a gear mesh's side: output).
+        for_each_element(network, [&](auto kind, const auto& e) {
+            using Kind = decltype(kind);
+            if (ElementRow<Kind>::kind != output.element.kind) return;
+            if (&e != &ElementRow<Kind>::list(network)[static_cast<std::size_t>(output.element.index)]) return;
+            node = element_node(e);
+            if constexpr (requires { e.b; })
+                if (output.side == TorqueSide::output) node = e.b;
+        });
+    }
+    return unit_on(network, node, output_kind_unit(output.kind));
+}
+
+std::string input_unit(const NetworkSpec& network, std::size_t input) {
+    std::string unit;
     for_each_element(network, [&](auto kind, const auto& e) {
         using Kind = decltype(kind);
-        if (*unit == '\0' && Kind::channel.unit != nullptr && !Kind::channel.by_angle &&
-            Kind::channel_of(e) >= 0 && static_cast<std::size_t>(Kind::channel_of(e)) == input)
-            unit = Kind::channel.unit;
+        if (unit.empty() && Kind::channel.unit != nullptr && !Kind::channel.by_angle && Kind::channel_of(e) >= 0 &&
+            static_cast<std::size_t>(Kind::channel_of(e)) == input)
+            unit = unit_on(network, element_node(e), Kind::channel.unit);
     });
     return unit;
 }
@@ -37,10 +74,19 @@ std::vector<std::string> parameter_units(const NetworkSpec& network) {
         std::copy(preset->parameter_units.begin(), preset->parameter_units.end(), units.begin());  // then the delays
         return units;
     }
-    for (const NodeSpec& node : network.nodes) assign(units, node.inertia, node.inverse ? "1/(kg m^2)" : "kg m^2");
-    for_each_element_field(network, [&](const FieldInfo& info, const Field& field) { assign(units, field, info.unit); });
+    for (const NodeSpec& node : network.nodes) {
+        const std::string unit = node.inverse ? "1/(kg m^2)" : "kg m^2";
+        assign(units, node.inertia, node.linear ? translational_unit(unit) : unit);
+    }
+    for_each_element(network, [&](auto kind, const auto& e) {
+        decltype(kind)::for_each_field(
+            [&](const FieldInfo& info, const Field& field) {
+                if (info.in_use) assign(units, field, unit_on(network, element_node(e), info.unit));
+            },
+            e);
+    });
     for (const OutputSpec& output : network.outputs) {
-        assign(units, output.offset, output_unit(output));
+        assign(units, output.offset, output_unit(network, output));
         assign(units, output.gain, "1");
     }
     return units;

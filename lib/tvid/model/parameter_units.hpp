@@ -12,15 +12,22 @@
 
 namespace tvid {
 
-/// One per NetworkSpec::parameter_names; "" for a parameter that fills no known field.
+/// One per NetworkSpec::parameter_names; "" for a parameter that fills no known field. A
+/// field of an element on a linear node (NodeSpec::linear) and a linear node's mass take
+/// their translational units (N/m, N s/m, N, m, kg).
 std::vector<std::string> parameter_units(const NetworkSpec& network);
 
-/// The output's unit, from its kind's row (model/output_kinds.hpp): "rad/s", "rad" or "N m".
-const char* output_unit(const OutputSpec& output);
+/// The output's unit, from its kind's row (model/output_kinds.hpp): "rad/s", "rad" or
+/// "N m", or on a linear node "m/s", "m" or "N".
+std::string output_unit(const NetworkSpec& network, const OutputSpec& output);
 
 /// The unit of the network's input by time `input` (NetworkSpec::input_names), from the
-/// kind of the element that reads it (a torque's "N m", a speed source's "rad/s"); "" if
-/// no element reads it.
-const char* input_unit(const NetworkSpec& network, std::size_t input);
+/// kind of the element that reads it (a torque's "N m", a speed source's "rad/s"; on a
+/// linear node "N", "m/s"); "" if no element reads it.
+std::string input_unit(const NetworkSpec& network, std::size_t input);
+
+/// A rotational SI unit as its translational analogue reads it: N m → N, rad → m,
+/// kg m^2 → kg (N m/rad → N/m, N m s/rad → N s/m, rad/s → m/s, …); other units unchanged.
+std::string translational_unit(const std::string& rotational);
 
 }  // namespace tvid

@@ -113,7 +113,7 @@ json cost_json(const Experiment& ex, const Evaluation& ev) {
     json outputs = json::array();
     for (std::size_t k = 0; k < ex.outputs.size() && k < ev.output_scale.size(); ++k)
         outputs.push_back({{"name", ex.outputs[k].model_name},
-                           {"unit", output_unit(ex.network.outputs[static_cast<std::size_t>(ex.output_indices[k])])},
+                           {"unit", output_unit(ex.network, ex.network.outputs[static_cast<std::size_t>(ex.output_indices[k])])},
                            {"weight", ex.outputs[k].weight},
                            {"spread", json_number(ev.output_spread[k])},
                            {"scale", json_number(ev.output_scale[k])}});
@@ -305,7 +305,7 @@ std::string trace_csv(const Experiment& experiment, const SplitEvaluation& split
     for (std::size_t k = 0; k < experiment.outputs.size(); ++k) {
         const std::string& n = experiment.outputs[k].model_name;
         const std::string unit = std::string(" [") +
-            output_unit(experiment.network.outputs[static_cast<std::size_t>(experiment.output_indices[k])]) + "]";
+            output_unit(experiment.network, experiment.network.outputs[static_cast<std::size_t>(experiment.output_indices[k])]) + "]";
         out << ',' << csv_field(n + "_measured" + unit) << ',' << csv_field(n + "_simulated" + unit) << ','
             << csv_field(n + "_residual" + unit) << ',' << csv_field(n + "_residual_ratio [%]");
     }

@@ -13,7 +13,7 @@ namespace tvid {
 namespace {
 
 std::string output_unit_of(const Experiment& ex, std::size_t k) {
-    return output_unit(ex.network.outputs[static_cast<std::size_t>(ex.output_indices[k])]);
+    return output_unit(ex.network, ex.network.outputs[static_cast<std::size_t>(ex.output_indices[k])]);
 }
 
 OrderSettings report_order_settings(const Experiment& ex) {
