@@ -26,6 +26,8 @@ import sys
 
 import numpy as np
 
+from recording_rk4 import march, write_csv
+
 TRUTH = {"J1": 0.2, "J2": 0.5, "k1": 300.0, "k2": 3000.0, "theta1": 0.03, "c": 2.0, "Fh": 3.0, "c2": 0.3}
 SMOOTHING_ANGLE = 0.002   # rad, a constant of the model
 SMOOTHING_SPEED = 0.05    # rad/s, of the hysteresis
@@ -61,33 +63,13 @@ def derivative(x, te, p):
 
 
 def simulate(p, te_samples):
-    n = te_samples.size
-    t = np.arange(n) / FS
-    h = 1.0 / FS / SUBSTEPS
-    x = np.zeros(4)  # at rest
-    rec = np.empty((n, 3))   # w1, w2, twist
-    for i in range(n):
-        rec[i] = x[2], x[3], x[0] - x[1]
-        if i == n - 1:
-            break
-        # The torque between samples: linear interpolation of the samples, as a recorded
-        # channel is read.
-        u = lambda tau: te_samples[i] + (te_samples[i + 1] - te_samples[i]) * (tau - t[i]) * FS
-        for s in range(SUBSTEPS):
-            ts = t[i] + s * h
-            k1 = derivative(x, u(ts), p)
-            k2 = derivative(x + 0.5 * h * k1, u(ts + 0.5 * h), p)
-            k3 = derivative(x + 0.5 * h * k2, u(ts + 0.5 * h), p)
-            k4 = derivative(x + h * k3, u(ts + h), p)
-            x = x + h / 6.0 * (k1 + 2 * k2 + 2 * k3 + k4)
-    return t, rec[:, 0], rec[:, 1], rec[:, 2]
+    t, rows = march(lambda x, u: derivative(x, u, p), np.zeros(4), te_samples, FS, SUBSTEPS,
+                    lambda x: (x[2], x[3], x[0] - x[1]))  # w1, w2, twist
+    return t, rows[:, 0], rows[:, 1], rows[:, 2]
 
 
 def write(path, t, te, w1, w2):
-    with open(path, "w") as f:
-        f.write("t,T_engine,w1,w2\n")
-        for row in zip(t, te, w1, w2):
-            f.write(",".join(f"{v:.12g}" for v in row) + "\n")
+    write_csv(path, ["t", "T_engine", "w1", "w2"], [t, te, w1, w2])
 
 
 if __name__ == "__main__":

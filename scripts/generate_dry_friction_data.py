@@ -23,6 +23,8 @@ import sys
 
 import numpy as np
 
+from recording_rk4 import march, write_csv
+
 TRUTH = {"J": 0.05, "c": 0.2, "c_negative": 0.3, "coulomb": 2.0, "coulomb_negative": 1.4,
          "breakaway": 4.0, "stribeck_speed": 1.5}
 SMOOTHING_SPEED = 0.05   # rad/s, a constant of the model
@@ -58,33 +60,13 @@ def derivative(x, tm, p):
 
 
 def simulate(p, tm_samples):
-    n = tm_samples.size
-    t = np.arange(n) / FS
-    h = 1.0 / FS / SUBSTEPS
-    x = np.zeros(2)  # at rest
-    w = np.empty(n)
-    for i in range(n):
-        w[i] = x[1]
-        if i == n - 1:
-            break
-        # The torque between samples: linear interpolation of the samples, as a recorded
-        # channel is read.
-        u = lambda tau: tm_samples[i] + (tm_samples[i + 1] - tm_samples[i]) * (tau - t[i]) * FS
-        for s in range(SUBSTEPS):
-            ts = t[i] + s * h
-            k1 = derivative(x, u(ts), p)
-            k2 = derivative(x + 0.5 * h * k1, u(ts + 0.5 * h), p)
-            k3 = derivative(x + 0.5 * h * k2, u(ts + 0.5 * h), p)
-            k4 = derivative(x + h * k3, u(ts + h), p)
-            x = x + h / 6.0 * (k1 + 2 * k2 + 2 * k3 + k4)
-    return t, w
+    t, rows = march(lambda x, u: derivative(x, u, p), np.zeros(2), tm_samples, FS, SUBSTEPS,
+                    lambda x: (x[1],))
+    return t, rows[:, 0]
 
 
 def write(path, t, tm, w):
-    with open(path, "w") as f:
-        f.write("t,T_m,w\n")
-        for row in zip(t, tm, w):
-            f.write(",".join(f"{v:.12g}" for v in row) + "\n")
+    write_csv(path, ["t", "T_m", "w"], [t, tm, w])
 
 
 if __name__ == "__main__":

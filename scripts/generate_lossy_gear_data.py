@@ -23,6 +23,8 @@ import sys
 
 import numpy as np
 
+from recording_rk4 import march, write_csv
+
 TRUTH = {"J1": 0.01, "J2": 0.3, "k": 2000.0, "c": 0.8, "eta": 0.9, "c2": 0.3}
 RATIO = 3.0
 SMOOTHING_POWER = 1.0   # W, a constant of the model
@@ -58,34 +60,13 @@ def derivative(x, tm, p):
 
 
 def simulate(p, tm_samples):
-    n = tm_samples.size
-    t = np.arange(n) / FS
-    h = 1.0 / FS / SUBSTEPS
-    x = np.zeros(4)  # at rest
-    rec = np.empty((n, 3))   # w2, n T f, power T w1
-    for i in range(n):
-        T, T_out = mesh(x, p)
-        rec[i] = x[3], T_out, T * x[2]
-        if i == n - 1:
-            break
-        # The torque between samples: linear interpolation of the samples, as a recorded
-        # channel is read.
-        u = lambda tau: tm_samples[i] + (tm_samples[i + 1] - tm_samples[i]) * (tau - t[i]) * FS
-        for s in range(SUBSTEPS):
-            ts = t[i] + s * h
-            k1 = derivative(x, u(ts), p)
-            k2 = derivative(x + 0.5 * h * k1, u(ts + 0.5 * h), p)
-            k3 = derivative(x + 0.5 * h * k2, u(ts + 0.5 * h), p)
-            k4 = derivative(x + h * k3, u(ts + h), p)
-            x = x + h / 6.0 * (k1 + 2 * k2 + 2 * k3 + k4)
-    return t, rec[:, 0], rec[:, 1], rec[:, 2]
+    t, rows = march(lambda x, u: derivative(x, u, p), np.zeros(4), tm_samples, FS, SUBSTEPS,
+                    lambda x: (lambda T, T_out: (x[3], T_out, T * x[2]))(*mesh(x, p)))  # w2, n T f, power T w1
+    return t, rows[:, 0], rows[:, 1], rows[:, 2]
 
 
 def write(path, t, tm, w2, t_out):
-    with open(path, "w") as f:
-        f.write("t,T_motor,w2,T_out\n")
-        for row in zip(t, tm, w2, t_out):
-            f.write(",".join(f"{v:.12g}" for v in row) + "\n")
+    write_csv(path, ["t", "T_motor", "w2", "T_out"], [t, tm, w2, t_out])
 
 
 if __name__ == "__main__":

@@ -23,6 +23,8 @@ import sys
 
 import numpy as np
 
+from recording_rk4 import march, write_csv
+
 TRUTH = {"J1": 0.1, "J2": 1.2, "k": 1500.0, "c": 3.0, "a": 6.0, "b": 0.08, "c_air": 0.003}
 SMOOTHING_SPEED = 0.1   # rad/s, a constant of the model
 FS = 1000.0             # samples per second
@@ -55,35 +57,13 @@ def derivative(x, tm, p):
 
 
 def simulate(p, tm_samples):
-    n = tm_samples.size
-    t = np.arange(n) / FS
-    h = 1.0 / FS / SUBSTEPS
-    x = np.zeros(4)  # at rest
-    w2 = np.empty(n)
-    shaft = np.empty(n)
-    for i in range(n):
-        w2[i] = x[3]
-        shaft[i] = p["k"] * (x[0] - x[1]) + p["c"] * (x[2] - x[3])
-        if i == n - 1:
-            break
-        # The torque between samples: linear interpolation of the samples, as a recorded
-        # channel is read.
-        u = lambda tau: tm_samples[i] + (tm_samples[i + 1] - tm_samples[i]) * (tau - t[i]) * FS
-        for s in range(SUBSTEPS):
-            ts = t[i] + s * h
-            k1 = derivative(x, u(ts), p)
-            k2 = derivative(x + 0.5 * h * k1, u(ts + 0.5 * h), p)
-            k3 = derivative(x + 0.5 * h * k2, u(ts + 0.5 * h), p)
-            k4 = derivative(x + h * k3, u(ts + h), p)
-            x = x + h / 6.0 * (k1 + 2 * k2 + 2 * k3 + k4)
-    return t, w2, shaft
+    t, rows = march(lambda x, u: derivative(x, u, p), np.zeros(4), tm_samples, FS, SUBSTEPS,
+                    lambda x: (x[3], p["k"] * (x[0] - x[1]) + p["c"] * (x[2] - x[3])))
+    return t, rows[:, 0], rows[:, 1]
 
 
 def write(path, t, tm, w2, shaft):
-    with open(path, "w") as f:
-        f.write("t,T_motor,w2,T_shaft\n")
-        for row in zip(t, tm, w2, shaft):
-            f.write(",".join(f"{v:.12g}" for v in row) + "\n")
+    write_csv(path, ["t", "T_motor", "w2", "T_shaft"], [t, tm, w2, shaft])
 
 
 if __name__ == "__main__":
