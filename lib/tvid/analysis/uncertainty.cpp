@@ -18,12 +18,13 @@ constexpr double kRankTolerance = 1e-6;
 // evaluator (every column kind: sensitivities, delays, differences) in scaled parameters
 // into js; false with `problem_text` set when they cannot be computed.
 bool scaled_jacobian(const IdentificationProblem& problem, const std::vector<double>& free_best, int threads,
-                     const std::vector<double>& scale, Eigen::MatrixXd& js, double& ssr, std::string& problem_text) {
+                     const std::vector<double>& scale, Eigen::MatrixXd& js, std::vector<double>& r, double& ssr,
+                     std::string& problem_text) {
     const std::size_t m = problem.dimension();
     ResidualEvaluator evaluator(problem, threads, problem.experiment().estimation_settings.jacobian);
     const std::size_t n = evaluator.residual_count();
     if (n <= m) { problem_text = "fewer residuals than free parameters"; return false; }
-    std::vector<double> r(n);
+    r.assign(n, 0.0);
     js.resize(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(m));
     if (!evaluator.residuals(free_best.data(), r.data())) { problem_text = "the simulation at the optimum failed"; return false; }
     if (!evaluator.jacobian(free_best.data(), r.data(), js) || !js.allFinite()) {
@@ -34,6 +35,25 @@ bool scaled_jacobian(const IdentificationProblem& problem, const std::vector<dou
     ssr = 0.0;
     for (double e : r) ssr += e * e;
     return true;
+}
+
+// ‖r‖² projected on the columns of js of the parameters strictly inside their bounds: what a
+// Gauss–Newton step that keeps the bound parameters where they are would remove from Σe².
+double gauss_newton_decrease(const IdentificationProblem& problem, const std::vector<double>& free_best,
+                             const Eigen::MatrixXd& js, const std::vector<double>& r) {
+    std::vector<Eigen::Index> inside;
+    for (std::size_t j = 0; j < free_best.size(); ++j) {
+        const double lo = problem.lower()[j], hi = problem.upper()[j], width = hi - lo;
+        const double margin = std::isfinite(width) ? 1e-9 * width : 0.0;
+        if (free_best[j] > lo + margin && free_best[j] < hi - margin) inside.push_back(static_cast<Eigen::Index>(j));
+    }
+    if (inside.empty()) return 0.0;
+    Eigen::MatrixXd a(js.rows(), static_cast<Eigen::Index>(inside.size()));
+    for (std::size_t k = 0; k < inside.size(); ++k) a.col(static_cast<Eigen::Index>(k)) = js.col(inside[k]);
+    const Eigen::Map<const Eigen::VectorXd> e(r.data(), static_cast<Eigen::Index>(r.size()));
+    const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(a);
+    const Eigen::VectorXd step = qr.solve(e);  // the least-squares fit of r by the columns
+    return (a * step).squaredNorm();
 }
 
 }  // namespace
@@ -66,9 +86,12 @@ ParameterUncertainty estimate_uncertainty(const IdentificationProblem& problem, 
         js = *given;
         ssr = known.sum_of_squares;
         for (std::size_t j = 0; j < m; ++j) js.col(static_cast<Eigen::Index>(j)) *= scale[j];
-    } else if (!scaled_jacobian(problem, free_best, threads, scale, js, ssr, u.problem)) {
-        return u;
+    } else {
+        std::vector<double> r;
+        if (!scaled_jacobian(problem, free_best, threads, scale, js, r, ssr, u.problem)) return u;
+        u.gauss_newton_decrease = gauss_newton_decrease(problem, free_best, js, r);
     }
+    u.sum_of_squares = ssr;
     const auto n = js.rows();
     u.residuals = static_cast<std::size_t>(n);
     const double dof = static_cast<double>(n) - static_cast<double>(m);

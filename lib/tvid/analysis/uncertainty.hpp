@@ -9,6 +9,7 @@
 // formed in ln p (its scaled column p_j·∂r/∂p_j is ∂r/∂ln p_j) and mapped back: asymmetric in p.
 
 #include <Eigen/Core>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -39,6 +40,13 @@ struct ParameterUncertainty {
     /// Unit vectors in relative parameter changes δp_j/|p_j| (absolute when p_j = 0), signed
     /// so that the first component of at least half the largest magnitude is positive.
     std::vector<std::vector<double>> null_directions;
+    /// Σe² that one Gauss–Newton step from the point would remove, over the parameters
+    /// inside their bounds (‖r‖² projected on their Jacobian columns, the linearised
+    /// decrease): near 0 at a minimum of the least-squares cost. NaN when the optimizer's own
+    /// Jacobian was taken (a least-squares fit, whose tolerances judged it) or when none was
+    /// formed.
+    double gauss_newton_decrease = std::numeric_limits<double>::quiet_NaN();
+    double sum_of_squares = 0.0;  ///< Σe² at the point
 };
 
 /// The residuals' Jacobian at the optimum as the optimizer left it: ∂r/∂p over the free

@@ -190,6 +190,28 @@ void judge_swarm(const IdentificationProblem& problem, const FitResult& fit, Ver
                       "(estimation.pso.iterations); scale: log for parameters whose box spans decades"});
 }
 
+// After an optimizer that does not solve least squares itself (the swarm, NLopt) on an l2
+// cost: a Gauss–Newton step from its best that would still cut the cost by more than 1 %,
+// and by more than the noise can tell (one σ² of the residuals), says its best is no minimum.
+void judge_minimum(const IdentificationProblem& problem, const FitResult& fit, Verdict& v) {
+    const Experiment& ex = problem.experiment();
+    const ParameterUncertainty& u = fit.uncertainty;
+    if (ex.estimation_settings.cost != CostKind::l2 || !u.available || !std::isfinite(u.gauss_newton_decrease)) return;
+    if (u.residuals <= problem.dimension() || !(u.sum_of_squares > 0)) return;
+    const double sigma2 = u.sum_of_squares / static_cast<double>(u.residuals - problem.dimension());
+    const double share = u.gauss_newton_decrease / u.sum_of_squares;
+    if (!(share > kNotAtMinimumShare) || !(u.gauss_newton_decrease > sigma2)) return;
+    const bool swarm = optimizer_traits(ex.estimation_settings.optimizer).swarm;
+    v.add({"not_at_minimum", Severity::warning, "",
+           std::string("the ") + optimizer_name(ex.estimation_settings.optimizer) +
+               " optimizer's best is not a minimum of the cost: one least-squares step from it would lower the "
+               "sum of squares by about " + pct(share) + " (linearised)",
+           swarm ? "run pso+lm (least squares from the swarm's best) or multistart, or more iterations "
+                   "(estimation.pso.iterations)"
+                 : "run lm or multistart from its best (--set parameters.NAME.init=...), or tighten the optimizer's "
+                   "tolerances"});
+}
+
 void judge_windows(const Experiment& ex, const Evaluation& ev, Verdict& v) {
     const std::string failed = first_failed_window(ev);
     if (!failed.empty())
@@ -476,6 +498,7 @@ void judge_fit(const IdentificationProblem& problem, FitResult& fit) {
         judge_windows(ex, fit.evaluation, v);
         judge_residuals(ex, fit, v);
         judge_parameters(problem, fit, v);
+        judge_minimum(problem, fit, v);
         judge_starts(problem, fit, v);
         judge_stability(fit.stability, v);
         judge_search_boxes(ex, v);

@@ -51,6 +51,10 @@ constexpr double kPoorWindowPoints = 30.0;
 /// Weakly determined parameters linked by |correlation| from this on form a group whose
 /// best-determined combination the verdict names (weak_apart, analysis/determined_combinations.hpp).
 constexpr double kCorrelatedGroup = 0.9;
+/// An optimizer's best from which one Gauss–Newton step would still lower the l2 cost by more
+/// than this share (and by more than one σ² of the residuals) is not a minimum
+/// (`not_at_minimum`): the "cost within 1 %" a global search is asked for.
+constexpr double kNotAtMinimumShare = 0.01;
 
 /// The swarm has not converged when, at its end, its global best still fell by more than
 /// this relative amount over its last iterations (PsoConvergence::window), or the particles'
