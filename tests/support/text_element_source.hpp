@@ -41,6 +41,14 @@ public:
     std::string text(const std::string& key) const override { return values_.at(key); }
     int node(const std::string& key) const override { return values_.at(key) == "a" ? 0 : 1; }
     std::pair<int, int> between(bool) const override { return {0, 1}; }
+    /// "lo,hi" (each a number or "p").
+    std::pair<Field, Field> field_pair(const std::string& key) const override {
+        const std::string text = values_.at(key);
+        const auto comma = text.find(',');
+        if (comma == std::string::npos) fail(key, "expected [min, max]");
+        const auto one = [](const std::string& v) { return v == "p" ? Field::param(0) : Field::value(std::stod(v)); };
+        return {one(text.substr(0, comma)), one(text.substr(comma + 1))};
+    }
     std::string node_name(int node) const override { return node == 0 ? "a" : "b"; }
     std::vector<std::unique_ptr<ElementSource>> entries(const std::string& key,
                                                         const std::vector<std::string>& allowed) const override {

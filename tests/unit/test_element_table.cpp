@@ -172,7 +172,7 @@ TEST_CASE("each kind's field walk visits each field once, in step over a spec an
         {"road_load", {"a", "b", "c", "smoothing_speed"}},
         {"multistage_spring",
          {"stages.angle", "stages.k", "stages_negative.angle", "stages_negative.k", "c", "smoothing_angle"}},
-        {"position_controller", {"setpoint", "kp", "kd"}}};
+        {"position_controller", {"setpoint", "kp", "kd", "limits.min", "limits.max"}}};
     for_each_element_kind([&](auto kind) {
         using Kind = decltype(kind);
         typename Kind::Spec spec{};

@@ -61,3 +61,29 @@ TEST_CASE("the position controller's reader", "[model][position_controller]") {
               "ki: a continuous position controller is PD", 0) == 0);
     CHECK(read_error(TextSource({{"node", "a"}, {"setpoint", "0"}, {"kp", "10"}, {"ki", "0"}}), read).empty());
 }
+
+TEST_CASE("a position controller's command saturates at its limits", "[model][position_controller]") {
+    NetworkSpec net = tvid::test::two_nodes();
+    TextSource given({{"node", "b"}, {"setpoint", "2"}, {"kp", "10"}, {"kd", "1"}, {"limits", "-3,p"}});
+    read_element<elements::PositionController>(given, "servo", net);
+    REQUIRE(net.position_controllers[0].limited);
+    NetworkModel<Dual> model(net);
+    const Dual p[1] = {Dual::variable(4.0, 0, 1)};  // the upper limit
+    model.set_parameters(p);
+    const double u[1] = {0.0};
+    const auto acceleration = [&](double theta, double omega) {
+        const Dual x[4] = {Dual(0.0), Dual(theta), Dual(0.0), Dual(omega)};
+        Dual f[4];
+        model.derivative(x, u, f);
+        return f[3];
+    };
+    CHECK(acceleration(1.9, 0.5).value() == Approx(10 * 0.1 - 0.5));  // inside: the PD law
+    CHECK(acceleration(1.9, 0.5).derivative(0) == 0.0);
+    CHECK(acceleration(0.0, 0.0).value() == 4.0);  // 20 N m asked, 4 given
+    CHECK(acceleration(0.0, 0.0).derivative(0) == 1.0);
+    CHECK(acceleration(5.0, 0.0).value() == -3.0);
+
+    const auto read = [](TextSource& s, NetworkSpec& n) { read_element<elements::PositionController>(s, "servo", n); };
+    CHECK(read_error(TextSource({{"node", "a"}, {"setpoint", "0"}, {"kp", "10"}, {"limits", "1,3"}}), read) ==
+          "limits: expected [min, max] with min <= 0 <= max and min < max, got [1, 3]");
+}

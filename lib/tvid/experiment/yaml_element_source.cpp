@@ -75,6 +75,15 @@ std::vector<std::unique_ptr<ElementSource>> YamlElementSource::entries(const std
     return out;
 }
 
+std::pair<Field, Field> YamlElementSource::field_pair(const std::string& key) const {
+    if (!m_.has(key)) m_.fail_missing(key);
+    const YAML::Node pair = m_.get(key);
+    const std::string path = m_.key_path(key);
+    if (!pair.IsSequence() || pair.size() != 2) src_.fail(pair, path, "expected [min, max]");
+    return {read_field(src_, pair[0], path + "[0]", net_.parameter_names),
+            read_field(src_, pair[1], path + "[1]", net_.parameter_names)};
+}
+
 std::string YamlElementSource::node_name(int node) const {
     return node == kGround ? std::string("ground") : net_.nodes[static_cast<std::size_t>(node)].name;
 }

@@ -28,6 +28,7 @@ public:
 
     int node(const std::string& key) const override;
     std::pair<int, int> between(bool ground_ok) const override;
+    std::pair<Field, Field> field_pair(const std::string& key) const override;
     std::string node_name(int node) const override;
     std::vector<std::unique_ptr<ElementSource>> entries(const std::string& key,
                                                         const std::vector<std::string>& allowed) const override;

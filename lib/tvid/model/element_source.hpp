@@ -28,6 +28,9 @@ public:
     virtual double number(const std::string& key) const = 0;
     virtual std::string text(const std::string& key) const = 0;
 
+    /// `key: [a, b]`, each a number or a declared parameter; fails unless a list of two.
+    virtual std::pair<Field, Field> field_pair(const std::string& key) const = 0;
+
     /// The node named at `key` (not ground); fails when absent or unknown.
     virtual int node(const std::string& key) const = 0;
     /// `between: [a, b]`, `[a]` or `[a, ground]` (the last two only when `ground_ok`).
