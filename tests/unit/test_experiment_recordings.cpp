@@ -1,6 +1,6 @@
 // Several recordings in one experiment (data.recordings, docs/experiment-format.md): the
-// loader lays them end to end, resolves each window on its own recording, and refuses bad
-// lists and windows with one InputError
+// loader lays them end to end, resolves each window on its own recording, reads every
+// channel within its recording, and refuses bad lists and windows with one InputError
 // "FILE:LINE: key.path: what is wrong".
 #include <catch2/catch.hpp>
 
@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "support/test_files.hpp"
+#include "tvid/estimation/problem_definition.hpp"
 #include "tvid/experiment/experiment.hpp"
 #include "tvid/io/sha256.hpp"
 #include "tvid/util/input_error.hpp"
@@ -240,6 +241,40 @@ TEST_CASE("data.recordings errors name the line and the key", "[experiment][reco
         lines = with(lines, 5, "  time: t");
         lines = with(lines, 6, "");
         expect_error(lines, 21, "windows.estimation[0].recording", "this experiment reads one data.file");
+    }
+}
+
+TEST_CASE("a delayed channel of the second recording reads that recording as it alone would", "[experiment][recordings]") {
+    // Whole and half samples, late and early: each recording's own samples, held at its own
+    // ends. A second recording whose clock starts after the first's keeps its time stamps
+    // and reads bit for bit as alone; one whose clock starts again at 0 is moved, and its
+    // interpolation weights round differently.
+    for (const char* file : {"late.csv", "run2.csv"}) {
+        const double tolerance = std::string(file) == "late.csv" ? 0.0 : 1e-12;
+        for (const char* delay : {"0.0025", "-0.0025", "0.003", "-0.003"}) {
+            INFO(file << ", delay " << delay);
+            Scratch s;
+            const std::string input = std::string("inputs: { Ttm: { column: Ttm, delay: ") + delay + " } }";
+            const std::string output = std::string("outputs: { Tds: { column: Tds, delay: ") + delay + " } }";
+            std::vector<std::string> two = with(with(kTwo, 8, input), 9, output);
+            two = with(two, 6, std::string("    - { name: run2, file: ") + file + ", time: t }");
+            const Experiment ex = load(s, two);
+            const tvid::ProblemDefinition joined = tvid::problem_definition(ex);
+            std::vector<std::string> alone = with(two, 4, std::string("  file: ") + file);
+            alone = with(alone, 5, "  time: t");
+            alone = with(alone, 6, "");
+            alone = with(alone, 21, "  estimation: [ { samples: [0, 50] } ]");
+            alone = with(alone, 22, "");
+            const tvid::ProblemDefinition single = tvid::problem_definition(load(s, alone));
+            REQUIRE(single.inputs.samples() == 51);
+            for (std::size_t i = 0; i < 51; ++i) {
+                INFO("sample " << i);
+                CHECK(joined.inputs.value(0, 101 + i) == Approx(single.inputs.value(0, i)).epsilon(tolerance).margin(0));
+                CHECK(joined.measured[0][101 + i] == Approx(single.measured[0][i]).epsilon(tolerance).margin(0));
+            }
+            // Read late, the first recording's last sample holds its own value, not the next's.
+            if (std::stod(delay) > 0) CHECK(joined.inputs.value(0, 100) == ex.data.column("Ttm")[100]);
+        }
     }
 }
 
