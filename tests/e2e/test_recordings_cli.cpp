@@ -322,8 +322,9 @@ TEST_CASE("the Aalto bench's three runs in one experiment give the three configs
     const auto config = [](const std::string& name) { return source_dir() / "configs" / name; };
     const json runs = fit(config("aalto_bench_runs.yaml"), tmp.path() / "runs");
     const json one = fit(config("aalto_bench.yaml"), tmp.path() / "one");
-    check_same_parameters(runs, one, 1e-9);
-    check_same_split(runs["estimation"], one["estimation"], 1e-9);
+    // Run 1 comes first, as read: the same fit, bit for bit.
+    check_same_parameters(runs, one, 0.0);
+    check_same_split(runs["estimation"], one["estimation"], 0.0);
     const std::filesystem::path params = tmp.path() / "one" / "params.json";
     const json run2 = validate(config("aalto_bench_run2.yaml"), params);
     const json run3 = validate(config("aalto_bench_run3.yaml"), params);
@@ -335,12 +336,16 @@ TEST_CASE("the Aalto bench's three runs in one experiment give the three configs
     for (std::size_t k = 0; k < 3; ++k) {
         INFO(labels[k]);
         CHECK(windows[k]["window"] == labels[k]);
+        // Runs 2 and 3 start their clocks at 0 again: laid after run 1, their time stamps move
+        // by 13.125 s and 25.875 s, and the rounding of the interpolation over some 12 000
+        // samples of a stiff line moves the figures by up to 6e-10 (measured).
+        const double tolerance = k == 0 ? 0.0 : 1e-8;
         for (const char* output : {"torque_upper", "torque_lower"}) {
             INFO(output);
             const json& m = windows[k]["outputs"][output];
             const json& s = (*separate[k])["pooled"][output];
-            CHECK(relative_difference(m["rmse"].get<double>(), s["rmse"].get<double>()) <= 1e-9);
-            CHECK(relative_difference(m["fit_percent"].get<double>(), s["fit_percent"].get<double>()) <= 1e-9);
+            CHECK(relative_difference(m["rmse"].get<double>(), s["rmse"].get<double>()) <= tolerance);
+            CHECK(relative_difference(m["fit_percent"].get<double>(), s["fit_percent"].get<double>()) <= tolerance);
         }
         CHECK(std::round(10 * windows[k]["outputs"]["torque_lower"]["fit_percent"].get<double>()) / 10 == documented[k]);
     }
