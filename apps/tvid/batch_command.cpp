@@ -211,6 +211,7 @@ std::unique_ptr<PreparedBatch> prepare_batch(const BatchCommand& cmd, const Batc
     std::vector<BatchJob> jobs = plan_batch_jobs(request);
 
     const Experiment ex = load_batch_experiment(settings, jobs);
+    check_batch_of_one_recording(ex, request);
     const IdentificationProblem problem(ex);
     if (problem.dimension() == 0)
         throw InputError(ex.file.string(), 0, "parameters", "every parameter is fixed: there is nothing to identify");

@@ -9,6 +9,7 @@
 #include "tvid/analysis/evaluation.hpp"
 #include "tvid/estimation/parallel_evaluator.hpp"
 #include "tvid/experiment/experiment.hpp"
+#include "tvid/experiment/window_recording.hpp"
 #include "tvid/io/atomic_file.hpp"
 #include "tvid/report/parameter_file.hpp"
 #include "tvid/report/report_writer.hpp"
@@ -50,7 +51,7 @@ nlohmann::json traces_json(const Experiment& ex, const SplitEvaluation& split) {
         outputs[o.model_name] = {{"measured", nlohmann::json::array()}, {"simulated", nlohmann::json::array()}};
     for (const WindowEvaluation& w : split.windows)
         for (std::size_t i = 0; i < w.trace.time.size(); ++i) {
-            t.push_back(w.trace.time[i]);
+            t.push_back(recording_time(ex, *w.trace.window, w.trace.time[i]));
             window.push_back(w.trace.window->label);
             for (std::size_t k = 0; k < ex.outputs.size() && k < w.trace.measured.size(); ++k) {
                 nlohmann::json& o = outputs[ex.outputs[k].model_name];

@@ -8,6 +8,7 @@
 #include <limits>
 #include <numbers>
 
+#include "tvid/channels/recording_spans.hpp"
 #include "tvid/util/text.hpp"
 
 namespace tvid {
@@ -149,8 +150,7 @@ std::vector<ParameterScaleRule> parameter_scale_rules(const IdentificationProble
         else if (std::strcmp(info.name, "phase") == 0) mark(field, Zero::phase);
     });
     const std::vector<double>& time = problem.inputs().time();
-    const double period =
-        time.size() > 1 ? (time.back() - time.front()) / static_cast<double>(time.size() - 1) : 0.0;
+    const double period = mean_sample_interval(time, problem.definition().recordings);
     std::vector<ParameterScaleRule> rules;
     for (std::size_t j = 0; j < problem.dimension(); ++j) {
         ParameterScaleRule r;

@@ -140,18 +140,24 @@ SpectralPeak dominant_band(const std::vector<double>& frequency_hz, const std::v
 }
 
 SplitOrders split_orders(const SplitEvaluation& split, std::size_t outputs, const std::vector<double>& crank_angle_rad,
-                         const OrderSettings& settings) {
+                         const OrderSettings& settings, const std::vector<RowSpan>& recordings) {
     SplitOrders out;
     out.split = split.split;
     if (crank_angle_rad.empty()) return out;
     const double to_deg = 180.0 / std::numbers::pi;
     const double cycle_deg = settings.cycle_deg;
-    // As experiment/window_reader.cpp counts cycles: from the first cycle start at or after the first angle.
-    const double origin = std::ceil(crank_angle_rad.front() * to_deg / cycle_deg - 1e-9) * cycle_deg;
+    // As experiment/window_reader.cpp counts cycles: from the first cycle start at or after
+    // the first angle of the window's recording.
+    const auto origin_of = [&](const WindowTrace& tr) {
+        const std::size_t r = tr.window ? tr.window->recording : 0;
+        const double first = r < recordings.size() ? crank_angle_rad[recordings[r].begin] : crank_angle_rad.front();
+        return std::ceil(first * to_deg / cycle_deg - 1e-9) * cycle_deg;
+    };
     std::vector<double> angle, residual;
     for (const WindowEvaluation& w : split.windows) {
         const WindowTrace& tr = w.trace;
         if (tr.status != SimulationStatus::ok || tr.measured.size() < outputs || tr.samples.size() < 2) continue;
+        const double origin = origin_of(tr);
         angle.resize(tr.samples.size());
         bool inside = true;
         for (std::size_t i = 0; i < tr.samples.size(); ++i) {

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "tvid/analysis/evaluation.hpp"
+#include "tvid/channels/recording_spans.hpp"
 #include "tvid/analysis/order_spectrum.hpp"
 
 namespace tvid {
@@ -66,9 +67,10 @@ struct SplitOrders {
 /// The order spectra of each complete engine cycle in the windows that simulated.
 /// `crank_angle_rad` is the recording's cumulative crank angle per sample; cycles are
 /// counted as the experiment's `cycle:` windows count them, from the first cycle start at or
-/// after the recording's first angle.
+/// after the recording's first angle. With several recordings end to end (`recordings`, the
+/// rows of each), each window's cycles are counted in its own recording.
 SplitOrders split_orders(const SplitEvaluation& split, std::size_t outputs, const std::vector<double>& crank_angle_rad,
-                         const OrderSettings& settings = {});
+                         const OrderSettings& settings = {}, const std::vector<RowSpan>& recordings = {});
 
 /// The residual's dominant order for one output: the order of the largest mean A²/2 over
 /// the cycles, and its share of their mean variance; and the share of all the orders listed.

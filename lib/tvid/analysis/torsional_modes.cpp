@@ -6,6 +6,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "tvid/experiment/window_recording.hpp"
 #include "tvid/model/steady_motion.hpp"
 
 namespace tvid {
@@ -214,8 +215,10 @@ OperatingPoint window_operating_point(const IdentificationProblem& problem, cons
     op.window = window;
     op.label = w.label;
     op.initial_state = initial_state_name(d.initial_state);
-    op.sample = w.start;
-    op.time = d.inputs.time()[w.start];
+    const Experiment& ex = problem.experiment();
+    op.recording = recording_name(ex, w);
+    op.sample = w.start - (w.recording < d.recordings.size() ? d.recordings[w.recording].begin : 0);
+    op.time = recording_time(ex, w, d.inputs.time()[w.start]);
     // The state at the window's start (after a warm-up ws->x is at its first scored sample).
     op.x = ws->x_start;
     op.u = ws->u0;

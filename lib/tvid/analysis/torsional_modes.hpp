@@ -64,9 +64,10 @@ std::vector<double> node_ratios(const NetworkSpec& spec, const std::vector<doubl
 struct OperatingPoint {
     std::size_t window = 0;   ///< index among the estimation windows
     std::string label;        ///< the window's label
+    std::string recording;    ///< the window's recording (data.recordings), or empty
     std::string initial_state;///< rest, equilibrium, measured or steady
-    std::size_t sample = 0;   ///< the window's start sample
-    double time = 0.0;        ///< its time [s]
+    std::size_t sample = 0;   ///< the window's start sample, a row of its recording
+    double time = 0.0;        ///< its time [s] on its recording's clock
     std::vector<double> x, u;
 };
 

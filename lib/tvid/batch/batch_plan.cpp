@@ -9,6 +9,7 @@
 #include <set>
 #include <sstream>
 
+#include "tvid/experiment/window_recording.hpp"
 #include "tvid/io/input_file.hpp"
 #include "tvid/util/input_error.hpp"
 
@@ -167,6 +168,20 @@ void check_cycles_in_recording(const Experiment& experiment, const std::vector<i
                         ", which is outside the data (" + holds + "); end at " + std::to_string(count - 2) +
                         " or add --no-validation");
     }
+}
+
+void check_batch_of_one_recording(const Experiment& experiment, const BatchRequest& request) {
+    if (!lists_recordings(experiment)) return;
+    std::string names;
+    for (const ExperimentRecording& r : experiment.recordings) names += (names.empty() ? "" : ", ") + r.name;
+    const std::string reads = experiment.file.string() + " reads several recordings end to end (data.recordings: " +
+                              names + "): ";
+    const std::string instead = "; fit it with tvid fit, or batch an experiment that reads one data.file";
+    if (!request.recordings.empty())
+        throw InputError("--data", 0, "", reads + "a batch fits each recording given with --data or --data-list on its "
+                                                 "own, in place of data.file" + instead);
+    if (!request.cycles.empty())
+        throw InputError("--cycles", 0, "", reads + "a batch of --cycles fits the cycles of one recording" + instead);
 }
 
 std::vector<BatchJob> plan_batch_jobs(const BatchRequest& request) {

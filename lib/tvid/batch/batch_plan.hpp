@@ -41,6 +41,12 @@ int complete_cycles(const Experiment& experiment);
 /// experiment's recording. Throws InputError("--cycles", …) otherwise.
 void check_cycles_in_recording(const Experiment& experiment, const std::vector<int>& cycles, bool validation);
 
+/// A batch's job is one recording, or one cycle of it: --data and --data-list replace
+/// data.file, --cycles count the cycles of the experiment's one recording. An experiment
+/// that reads several recordings end to end (data.recordings) is refused with either:
+/// InputError("--data" or "--cycles", …) saying so.
+void check_batch_of_one_recording(const Experiment& experiment, const BatchRequest& request);
+
 /// Every cycle of every recording, recordings outermost. Throws InputError when there
 /// are neither recordings nor cycles, or ("--data", …) when a recording is listed twice.
 std::vector<BatchJob> plan_batch_jobs(const BatchRequest& request);

@@ -1,6 +1,8 @@
 #include "tvid/channels/crank_angle_channels.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 
 namespace tvid {
 
@@ -12,6 +14,34 @@ CrankAngleChannels::CrankAngleChannels(std::vector<double> angle, std::vector<st
         for (std::size_t i = 0; i + 1 < v.size() && i + 1 < angle_.size(); ++i)
             slopes_[k].push_back((v[i + 1] - v[i]) / (angle_[i + 1] - angle_[i]));
     }
+}
+
+CrankAngleChannels CrankAngleChannels::end_to_end(const std::vector<double>& angle,
+                                                  const std::vector<std::vector<double>>& values,
+                                                  const std::vector<RowSpan>& recordings) {
+    if (recordings.size() <= 1) return CrankAngleChannels(angle, values);
+    std::vector<double> grid;
+    std::vector<std::vector<double>> held(values.size());
+    for (std::size_t r = 0; r < recordings.size(); ++r) {
+        const RowSpan span = recordings[r];
+        grid.insert(grid.end(), angle.begin() + static_cast<std::ptrdiff_t>(span.begin),
+                    angle.begin() + static_cast<std::ptrdiff_t>(span.end));
+        for (std::size_t k = 0; k < values.size(); ++k)
+            held[k].insert(held[k].end(), values[k].begin() + static_cast<std::ptrdiff_t>(span.begin),
+                           values[k].begin() + static_cast<std::ptrdiff_t>(span.end));
+        if (r + 1 == recordings.size()) break;
+        // The gap to the next recording: this one's last value up to its middle, the next
+        // one's first value from just after it.
+        const std::size_t last = span.end - 1, next = recordings[r + 1].begin;
+        const double middle = 0.5 * (angle[last] + angle[next]);
+        grid.push_back(middle);
+        grid.push_back(std::nextafter(middle, std::numeric_limits<double>::infinity()));
+        for (std::size_t k = 0; k < values.size(); ++k) {
+            held[k].push_back(values[k][last]);
+            held[k].push_back(values[k][next]);
+        }
+    }
+    return CrankAngleChannels(std::move(grid), std::move(held));
 }
 
 std::size_t CrankAngleChannels::interval(double x, std::size_t& cursor) const {

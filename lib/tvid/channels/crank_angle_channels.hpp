@@ -10,6 +10,7 @@
 #include <cstddef>
 #include <vector>
 
+#include "tvid/channels/recording_spans.hpp"
 #include "tvid/channels/scalar_value.hpp"
 #include "tvid/simd/pack.hpp"
 
@@ -19,6 +20,13 @@ class CrankAngleChannels {
 public:
     CrankAngleChannels() = default;
     CrankAngleChannels(std::vector<double> angle, std::vector<std::vector<double>> values);
+    /// Several recordings end to end (recording_spans.hpp), `angle` rising across them with
+    /// a gap between two recordings wider than a throw ever twists past its recording's end
+    /// (a cycle: experiment/recording_join.hpp). Each recording's channel is held at its ends
+    /// as that recording alone holds it: the grid gains two points in the middle of each
+    /// gap, holding each side flat up to there, so that no throw reads the next recording.
+    static CrankAngleChannels end_to_end(const std::vector<double>& angle, const std::vector<std::vector<double>>& values,
+                                         const std::vector<RowSpan>& recordings);
 
     std::size_t count() const { return values_.size(); }
     bool empty() const { return values_.empty(); }

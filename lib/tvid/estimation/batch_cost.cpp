@@ -304,7 +304,7 @@ private:
             const ProblemDefinition::DelayedChannel& c = d_.delayed_outputs[static_cast<std::size_t>(delayed)];
             const P& delay = ws.params[static_cast<std::size_t>(c.parameter)];
             std::array<std::size_t, W>& hints = ws.delay_hints[static_cast<std::size_t>(delayed)];
-            const SampledSignal recorded = c.signal(time);
+            const SampledSignal recorded = c.signal(time, d_.recordings[w.recording]);
             P y;
             for (int l = 0; l < W; ++l)
                 y.set(l, delayed_value(recorded, time[i] + delay[l], hints[static_cast<std::size_t>(l)]));

@@ -274,16 +274,18 @@ bool ForwardSensitivity::jacobian_columns(const double* free, std::size_t j0, st
     // measurement moves (channel_delay.hpp).
     struct OutputDelayColumn {
         std::size_t column, output;
-        SampledSignal recorded;
+        const ProblemDefinition::DelayedChannel* channel;
+        SampledSignal recorded;  ///< the current window's recording
         double delay;
         std::size_t hint;
     };
     std::vector<OutputDelayColumn> delay_columns;
     for (const ProblemDefinition::DelayedChannel& c : def.delayed_outputs)
         if (const long j = problem_->free_column(c.parameter); j >= static_cast<long>(j0) && j < static_cast<long>(j1))
-            delay_columns.push_back({static_cast<std::size_t>(j), c.channel, c.signal(time), free[j], 0});
+            delay_columns.push_back({static_cast<std::size_t>(j), c.channel, &c, c.signal(time), free[j], 0});
     for (std::size_t wi = 0; wi < def.estimation.size(); ++wi) {
         const Window& w = def.estimation[wi];
+        for (OutputDelayColumn& c : delay_columns) c.recorded = c.channel->signal(time, def.recordings[w.recording]);
         const auto record = [&](std::size_t i, const auto* outputs) {
             for (std::size_t k = 0; k < def.measured.size(); ++k) {
                 const auto& y = outputs[k];
@@ -354,7 +356,7 @@ void ForwardSensitivity::delay_sensitivities(const double* free, const Window& w
         std::vector<double>& d = out.dydp[c.channel][static_cast<std::size_t>(j)];
         std::size_t hint = 0;
         for (std::size_t s = 0; s < out.time.size(); ++s)
-            d[s] += output_delay_derivative(c.signal(time), out.time[s], free[j], hint);
+            d[s] += output_delay_derivative(c.signal(time, def.recordings[w.recording]), out.time[s], free[j], hint);
     }
     // An input's delay moves what drives the model, which carries no derivative of its
     // inputs: central differences of the outputs.

@@ -76,7 +76,7 @@ std::unique_ptr<ProblemWorkspace> IdentificationProblem::make_workspace() const 
 double IdentificationProblem::difference_step(std::size_t j, double x) const {
     const std::vector<double>& time = inputs().time();
     if (time.size() > 1 && delay_column_[j])
-        return delay_difference_step((time.back() - time.front()) / static_cast<double>(time.size() - 1));
+        return delay_difference_step(mean_sample_interval(time, definition_.recordings));
     return tvid::difference_step(x, lower_[j], upper_[j]);
 }
 
@@ -98,7 +98,7 @@ void IdentificationProblem::apply_channel_delays(ProblemWorkspace& ws) const {
     for (const ProblemDefinition::DelayedChannel& c : definition_.delayed_inputs) {
         const double delay = ws.params[static_cast<std::size_t>(c.parameter)];
         if (ws.applied_delays[q] != delay) {
-            delay_channel(c.signal(time), delay, ws.shift_scratch);
+            delay_channel(c.signal(time), definition_.recordings, delay, ws.shift_scratch);
             ws.shifted_inputs.set_channel(c.channel, ws.shift_scratch);
             ws.applied_delays[q] = delay;
         }
@@ -107,7 +107,7 @@ void IdentificationProblem::apply_channel_delays(ProblemWorkspace& ws) const {
     for (const ProblemDefinition::DelayedChannel& c : definition_.delayed_outputs) {
         const double delay = ws.params[static_cast<std::size_t>(c.parameter)];
         if (ws.applied_delays[q] != delay) {
-            delay_channel(c.signal(time), delay, ws.shifted_measured[c.channel]);
+            delay_channel(c.signal(time), definition_.recordings, delay, ws.shifted_measured[c.channel]);
             ws.applied_delays[q] = delay;
         }
         ++q;

@@ -1,6 +1,7 @@
 #include "tvid/estimation/problem_definition.hpp"
 
 #include "tvid/channels/channel_delay.hpp"
+#include "tvid/experiment/window_recording.hpp"
 #include "tvid/model/parameter_units.hpp"
 
 #include <algorithm>
@@ -24,11 +25,14 @@ double delay_value(const ChannelBinding& b, const Experiment& experiment) {
                                   : b.delay.constant;
 }
 
-std::vector<double> shifted(const std::vector<double>& v, const std::vector<double>& time, double delay) {
+// Each recording's samples read `delay` later within that recording.
+std::vector<double> shifted(const std::vector<double>& v, const std::vector<double>& time,
+                            const std::vector<RowSpan>& recordings, double delay) {
     std::vector<double> out;
-    delay_channel(v, time, delay, out);
+    delay_channel(v, time, recordings, delay, out);
     return out;
 }
+
 }  // namespace
 
 // The channels as recorded (unit-scaled, not shifted by any delay): what is derived from
@@ -107,7 +111,7 @@ static void read_time_inputs(ProblemDefinition& d, const Experiment& experiment,
     for (const ChannelBinding& in : experiment.inputs) {
         if (in.by_angle) continue;
         recorded.push_back(scaled(experiment.data.column(in.column), in.scale));
-        values.push_back(shifted(recorded.back(), time, delay_value(in, experiment)));
+        values.push_back(shifted(recorded.back(), time, d.recordings, delay_value(in, experiment)));
         unshifted.inputs.push_back(recorded.back());
         delay_parameter.push_back(in.delay.parameter);
     }
@@ -115,16 +119,17 @@ static void read_time_inputs(ProblemDefinition& d, const Experiment& experiment,
         const auto from = static_cast<std::size_t>(k);
         const int p = delay_parameter[from];
         if (p < 0) {
-            values.push_back(sample_slopes(values[from], time));
+            values.push_back(sample_slopes(values[from], time, d.recordings));
         } else {
-            recorded.push_back(sample_slopes(recorded[from], time));
-            values.push_back(shifted(recorded.back(), time, experiment.parameters[static_cast<std::size_t>(p)].init));
+            recorded.push_back(sample_slopes(recorded[from], time, d.recordings));
+            values.push_back(
+                shifted(recorded.back(), time, d.recordings, experiment.parameters[static_cast<std::size_t>(p)].init));
         }
         delay_parameter.push_back(p);
     }
     for (std::size_t k = 0; k < values.size(); ++k)
         if (delay_parameter[k] >= 0) {
-            std::vector<double> slope = sample_slopes(recorded[k], time);
+            std::vector<double> slope = sample_slopes(recorded[k], time, d.recordings);
             d.delayed_inputs.push_back({k, delay_parameter[k], std::move(recorded[k]), std::move(slope)});
         }
     d.inputs = InputChannels(time, std::move(values));
@@ -154,6 +159,7 @@ static void read_steady_speed(ProblemDefinition& d, const Experiment& experiment
 ProblemDefinition problem_definition(const Experiment& experiment) {
     ProblemDefinition d;
     d.network = experiment.network;
+    d.recordings = recording_spans(experiment);
     const CsvTable& data = experiment.data;
     const std::vector<double>& time = data.column(experiment.time_column);
     Unshifted unshifted;
@@ -161,15 +167,17 @@ ProblemDefinition problem_definition(const Experiment& experiment) {
     std::vector<std::vector<double>> angle_values;
     for (const ChannelBinding& in : experiment.inputs)
         if (in.by_angle)
-            angle_values.push_back(shifted(scaled(data.column(in.column), in.scale), time, delay_value(in, experiment)));
-    if (!angle_values.empty()) d.angle_inputs = CrankAngleChannels(experiment.crank_angle, std::move(angle_values));
+            angle_values.push_back(
+                shifted(scaled(data.column(in.column), in.scale), time, d.recordings, delay_value(in, experiment)));
+    if (!angle_values.empty())
+        d.angle_inputs = CrankAngleChannels::end_to_end(experiment.crank_angle, angle_values, d.recordings);
     for (const ChannelBinding& out : experiment.outputs) {
         std::vector<double> recorded = scaled(data.column(out.column), out.scale);
-        d.measured.push_back(shifted(recorded, time, delay_value(out, experiment)));
+        d.measured.push_back(shifted(recorded, time, d.recordings, delay_value(out, experiment)));
         unshifted.outputs.push_back(recorded);
         d.output_delay.push_back(out.delay.parameter);
         if (out.delay.is_parameter()) {
-            std::vector<double> slope = sample_slopes(recorded, time);
+            std::vector<double> slope = sample_slopes(recorded, time, d.recordings);
             d.delayed_outputs.push_back({d.measured.size() - 1, out.delay.parameter, std::move(recorded), std::move(slope)});
         }
     }

@@ -19,6 +19,9 @@ namespace tvid {
 
 struct ProblemDefinition {
     NetworkSpec network;
+    /// The rows of each recording (one for data.file): a window lies in one, and its channels
+    /// are shifted, differentiated and held within it (channels/recording_spans.hpp).
+    std::vector<RowSpan> recordings;
     InputChannels inputs;                        ///< the network's inputs by time
     CrankAngleChannels angle_inputs;             ///< and by crank angle (cylinder pressures)
     std::vector<std::vector<double>> measured;   ///< the measured outputs [output][sample]
@@ -68,6 +71,8 @@ struct ProblemDefinition {
         std::vector<double> recorded;   ///< unit-scaled, not shifted
         std::vector<double> slope;      ///< its slopes at the samples (channel_delay.hpp)
         SampledSignal signal(const std::vector<double>& time) const { return {recorded, slope, time}; }
+        /// Its recording `r` alone: what a window of that recording reads.
+        SampledSignal signal(const std::vector<double>& time, RowSpan r) const { return signal_within(signal(time), r); }
     };
     std::vector<DelayedChannel> delayed_inputs, delayed_outputs;
     /// Per measured output: its delay parameter, or -1 (a number or none).

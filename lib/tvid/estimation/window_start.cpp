@@ -53,7 +53,9 @@ bool WindowStarts::initial_state(const Window& w, ProblemWorkspace& ws, std::str
             // The line in steady rotation at the node's (mean) speed under the mean inputs
             // of the averaged samples, which ws.u0 keeps (the start's sensitivity reads them).
             const SteadyStartSpec& s = d_->steady;
-            const std::size_t count = d_->inputs.samples();
+            // Cut at the end of the window's recording, as at the end of a single file.
+            const std::size_t count = w.recording < d_->recordings.size() ? d_->recordings[w.recording].end
+                                                                          : d_->inputs.samples();
             std::size_t end = s.samples > 0 ? start + s.samples : w.first > start ? w.first : start + 50;
             end = std::min(std::max(end, start + 1), count);
             const double m = static_cast<double>(end - start);

@@ -54,8 +54,8 @@ Field read_delay(const YamlMap& m, NetworkSpec& network, const std::vector<std::
     return delay;
 }
 
-ChannelBinding read_binding(const YamlMap& section, const std::string& name, const CsvTable& data,
-                            double recording_seconds, NetworkSpec& network, const std::vector<std::string>& declared,
+ChannelBinding read_binding(const YamlMap& section, const std::string& name, const std::vector<RecordingRead>& recordings,
+                            NetworkSpec& network, const std::vector<std::string>& declared,
                             std::initializer_list<std::string_view> extra) {
     const YamlSource& src = section.source();
     const YAML::Node value = section.get(name);
@@ -83,20 +83,21 @@ ChannelBinding read_binding(const YamlMap& section, const std::string& name, con
         }
         if (m.has("delay")) {  // a parameter's bounds are checked with the parameters
             b.delay = read_delay(m, network, declared);
-            if (!b.delay.is_parameter() && !(std::abs(b.delay.constant) < recording_seconds))
-                m.fail("delay", "a delay of " + number_text(b.delay.constant) +
-                                    " s shifts the channel past the recording (" + number_text(recording_seconds) +
-                                    " s long)");
+            for (const RecordingRead& r : recordings)  // each recording is shifted on its own
+                if (!b.delay.is_parameter() && !(std::abs(b.delay.constant) < r.seconds()))
+                    m.fail("delay", "a delay of " + number_text(b.delay.constant) + " s shifts the channel past " +
+                                        r.phrase() + " (" + number_text(r.seconds()) + " s long)");
         }
     } else if (!value.IsScalar()) {
         src.fail(value, column_path, "expected a CSV column name or { column: NAME, unit: U }");
     }
     b.column = read_text(src, column_node, column_path);
     b.where = src.where(column_node, column_path);
-    if (!data.has_column(b.column))
-        src.fail(column_node, column_path,
-                 "no column '" + b.column + "' in " + data.file().string() + " (columns: " + join_words(data.column_names()) +
-                     ")");
+    for (const RecordingRead& r : recordings)  // every recording holds every column read
+        if (!r.table.has_column(b.column))
+            src.fail(column_node, column_path,
+                     "no column '" + b.column + "' in " + r.table.file().string() +
+                         " (columns: " + join_words(r.table.column_names()) + ")");
     return b;
 }
 
@@ -192,26 +193,31 @@ bool plausible_cylinder_pressure(double lowest, double peak) {
 
 }  // namespace
 
+// One recording's cylinder pressure channel (check_cylinder_pressures).
+static void check_cylinder_pressure(const YamlMap& inputs, const ChannelBinding& in, const RecordingRead& r) {
+    const std::vector<double>& p = r.table.column(in.column);
+    const auto [lo, hi] = std::minmax_element(p.begin(), p.end());
+    if (plausible_cylinder_pressure(*lo * in.scale, *hi * in.scale)) return;
+    std::string fits;
+    for (const char* unit : {"Pa", "kPa", "bar", "MPa"})
+        if (plausible_cylinder_pressure(*lo * unit_to_si(unit), *hi * unit_to_si(unit)))
+            fits.append(fits.empty() ? "" : " or ").append(unit);
+    const std::string hint = fits.empty() ? "; check the column, or set its unit (Pa, kPa, bar or MPa)"
+                                          : "; the numbers fit " + fits + ": set unit: " + fits.substr(0, fits.find(' '));
+    const std::string of = r.recording.name.empty() ? "" : " of " + r.phrase();
+    inputs.fail(in.model_name,
+                "column '" + in.column + "'" + of + " reads " + number_text(*lo * in.scale) + " … " +
+                    number_text(*hi * in.scale) + " Pa" +
+                    (in.scale == 1.0 ? "" : " (values × " + number_text(in.scale) + ")") +
+                    ": not an absolute cylinder pressure (expected a lowest value of 0 … 5 bar and a peak of "
+                    "0.8 … 500 bar)" + hint);
+}
+
 void check_cylinder_pressures(const YamlMap& inputs, const std::vector<ChannelBinding>& bindings,
-                              const CsvTable& data) {
-    for (const ChannelBinding& in : bindings) {
-        if (!in.by_angle) continue;
-        const std::vector<double>& p = data.column(in.column);
-        const auto [lo, hi] = std::minmax_element(p.begin(), p.end());
-        if (plausible_cylinder_pressure(*lo * in.scale, *hi * in.scale)) continue;
-        std::string fits;
-        for (const char* unit : {"Pa", "kPa", "bar", "MPa"})
-            if (plausible_cylinder_pressure(*lo * unit_to_si(unit), *hi * unit_to_si(unit)))
-                fits.append(fits.empty() ? "" : " or ").append(unit);
-        const std::string hint = fits.empty() ? "; check the column, or set its unit (Pa, kPa, bar or MPa)"
-                                              : "; the numbers fit " + fits + ": set unit: " + fits.substr(0, fits.find(' '));
-        inputs.fail(in.model_name,
-                    "column '" + in.column + "' reads " + number_text(*lo * in.scale) + " … " +
-                        number_text(*hi * in.scale) + " Pa" +
-                        (in.scale == 1.0 ? "" : " (values × " + number_text(in.scale) + ")") +
-                        ": not an absolute cylinder pressure (expected a lowest value of 0 … 5 bar and a peak of "
-                        "0.8 … 500 bar)" + hint);
-    }
+                              const std::vector<RecordingRead>& recordings) {
+    for (const ChannelBinding& in : bindings)
+        if (in.by_angle)
+            for (const RecordingRead& r : recordings) check_cylinder_pressure(inputs, in, r);
 }
 
 double unit_to_si(const std::string& unit) {
@@ -220,8 +226,9 @@ double unit_to_si(const std::string& unit) {
     return 0.0;
 }
 
-std::vector<ChannelBinding> read_inputs(const YamlMap& inputs, NetworkSpec& network, const CsvTable& data,
-                                        double recording_seconds, const std::vector<std::string>& declared) {
+std::vector<ChannelBinding> read_inputs(const YamlMap& inputs, NetworkSpec& network,
+                                        const std::vector<RecordingRead>& recordings,
+                                        const std::vector<std::string>& declared) {
     std::vector<std::string> names = network.input_names;
     names.insert(names.end(), network.angle_input_names.begin(), network.angle_input_names.end());
     inputs.allow_only(names);
@@ -229,7 +236,7 @@ std::vector<ChannelBinding> read_inputs(const YamlMap& inputs, NetworkSpec& netw
     for (std::size_t i = 0; i < names.size(); ++i) {
         const std::string& name = names[i];
         if (!inputs.has(name)) inputs.fail_missing(name, "(the CSV column of model input " + name + ")");
-        out.push_back(read_binding(inputs, name, data, recording_seconds, network, declared, {}));
+        out.push_back(read_binding(inputs, name, recordings, network, declared, {}));
         out.back().by_angle = i >= network.input_names.size();
         if (out.back().by_angle && out.back().delay.is_parameter())
             YamlMap(inputs.source(), inputs.get(name), inputs.key_path(name))
@@ -251,8 +258,8 @@ static void check_output_magnitude(const ChannelBinding& b, const CsvTable& data
                                  "column and its unit");
 }
 
-OutputBindings read_outputs(const YamlMap& outputs, NetworkSpec& network, const CsvTable& data,
-                            double recording_seconds, const std::vector<std::string>& declared) {
+OutputBindings read_outputs(const YamlMap& outputs, NetworkSpec& network, const std::vector<RecordingRead>& recordings,
+                            const std::vector<std::string>& declared) {
     const bool custom = network.preset == "custom";
     OutputBindings out;
     if (!custom) {
@@ -266,11 +273,11 @@ OutputBindings read_outputs(const YamlMap& outputs, NetworkSpec& network, const 
             if (network.output_index(name) >= 0) outputs.fail(name, "output defined twice");
             network.outputs.push_back(read_custom_output(outputs, name, network));
             out.channels.push_back(
-                read_binding(outputs, name, data, recording_seconds, network, declared,
+                read_binding(outputs, name, recordings, network, declared,
                              {"speed", "angle", "torque", "side", "offset", "gain", "weight", "detrend", "highpass"}));
         } else {
-            out.channels.push_back(read_binding(outputs, name, data, recording_seconds, network, declared,
-                                               {"weight", "detrend", "highpass"}));
+            out.channels.push_back(
+                read_binding(outputs, name, recordings, network, declared, {"weight", "detrend", "highpass"}));
         }
         if (const YAML::Node v = outputs.get(name); v.IsMap()) {
             const YamlMap m(outputs.source(), v, outputs.key_path(name));
@@ -289,14 +296,16 @@ OutputBindings read_outputs(const YamlMap& outputs, NetworkSpec& network, const 
                 f.detrend = m.choice("detrend", {"mean", "linear"}) == "mean" ? Detrend::mean : Detrend::linear;
             if (m.has("highpass")) {
                 f.highpass = m.number("highpass");
-                const double nyquist = 0.5 * static_cast<double>(data.rows() - 1) / recording_seconds;
-                if (!(f.highpass > 0) || !(f.highpass < nyquist))
-                    m.fail("highpass", "a high-pass cut-off is a frequency in Hz between 0 and the recording's Nyquist "
-                                       "frequency, " + number_text(nyquist) + " Hz");
+                for (const RecordingRead& r : recordings) {
+                    const double nyquist = 0.5 * static_cast<double>(r.table.rows() - 1) / r.seconds();
+                    if (!(f.highpass > 0) || !(f.highpass < nyquist))
+                        m.fail("highpass", "a high-pass cut-off is a frequency in Hz between 0 and " + r.phrase() +
+                                               "'s Nyquist frequency, " + number_text(nyquist) + " Hz");
+                }
             }
         }
         out.indices.push_back(network.output_index(name));
-        check_output_magnitude(out.channels.back(), data);
+        for (const RecordingRead& r : recordings) check_output_magnitude(out.channels.back(), r.table);
     }
     if (out.channels.empty())
         outputs.source().fail(outputs.node(), outputs.path(), "no outputs: name at least one model output and its CSV column");

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "tvid/channels/recording_spans.hpp"
 #include "tvid/experiment/optimizer_kinds.hpp"
 #include "tvid/io/csv_table.hpp"
 #include "tvid/model/network_spec.hpp"
@@ -78,11 +79,26 @@ struct ChannelBinding {
 /// scored samples are those i with first <= i <= last and i > start (the start sample is
 /// the initial condition, not a prediction: Yoshida & Takamatsu eq. 19 sums i = 1..m).
 struct Window {
-    std::string label;       ///< e.g. "time 1.5 to 3" (no comma: it is a CSV cell)
+    std::string label;       ///< e.g. "time 1.5 to 3", "run2: time 0 to 4" (no comma: it is a CSV cell)
     std::size_t start = 0;
     std::size_t first = 0;
     std::size_t last = 0;
     SourceLocation where;
+    std::size_t recording = 0;  ///< its recording, an index into Experiment::recordings
+};
+
+/// One recording of the experiment: data.file, or an entry of data.recordings. Several
+/// are laid end to end in Experiment::data (experiment/recording_join.hpp), each in its
+/// rows: a later one's clock is moved where needed so that time keeps rising, and its
+/// crank angle by whole cycles likewise. Every window lies within one recording.
+struct ExperimentRecording {
+    std::string name;             ///< data.recordings[k].name; empty for data.file
+    std::filesystem::path file;   ///< resolved against the experiment's folder
+    std::string sha256;           ///< SHA-256 of the file's bytes as read
+    RowSpan rows;                 ///< its samples in Experiment::data
+    double time_offset = 0.0;     ///< [s] added to its time stamps in Experiment::data
+    double angle_offset = 0.0;    ///< [deg] whole cycles added to its crank angle in crank_angle
+    SourceLocation where;         ///< its entry (data.file or data.recordings[k])
 };
 
 enum class InitialStateKind { equilibrium, rest, measured, steady };
@@ -126,11 +142,12 @@ struct Experiment {
     std::filesystem::path file;          ///< the experiment file
     std::string config_sha256;           ///< SHA-256 of the experiment file's bytes as read (before --set)
     std::string name;
-    std::filesystem::path data_file;     ///< resolved against the experiment's folder
-    CsvTable data;                       ///< the whole recording
+    std::filesystem::path data_file;     ///< resolved against the experiment's folder (the first recording's)
+    CsvTable data;                       ///< the whole recording, or the recordings end to end
+    std::vector<ExperimentRecording> recordings;  ///< at least one; several with data.recordings
     std::string time_column;
     std::string angle_column;            ///< data.angle: crank angle [deg], empty when not given
-    std::vector<double> crank_angle;     ///< cumulative crank angle [rad] per sample (unwrapped), or empty
+    std::vector<double> crank_angle;     ///< cumulative crank angle [rad] per sample (unwrapped, each recording's moved by its angle_offset), or empty
     int angle_node = -1;                 ///< the node whose angle data.angle measures (data.angle_node), or -1
     double cycle_deg = 720.0;            ///< crank angle of one engine cycle
     NetworkSpec network;

@@ -10,11 +10,13 @@
 #include <string_view>
 
 #include "tvid/experiment/channel_reader.hpp"
+#include "tvid/experiment/data_reader.hpp"
 #include "tvid/experiment/experiment.hpp"
 #include "tvid/experiment/model_reader.hpp"
 #include "tvid/experiment/optimizer_settings_reader.hpp"
 #include "tvid/experiment/overrides.hpp"
 #include "tvid/experiment/parameter_reader.hpp"
+#include "tvid/experiment/recording_join.hpp"
 #include "tvid/experiment/window_reader.hpp"
 #include "tvid/experiment/yaml_reader.hpp"
 #include "tvid/io/input_file.hpp"
@@ -31,7 +33,8 @@ namespace {
 // A delay parameter moves a channel by interpolation within the recording: its bounds (or
 // its fixed value) must keep it shorter than the recording, and it needs both.
 void check_delay_parameters(const YamlMap& section, const NetworkSpec& network,
-                            const std::vector<ParameterSetting>& parameters, double recording_seconds) {
+                            const std::vector<ParameterSetting>& parameters, const RecordingRead& shortest) {
+    const double recording_seconds = shortest.seconds();
     NetworkSpec model_only = network;  // which parameters the model itself uses
     model_only.delay_parameters.clear();
     const std::vector<bool> in_model = parameters_in_use(model_only);
@@ -40,7 +43,7 @@ void check_delay_parameters(const YamlMap& section, const NetworkSpec& network,
         if (in_model[static_cast<std::size_t>(index)])
             section.fail(p.name, p.name + " is a channel's delay [s] and also a quantity of the model: give the delay "
                                           "a parameter of its own");
-        const std::string span = " s; the recording is " + number_text(recording_seconds) + " s long";
+        const std::string span = " s; " + shortest.phrase() + " is " + number_text(recording_seconds) + " s long";
         if (p.fixed) {
             if (!(std::abs(p.init) < recording_seconds))
                 section.fail(p.name, "the delay " + p.name + " = " + number_text(p.init) + span);
@@ -56,23 +59,6 @@ void check_delay_parameters(const YamlMap& section, const NetworkSpec& network,
 
 // The largest swarm a grid start may ask for (grid^M particles).
 constexpr double kMaxParticles = 1e6;
-
-// The crank angle [deg] made cumulative: a wrapped channel (0 … cycle) jumps back by about
-// one cycle at every cycle start. Fails unless the result advances at every sample.
-std::vector<double> cumulative_crank_angle(const CsvTable& data, const std::string& column, double cycle) {
-    const std::vector<double>& raw = data.column(column);
-    std::vector<double> a = raw;
-    double offset = 0.0;
-    for (std::size_t i = 1; i < a.size(); ++i) {
-        if (raw[i] < raw[i - 1] - 0.5 * cycle) offset += cycle;  // wrapped into the next cycle
-        a[i] = raw[i] + offset;
-        if (!(a[i] > a[i - 1]))
-            throw InputError(data.file().string(), data.line_of_row(i), "column " + column,
-                             "the crank angle does not advance: " + number_text(raw[i]) + " deg after " +
-                                 number_text(raw[i - 1]) + " deg");
-    }
-    return a;
-}
 
 // The line of a document marker ('---' or '...' at the start of a line) that follows the
 // first document's content, or 0. yaml-cpp's Load reads the first document and ignores the
@@ -181,9 +167,9 @@ SimulationSettings read_simulation(const YamlMap& m) {
 
 // A fixed step so small, or a gap in the time column so long, that one simulation would
 // take more than kMaxFixedStepsPerSimulation steps: refused, naming the longest interval.
-void check_fixed_step_count(const YamlMap& simulation, const CsvTable& data, const std::string& time_column,
-                            double max_step) {
-    const std::vector<double>& time = data.column(time_column);
+void check_fixed_step_count(const YamlMap& simulation, const RecordingRead& recording, double max_step) {
+    const CsvTable& data = recording.table;
+    const std::vector<double>& time = data.column(recording.time_column);
     const FixedStepCount steps = fixed_steps_over(time, max_step);
     if (steps.total <= kMaxFixedStepsPerSimulation) return;
     const std::size_t i = steps.longest_at;
@@ -196,7 +182,9 @@ void check_fixed_step_count(const YamlMap& simulation, const CsvTable& data, con
 }
 
 // initial_state: { kind: steady, node: NAME, speed: RAD_PER_S or COLUMN, samples: N }.
-SteadyStartSpec read_steady_start(const YamlMap& m, const NetworkSpec& network, const CsvTable& data) {
+SteadyStartSpec read_steady_start(const YamlMap& m, const NetworkSpec& network,
+                                  const std::vector<RecordingRead>& recordings) {
+    const CsvTable& data = recordings.front().table;
     m.allow_only({"kind", "node", "speed", "samples"});
     SteadyStartSpec s;
     const std::string node = m.text("node");
@@ -207,6 +195,8 @@ SteadyStartSpec read_steady_start(const YamlMap& m, const NetworkSpec& network, 
     const std::string text = speed.IsScalar() ? speed.Scalar() : std::string();
     if (!text.empty() && data.has_column(text)) {
         s.speed_column = text;
+        for (const RecordingRead& r : recordings)  // the column of every recording
+            if (!r.table.has_column(text)) m.fail("speed", "no column named '" + text + "' in " + r.table.file().string());
     } else {
         const char c = text.empty() ? ' ' : text.front();
         if (!text.empty() && !(std::isdigit(static_cast<unsigned char>(c)) || c == '-' || c == '+' || c == '.'))
@@ -248,38 +238,21 @@ EstimationSettings read_estimation(const YamlMap& m) {
 
 namespace {
 
-// data: the recording, its time column and, for an engine, its crank angle; the axes the
-// windows are read on.
-RecordingAxes read_recording(const YamlMap& data, const std::filesystem::path& folder, Experiment& ex) {
-    data.allow_only({"file", "time", "angle", "angle_node", "cycle_deg"});
-    const std::string data_name = data.text("file");
-    ex.data_file = (std::filesystem::path(data_name).is_absolute() ? std::filesystem::path(data_name) : folder / data_name)
-                       .lexically_normal();
-    if (const std::string why = not_a_file_reason(ex.data_file); !why.empty())
-        data.fail("file", why == "does not exist" ? "no such data file: " + ex.data_file.string()
-                                                  : "the data file " + ex.data_file.string() + " " + why + ", not a file");
-    ex.time_column = data.text("time");
-    ex.data = CsvTable::read(ex.data_file);
-    if (!ex.data.has_column(ex.time_column))
-        data.fail("time", "no column '" + ex.time_column + "' in " + ex.data_file.string());
-    ex.data.require_strictly_increasing(ex.time_column);
-    if (ex.data.rows() < 2) data.fail("file", "the recording needs at least two samples");
-    RecordingAxes axes{ex.data.column(ex.time_column), {}, 720.0};
-    if (data.has("cycle_deg")) {
-        ex.cycle_deg = data.number("cycle_deg");
-        if (ex.cycle_deg != 360.0 && ex.cycle_deg != 720.0)
-            data.fail("cycle_deg", "an engine cycle is 720 (four-stroke) or 360 (two-stroke) degrees");
+// data: the recordings read; what the experiment names after the first, and the axes the
+// windows are read on (each recording's own).
+std::vector<RecordingAxes> recording_axes(const DataSection& data, Experiment& ex) {
+    const RecordingRead& first = data.recordings.front();
+    ex.data_file = first.recording.file;
+    ex.time_column = first.time_column;
+    ex.angle_column = data.angle_column;
+    ex.cycle_deg = data.cycle_deg;
+    std::vector<RecordingAxes> axes;
+    const std::vector<RowSpan> rows = recording_rows(data);
+    for (std::size_t k = 0; k < data.recordings.size(); ++k) {
+        const RecordingRead& r = data.recordings[k];
+        axes.push_back({r.table.column(r.time_column), r.crank_deg, data.angle_column.empty() ? 720.0 : data.cycle_deg,
+                        r.recording.name, rows[k].begin});
     }
-    if (data.has("angle")) {
-        ex.angle_column = data.text("angle");
-        if (!ex.data.has_column(ex.angle_column))
-            data.fail("angle", "no column '" + ex.angle_column + "' in " + ex.data_file.string());
-        axes.crank_deg = cumulative_crank_angle(ex.data, ex.angle_column, ex.cycle_deg);
-        axes.cycle_deg = ex.cycle_deg;
-        ex.crank_angle.reserve(axes.crank_deg.size());
-        for (double deg : axes.crank_deg) ex.crank_angle.push_back(deg * 3.14159265358979323846 / 180.0);
-    }
-
     return axes;
 }
 
@@ -307,7 +280,7 @@ void check_swarm_size(const YamlMap& top, const YamlSource& src, const YamlMap& 
 
 // initial_state: and what ties it to the model: an engine turns, a speed source turns its
 // node, a measured start needs a measured speed.
-void read_initial_state(const YamlMap& top, const YamlMap& data, Experiment& ex) {
+void read_initial_state(const YamlMap& top, const YamlMap& data, const DataSection& recorded, Experiment& ex) {
     // A running engine has no static equilibrium: its models start from the measurement.
     const bool engine = !ex.network.angle_input_names.empty();  // a channel read by crank angle: it turns
     if (engine) ex.initial_state = InitialStateKind::measured;
@@ -325,7 +298,7 @@ void read_initial_state(const YamlMap& top, const YamlMap& data, Experiment& ex)
             if (!detailed)
                 top.fail("initial_state", "steady needs its node and speed: initial_state: { kind: steady, node: "
                                           "NAME, speed: RAD_PER_S or COLUMN }");
-            ex.steady = read_steady_start(start, ex.network, ex.data);
+            ex.steady = read_steady_start(start, ex.network, recorded.recordings);
             if (const std::string held = held_to_ground(ex.network); !held.empty())
                 start.fail("kind", "steady on a line held to ground by " + held +
                                        ": it cannot turn steadily, and at rest its start is the static equilibrium "
@@ -357,12 +330,13 @@ void read_initial_state(const YamlMap& top, const YamlMap& data, Experiment& ex)
 }
 
 // simulation: and report:.
-void read_simulation_and_report(const YamlMap& top, const std::filesystem::path& folder, Experiment& ex) {
+void read_simulation_and_report(const YamlMap& top, const std::filesystem::path& folder, const DataSection& recorded,
+                                Experiment& ex) {
     if (top.has("simulation")) {
         const YamlMap simulation = top.map("simulation");
         ex.simulation = read_simulation(simulation);
         if (ex.simulation.method == IntegrationMethod::rk4 && ex.simulation.max_step > 0)
-            check_fixed_step_count(simulation, ex.data, ex.time_column, ex.simulation.max_step);
+            for (const RecordingRead& r : recorded.recordings) check_fixed_step_count(simulation, r, ex.simulation.max_step);
     }
     if (top.has("report")) {
         const YamlMap report = top.map("report");
@@ -401,14 +375,13 @@ Experiment load_experiment(const std::filesystem::path& file, const std::vector<
 
     const YamlMap data = top.map("data");
     const std::filesystem::path folder = file.parent_path();
-    const RecordingAxes axes = read_recording(data, folder, ex);
+    DataSection recorded = read_data_section(data, folder);
+    const std::vector<RecordingAxes> axes = recording_axes(recorded, ex);
 
     // The model, its channels and parameters.
     const YamlMap parameters = top.map("parameters");
     ex.network = read_model(top.map("model"), parameters.keys(), ex.model_constants);
-    const std::vector<double>& time = ex.data.column(ex.time_column);
-    const double recording_seconds = time.back() - time.front();
-    ex.inputs = read_inputs(top.map("inputs"), ex.network, ex.data, recording_seconds, parameters.keys());
+    ex.inputs = read_inputs(top.map("inputs"), ex.network, recorded.recordings, parameters.keys());
     if (data.has("angle_node")) {
         if (ex.angle_column.empty()) data.fail("angle_node", "names the node of the crank-angle channel: give data.angle too");
         const std::string node = data.text("angle_node");
@@ -419,14 +392,14 @@ Experiment load_experiment(const std::filesystem::path& file, const std::vector<
     }
     if (!ex.network.angle_input_names.empty() && ex.angle_column.empty())
         data.fail_missing("angle", "(the model reads cylinder pressures by crank angle: name the crank-angle column)");
-    check_cylinder_pressures(top.map("inputs"), ex.inputs, ex.data);
-    OutputBindings outputs = read_outputs(top.map("outputs"), ex.network, ex.data, recording_seconds, parameters.keys());
+    check_cylinder_pressures(top.map("inputs"), ex.inputs, recorded.recordings);
+    OutputBindings outputs = read_outputs(top.map("outputs"), ex.network, recorded.recordings, parameters.keys());
     ex.outputs = std::move(outputs.channels);
     ex.output_indices = std::move(outputs.indices);
     if (top.has("estimation")) ex.estimation_settings = read_estimation(top.map("estimation"));
     const bool swarm = optimizer_traits(ex.estimation_settings.optimizer).swarm;
     ex.parameters = read_parameters(parameters, ex.network, swarm);
-    check_delay_parameters(parameters, ex.network, ex.parameters, recording_seconds);
+    check_delay_parameters(parameters, ex.network, ex.parameters, shortest_recording(recorded));
     check_search_box(parameters, ex.parameters, ex.estimation_settings);
 
     check_swarm_size(top, src, parameters, ex, swarm);
@@ -437,8 +410,9 @@ Experiment load_experiment(const std::filesystem::path& file, const std::vector<
     ex.validation = windows.validation;
     ex.warmup = windows.warmup;
     ex.warmup_cycles = windows.warmup_cycles;
-    read_initial_state(top, data, ex);
-    read_simulation_and_report(top, folder, ex);
+    read_initial_state(top, data, recorded, ex);
+    read_simulation_and_report(top, folder, recorded, ex);
+    join_recordings(std::move(recorded), ex);
     return ex;
 }
 

@@ -8,6 +8,7 @@
 #include <cstdio>
 
 #include "tvid/analysis/determined_combinations.hpp"
+#include "tvid/channels/recording_spans.hpp"
 #include "tvid/analysis/identifiability.hpp"
 
 namespace tvid {
@@ -442,7 +443,7 @@ void judge_stability(const StepStability& s, Verdict& v) {
 void judge_delays(const IdentificationProblem& problem, const FitResult& fit, Verdict& v) {
     const std::vector<double>& time = problem.inputs().time();
     if (time.size() < 2) return;
-    const double dt = (time.back() - time.front()) / static_cast<double>(time.size() - 1);
+    const double dt = mean_sample_interval(time, problem.definition().recordings);
     std::unique_ptr<ProblemWorkspace> ws;
     for (std::size_t j = 0; j < problem.dimension(); ++j) {
         if (!problem.is_delay_column(j)) continue;

@@ -331,6 +331,17 @@ CsvTable CsvTable::read(const std::filesystem::path& file) {
     return table;
 }
 
+CsvTable CsvTable::from_columns(std::filesystem::path file, std::vector<std::string> names,
+                                std::vector<std::vector<double>> columns) {
+    CsvTable table;
+    table.file_ = std::move(file);
+    table.rows_ = columns.empty() ? 0 : columns.front().size();
+    for (std::size_t k = 0; k < names.size(); ++k) table.column_index_[names[k]] = k;
+    table.names_ = std::move(names);
+    table.columns_ = std::move(columns);
+    return table;
+}
+
 bool CsvTable::has_column(const std::string& name) const { return column_index_.count(name) > 0; }
 
 const std::vector<double>& CsvTable::column(const std::string& name) const {

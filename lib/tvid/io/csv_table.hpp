@@ -19,6 +19,11 @@ public:
     /// a file with no data rows, and a ';' or tab separated file (the message says the
     /// separator must be ',').
     static CsvTable read(const std::filesystem::path& file);
+    /// A table made in memory from named columns of equal length (several recordings laid
+    /// end to end, experiment/recording_join.hpp). `file` names it; it has no digest and no
+    /// lines of its own (line_of_row gives 0: unknown).
+    static CsvTable from_columns(std::filesystem::path file, std::vector<std::string> names,
+                                 std::vector<std::vector<double>> columns);
 
     const std::filesystem::path& file() const { return file_; }
     /// SHA-256 (hex) of the bytes this table was read from, hashed as they were read.
@@ -28,8 +33,9 @@ public:
     bool has_column(const std::string& name) const;
     /// Values of one column, one per data row. Throws std::out_of_range if absent.
     const std::vector<double>& column(const std::string& name) const;
-    /// The 1-based line number in the file of data row `row` (0-based), for messages.
-    int line_of_row(std::size_t row) const { return row_lines_.at(row); }
+    /// The 1-based line number in the file of data row `row` (0-based), for messages; 0
+    /// for a table made in memory.
+    int line_of_row(std::size_t row) const { return row_lines_.empty() ? 0 : row_lines_.at(row); }
     /// The 1-based line number of the header row.
     int header_line() const { return header_line_; }
 

@@ -38,14 +38,26 @@ json operating_point_json(const ModesStudy& s) {
     json inputs = json::object();
     for (std::size_t j = 0; j < op.u.size() && j < s.linear.input_names.size(); ++j)
         inputs[s.linear.input_names[j]] = json_number(op.u[j]);
-    return {{"window", op.label},
-            {"window_index", op.window},
-            {"initial_state", op.initial_state},
-            {"sample", op.sample},
-            {"time_s", json_number(op.time)},
-            {"angle_dependence", angle_dependence_name(s.linear.angle_dependence)},
-            {"nodes", nodes},
-            {"inputs", inputs}};
+    json out{{"window", op.label},
+             {"window_index", op.window},
+             {"initial_state", op.initial_state},
+             {"sample", op.sample},
+             {"time_s", json_number(op.time)},
+             {"angle_dependence", angle_dependence_name(s.linear.angle_dependence)},
+             {"nodes", nodes},
+             {"inputs", inputs}};
+    if (!op.recording.empty()) out["recording"] = op.recording;  // data.recordings
+    return out;
+}
+
+// The operating point in a summary: its window (and recording), start and linearisation.
+json operating_point_brief(const OperatingPoint& op, AngleDependence angle_dependence) {
+    json out{{"window", op.label},
+             {"initial_state", op.initial_state},
+             {"time_s", json_number(op.time)},
+             {"angle_dependence", angle_dependence_name(angle_dependence)}};
+    if (!op.recording.empty()) out["recording"] = op.recording;
+    return out;
 }
 
 std::string mode_cell(double v, const char* format = "%.6g") { return csv_cell(v, format); }
@@ -111,10 +123,7 @@ json modes_summary_json(const ModesStudy& s) {
                          {"damping_ratio", json_number(mode.damping_ratio)},
                          {"shape", real_shape_json(s.modal.node_names, mode.shape)}});
     return {{"operating_point",
-             {{"window", op.label},
-              {"initial_state", op.initial_state},
-              {"time_s", json_number(op.time)},
-              {"angle_dependence", angle_dependence_name(s.linear.angle_dependence)}}},
+             operating_point_brief(op, s.linear.angle_dependence)},
             {"modes", modes}};
 }
 
@@ -210,10 +219,7 @@ json frf_json(const FrfComparison& f, const ModesRunInfo& run) {
             {"output_unit", f.output_unit},
             {"magnitude_unit", f.output_unit + " per " + f.input_unit},
             {"operating_point",
-             {{"window", op.label},
-              {"initial_state", op.initial_state},
-              {"time_s", json_number(op.time)},
-              {"angle_dependence", angle_dependence_name(f.angle_dependence)}}},
+             operating_point_brief(op, f.angle_dependence)},
             {"measured",
              {{"available", f.measured},
               {"estimator", "H1 = S_xy / S_xx, Welch, Hann, 50 % overlap"},

@@ -7,6 +7,7 @@
 
 #include "tvid/analysis/fit_metrics.hpp"
 #include "tvid/analysis/identifiability.hpp"
+#include "tvid/experiment/window_recording.hpp"
 #include "tvid/fit/fit_verdict.hpp"
 #include "tvid/io/atomic_file.hpp"
 #include "tvid/io/output_directory.hpp"
@@ -41,6 +42,31 @@ json metrics_json(const FitMetrics& m) {
                 {"residual_ratio_min_abs_y", json_number(m.residual_ratio_min_abs_y)}};
 }
 
+// The recordings read, with data.recordings: one entry each, and the files and digests as
+// summary.json's `data` and `data_sha256` list them (one recording: its file and digest).
+json recordings_json(const Experiment& ex) {
+    json out = json::array();
+    for (const ExperimentRecording& r : ex.recordings)
+        out.push_back(json{{"name", r.name}, {"file", r.file.string()}, {"sha256", r.sha256}, {"samples", r.rows.size()}});
+    return out;
+}
+
+void add_data_fields(const Experiment& ex, json& summary) {
+    if (!lists_recordings(ex)) {
+        summary["data"] = ex.data_file.string();
+        summary["data_sha256"] = ex.data.content_sha256();
+        return;
+    }
+    json files = json::array(), digests = json::array();
+    for (const ExperimentRecording& r : ex.recordings) {
+        files.push_back(r.file.string());
+        digests.push_back(r.sha256);
+    }
+    summary["data"] = files;
+    summary["data_sha256"] = digests;
+    summary["recordings"] = recordings_json(ex);
+}
+
 // Index of free parameter for model parameter i, or -1.
 int free_position(const IdentificationProblem& problem, std::size_t i) {
     const auto& f = problem.free_indices();
@@ -60,10 +86,12 @@ json split_json(const Experiment& experiment, const SplitEvaluation& split) {
         json outs = json::object();
         for (std::size_t k = 0; k < experiment.outputs.size(); ++k)
             outs[experiment.outputs[k].model_name] = metrics_json(w.metrics[k]);
-        windows.push_back(json{{"window", w.trace.window->label},
-                               {"status", to_string(w.trace.status)},
-                               {"problem", w.trace.problem},
-                               {"outputs", outs}});
+        json entry{{"window", w.trace.window->label},
+                   {"status", to_string(w.trace.status)},
+                   {"problem", w.trace.problem},
+                   {"outputs", outs}};
+        if (lists_recordings(experiment)) entry["recording"] = recording_name(experiment, *w.trace.window);
+        windows.push_back(std::move(entry));
     }
     return json{{"pooled", pooled}, {"windows", windows}, {"ok", split.ok}};
 }
@@ -272,8 +300,6 @@ json fit_summary_json(const IdentificationProblem& problem, const FitResult& fit
            {"interrupted", fit.interrupted},
            {"config", ex.file.string()},
            {"config_sha256", ex.config_sha256},
-           {"data", ex.data_file.string()},
-           {"data_sha256", ex.data.content_sha256()},
            {"model", ex.network.preset},
            {"cost", cost_json(ex, fit.evaluation)},
            {"optimizer", optimizer},
@@ -294,6 +320,7 @@ json fit_summary_json(const IdentificationProblem& problem, const FitResult& fit
            {"information_criteria", criteria_json(fit.criteria)},
            {"step_stability", stability_json(fit.stability)},
            {"verdict", verdict_json(fit.verdict)}};
+    add_data_fields(ex, s);
     if (json modes = fit_modes_json(problem, fit.best_params); !modes.is_null()) s["modes"] = std::move(modes);
     return s;
 }
@@ -319,13 +346,19 @@ std::string trace_csv(const Experiment& experiment, const SplitEvaluation& split
         std::vector<double> floor;  // per output: the residual ratio's floor in this window (fit_metrics.hpp)
         for (const std::vector<double>& y : tr.measured) floor.push_back(residual_ratio_floor(y));
         for (std::size_t i = 0; i < tr.time.size(); ++i) {
-            out << csv_cell(tr.time[i], "%.9g") << ',' << csv_field(tr.window->label);
+            // The time and crank angle of the window's own recording (data.recordings are
+            // laid end to end on one clock: window_recording.hpp).
+            out << csv_cell(recording_time(experiment, *tr.window, tr.time[i]), "%.9g") << ','
+                << csv_field(tr.window->label);
             for (std::size_t k = 0; k < tr.measured.size(); ++k) {
                 const double y = tr.measured[k][i], ys = tr.simulated[k][i];
                 out << ',' << csv_cell(y) << ',' << csv_cell(ys) << ',' << csv_cell(y - ys) << ','
                     << csv_cell(100.0 * residual_ratio(y, ys, floor[k]));
             }
-            if (with_angle) out << ',' << csv_cell(experiment.crank_angle[tr.samples[i]] * 180.0 / 3.14159265358979323846, "%.10g");
+            if (with_angle)
+                out << ',' << csv_cell(recording_angle_deg(experiment, *tr.window,
+                                                           experiment.crank_angle[tr.samples[i]] * 180.0 / 3.14159265358979323846),
+                                       "%.10g");
             out << '\n';
         }
     }

@@ -9,6 +9,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "tvid/experiment/window_recording.hpp"
 #include "tvid/io/atomic_file.hpp"
 #include "tvid/report/report_values.hpp"
 #include "tvid/io/json_text.hpp"
@@ -62,6 +63,14 @@ SensitivityStudy make_sensitivity_study(const IdentificationProblem& problem, co
     for (const ChannelBinding& o : ex.outputs) study.outputs.push_back(o.model_name);
     study.estimation = std::move(estimation);
     study.validation = std::move(validation);
+    if (lists_recordings(ex))
+        for (const ExperimentRecording& r : ex.recordings) study.recordings.push_back(r.name);
+    const auto own_clock = [&](WindowSensitivity& w) {
+        if (w.window)
+            for (double& t : w.time) t = recording_time(ex, *w.window, t);
+    };
+    for (WindowSensitivity& w : study.estimation) own_clock(w);
+    for (WindowSensitivity& w : study.validation) own_clock(w);
     return study;
 }
 
@@ -143,11 +152,13 @@ json sensitivity_json(const SensitivityStudy& study, const std::vector<OutputRan
     }
     json windows = json::array();
     for_each_window(study, [&](const WindowSensitivity& w, const char* split) {
-        windows.push_back(json{{"window", w.window->label},
-                               {"split", split},
-                               {"samples", w.time.size()},
-                               {"status", to_string(w.status)},
-                               {"problem", w.problem}});
+        json entry{{"window", w.window->label},
+                   {"split", split},
+                   {"samples", w.time.size()},
+                   {"status", to_string(w.status)},
+                   {"problem", w.problem}};
+        if (!study.recordings.empty()) entry["recording"] = study.recordings[w.window->recording];
+        windows.push_back(std::move(entry));
     });
     json ranking = json::object();
     for (const OutputRanking& r : rankings) {

@@ -26,6 +26,9 @@ struct SensitivityStudy {
     std::vector<std::string> outputs;              ///< compared outputs, in WindowSensitivity::output order
     std::vector<WindowSensitivity> estimation;     ///< estimation windows, in experiment order
     std::vector<WindowSensitivity> validation;     ///< validation windows (empty unless asked for)
+    /// Each recording's name by Window::recording, with data.recordings (else empty); the
+    /// windows' times are on their recordings' own clocks.
+    std::vector<std::string> recordings;
 
     std::size_t samples() const;                   ///< scored samples over all windows
 };

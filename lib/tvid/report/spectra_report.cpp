@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <sstream>
 
+#include "tvid/experiment/window_recording.hpp"
 #include "tvid/fit/fit_verdict.hpp"
 #include "tvid/model/parameter_units.hpp"
 #include "tvid/report/report_values.hpp"
@@ -77,8 +78,9 @@ std::string orders_csv(const Experiment& ex, const Evaluation& ev) {
     out << "split,window,cycle,output,unit,order,measured_amplitude,measured_phase [deg],simulated_amplitude,"
            "simulated_phase [deg],residual_amplitude,residual_phase [deg]\n";
     const OrderSettings settings = report_order_settings(ex);
-    order_rows(out, ex, split_orders(ev.estimation, ex.outputs.size(), ex.crank_angle, settings));
-    order_rows(out, ex, split_orders(ev.validation, ex.outputs.size(), ex.crank_angle, settings));
+    const std::vector<RowSpan> recordings = recording_spans(ex);
+    order_rows(out, ex, split_orders(ev.estimation, ex.outputs.size(), ex.crank_angle, settings, recordings));
+    order_rows(out, ex, split_orders(ev.validation, ex.outputs.size(), ex.crank_angle, settings, recordings));
     return out.str();
 }
 
@@ -89,7 +91,7 @@ std::vector<ResidualSpectrumSummary> residual_spectrum_summary(const Experiment&
     for (const ChannelBinding& input : ex.inputs) engine = engine || input.by_angle;
     SplitOrders orders;
     if (has_order_spectra(ex))
-        orders = split_orders(split, ex.outputs.size(), ex.crank_angle, report_order_settings(ex));
+        orders = split_orders(split, ex.outputs.size(), ex.crank_angle, report_order_settings(ex), recording_spans(ex));
     for (std::size_t k = 0; k < ex.outputs.size(); ++k) {
         ResidualSpectrumSummary s;
         s.output = ex.outputs[k].model_name;
