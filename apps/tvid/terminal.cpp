@@ -165,9 +165,11 @@ std::string fit_summary_text(const IdentificationProblem& problem, const FitResu
     const IdentifiabilityReport identifiability =
         assess_identifiability(problem, fit.uncertainty, fit.best_free);
     out << "  parameter        value            std error    relative\n";
+    std::string starts;  // an estimated start's coordinates, after the model's parameters
     for (std::size_t i = 0; i < ex.parameters.size(); ++i) {
         const ParameterSetting& p = ex.parameters[i];
         std::string se = p.fixed ? "fixed" : "", relative;
+        const NetworkSpec::StartCoordinate* start = start_coordinate(ex.network, i);
         for (std::size_t j = 0; j < problem.free_indices().size() && j < identifiability.parameters.size(); ++j) {
             if (problem.free_indices()[j] != i) continue;
             const ParameterIdentifiability& q = identifiability.parameters[j];
@@ -190,12 +192,23 @@ std::string fit_summary_text(const IdentificationProblem& problem, const FitResu
             }
             if (j < fit.uncertainty.interval.size() && fit.uncertainty.interval[j] == "one-sided") relative += "  on a bound";
         }
+        if (start) {
+            // The start itself (the recipe's seed plus the fitted correction); its standard
+            // error is the correction's.
+            const std::vector<std::vector<double>>& seed = problem.definition().estimated.seed;
+            const double from = start->window < seed.size() ? seed[start->window][start->state] : 0.0;
+            std::snprintf(line, sizeof line, "  %-22s %-16.8g %-12s (seed %.8g %+.6g)\n", p.name.c_str(),
+                          from + fit.best_params[i], se.c_str(), from, fit.best_params[i]);
+            starts += line;
+            continue;
+        }
         std::snprintf(line, sizeof line, "  %-14s %-16.8g %-12s %s", p.name.c_str(), fit.best_params[i], se.c_str(),
                       relative.c_str());
         std::string row = line;
         row.erase(row.find_last_not_of(' ') + 1);
         out << row << '\n';
     }
+    if (!starts.empty()) out << "  estimated start        value            std error\n" << starts;
     // Strongly correlated parameters (|r| > kStrongCorrelation): summary.json's correlated_pairs.
     if (!identifiability.correlated_pairs.empty()) {
         std::vector<CorrelatedPair> pairs = identifiability.correlated_pairs;

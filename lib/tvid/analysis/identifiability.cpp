@@ -170,6 +170,10 @@ std::vector<ParameterScaleRule> parameter_scale_rules(const IdentificationProble
                 r.what = r.scale < width ? "one turn (2π rad)" : "its range (" + number_text(width) + " rad)";
                 break;
         }
+        if (const double s = problem.start_scale(j); s > 0) {
+            r.scale = s;  // the start's coordinate, not the correction
+            r.what = "its coordinate's scale (" + number_text(s) + ")";
+        }
         if (!(r.scale > 0) || !std::isfinite(r.scale)) r = {};
         rules.push_back(r);
     }

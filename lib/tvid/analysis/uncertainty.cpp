@@ -76,6 +76,9 @@ ParameterUncertainty estimate_uncertainty(const IdentificationProblem& problem, 
     // least-squares fit used (given) or from a new one.
     std::vector<double> scale(m);
     for (std::size_t j = 0; j < m; ++j) scale[j] = free_best[j] != 0.0 ? std::abs(free_best[j]) : 1.0;
+    // An estimated start's correction (near 0 by design): at the scale of its coordinate.
+    for (std::size_t j = 0; j < m; ++j)
+        if (const double s = problem.start_scale(j); s > 0) scale[j] = std::max(std::abs(free_best[j]), s);
     const Eigen::MatrixXd* given = known.jacobian;
     const bool use_given = given && given->cols() == static_cast<Eigen::Index>(m) &&
                            given->rows() > static_cast<Eigen::Index>(m) && given->allFinite() &&

@@ -126,9 +126,19 @@ bool ForwardSensitivity::steady_sensitivity(std::size_t j0, std::size_t j1, Sens
     return dtheta.allFinite();
 }
 
-bool ForwardSensitivity::start_sensitivity(std::size_t j0, std::size_t j1, SensitivityWorkspace& ws,
+bool ForwardSensitivity::start_sensitivity(const Window& w, std::size_t j0, std::size_t j1, SensitivityWorkspace& ws,
                                            Eigen::MatrixXd& dtheta, std::string* problem) const {
     dtheta.resize(0, 0);
+    const ProblemDefinition& def = problem_->definition();
+    if (def.estimated.on) {
+        if (const std::size_t k = problem_->estimation_index(w); k != WindowStarts::kNotEstimation) {
+            dtheta.setZero(static_cast<Eigen::Index>(ws.model.state_size()), static_cast<Eigen::Index>(j1 - j0));
+            for (const NetworkSpec::StartCoordinate& c : def.estimated.of_window[k])
+                if (const long j = problem_->free_column(c.parameter); j >= static_cast<long>(j0) && j < static_cast<long>(j1))
+                    dtheta(static_cast<Eigen::Index>(c.state), static_cast<Eigen::Index>(j - static_cast<long>(j0))) = 1.0;
+            return true;
+        }
+    }
     switch (problem_->definition().initial_state) {
         case InitialStateKind::equilibrium:
             if (equilibrium_sensitivity(j0, j1, ws, dtheta)) return true;
@@ -165,9 +175,9 @@ SimulationStatus ForwardSensitivity::simulate_augmented(const double* free, cons
     ws.z.assign(state * (1 + d), 0.0);
     std::copy(ws.plain->x_start.begin(), ws.plain->x_start.end(), ws.z.begin());
     Eigen::MatrixXd dtheta;
-    if (!start_sensitivity(j0, j1, ws, dtheta, problem)) return SimulationStatus::not_finite;
-    if (dtheta.size() > 0) {
-        for (std::size_t i = 0; i < n; ++i)
+    if (!start_sensitivity(w, j0, j1, ws, dtheta, problem)) return SimulationStatus::not_finite;
+    if (dtheta.size() > 0) {  // the angles' rows, or every state's for an estimated start
+        for (std::size_t i = 0; i < static_cast<std::size_t>(dtheta.rows()); ++i)
             for (std::size_t j = 0; j < cols; ++j)
                 ws.z[state + i * d + j] = dtheta(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j));
     }

@@ -10,7 +10,9 @@
 //    shooting satisfy G(a, s, p) = 0 (the encoder node meets the measured crank angle at
 //    two samples), so d(a, s)/dp = −(∂G/∂(a, s))⁻¹ ∂G/∂p, with ∂G from two extra
 //    directions integrated through the warm-up;
-//  - `rest`, or a measured start without warm-up: the start does not depend on p.
+//  - `rest`, or a measured start without warm-up: the start does not depend on p;
+//  - `estimated`: the seed plus the window's corrections, each of which moves its own
+//    coordinate of the state by 1.
 // The free parameters may be taken in column blocks [j0, j1) so that blocks run on
 // different threads; a column's values do not depend on the blocking with fixed-step RK4.
 
@@ -161,8 +163,10 @@ private:
     bool steady_sensitivity(std::size_t j0, std::size_t j1, SensitivityWorkspace& ws, Eigen::MatrixXd& dtheta) const;
     // dθ/dp of the start when it depends on the parameters (equilibrium, steady); true with
     // dtheta empty when it does not; false with `problem` set when it has none.
-    bool start_sensitivity(std::size_t j0, std::size_t j1, SensitivityWorkspace& ws, Eigen::MatrixXd& dtheta,
-                           std::string* problem) const;
+    // For an estimated start (ProblemDefinition::EstimatedStarts) of window w, dx/dp of
+    // the whole state: 1 where a column is the correction of that coordinate, 0 elsewhere.
+    bool start_sensitivity(const Window& w, std::size_t j0, std::size_t j1, SensitivityWorkspace& ws,
+                           Eigen::MatrixXd& dtheta, std::string* problem) const;
 
     const IdentificationProblem* problem_;
     bool packed_ = true;

@@ -37,9 +37,9 @@ SimulationStatus ForwardSensitivity::simulate_packed(const double* free, const W
     std::array<T, N> x;
     for (std::size_t i = 0; i < N; ++i) x[i] = T(ws.plain->x_start[i]);
     Eigen::MatrixXd dtheta;
-    if (!start_sensitivity(j0, j1, ws, dtheta, problem)) return SimulationStatus::not_finite;
-    if (dtheta.size() > 0) {
-        for (std::size_t i = 0; i < n; ++i)
+    if (!start_sensitivity(w, j0, j1, ws, dtheta, problem)) return SimulationStatus::not_finite;
+    if (dtheta.size() > 0) {  // the angles' rows, or every state's for an estimated start
+        for (std::size_t i = 0; i < static_cast<std::size_t>(dtheta.rows()); ++i)
             for (std::size_t j = 0; j < cols; ++j)
                 x[i].set_derivative(static_cast<int>(j), dtheta(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)));
     }

@@ -9,6 +9,7 @@
 #include <limits>
 
 #include "tvid/estimation/window_score.hpp"
+#include "tvid/util/input_error.hpp"
 #include "tvid/util/text.hpp"
 
 namespace tvid {
@@ -38,6 +39,32 @@ IdentificationProblem::IdentificationProblem(const Experiment& experiment)
             std::find(input_delay_columns_.begin(), input_delay_columns_.end(), static_cast<std::size_t>(j)) ==
                 input_delay_columns_.end())
             input_delay_columns_.push_back(static_cast<std::size_t>(j));
+    if (definition_.estimated.on) seed_estimated_starts();
+}
+
+void IdentificationProblem::seed_estimated_starts() {
+    const std::unique_ptr<ProblemWorkspace> ws = make_workspace();
+    use_parameters(fixed_values_, *ws);  // every parameter at its init, the corrections at 0
+    definition_.estimated.seed.clear();
+    for (const Window& w : definition_.estimation) {
+        std::string problem;
+        if (!starts_.recipe_state(w, *ws, &problem)) {
+            const SourceLocation& at = experiment_->estimated_start.where;
+            throw InputError(at.file, at.line, at.key,
+                             "the seed of the estimated start of window '" + w.label +
+                                 "' cannot be computed at the parameters' init (" + problem +
+                                 "); seed it from another recipe (from: rest, measured or steady)");
+        }
+        definition_.estimated.seed.push_back(ws->x);
+    }
+}
+
+double IdentificationProblem::start_scale(std::size_t j) const {
+    const NetworkSpec::StartCoordinate* c = start_coordinate(definition_.network, free_[j]);
+    if (!c) return 0.0;
+    const std::vector<std::vector<double>>& seed = definition_.estimated.seed;
+    const double from = c->window < seed.size() ? std::abs(seed[c->window][c->state]) : 0.0;
+    return std::max(from, 0.5 * (range_hi_[j] - range_lo_[j]));
 }
 
 long IdentificationProblem::free_column(int parameter) const {

@@ -127,6 +127,19 @@ public:
         return WindowStarts::restore(solved, ws);
     }
 
+    /// For free column j that corrects an estimated start (NetworkSpec::start_coordinates),
+    /// the scale of its coordinate: the larger of the seed's magnitude and the half-width of
+    /// its search box. A correction sits near 0 by design, so its effect and its error are
+    /// judged against this, not against its value. 0 for a model parameter.
+    double start_scale(std::size_t j) const;
+
+    /// The index of w among the estimation windows, or WindowStarts::kNotEstimation.
+    std::size_t estimation_index(const Window& w) const { return starts_.estimation_index(w); }
+    /// The samples a validation window's estimated start is fitted on (`validation: estimated`).
+    std::pair<std::size_t, std::size_t> estimated_start_samples(const Window& w) const {
+        return starts_.estimated_start_samples(w);
+    }
+
     /// Whether window w is simulated from a measured start through a warm-up (then its
     /// march begins at w.first, whose sample is scored too).
     bool warms_up(const Window& w) const { return starts_.warms_up(w); }
@@ -150,6 +163,9 @@ private:
     std::string speed_account(std::size_t node, std::size_t reached, const std::vector<double>& x) const;
     // Sets the free parameters in ws's model; false if one is not finite.
     bool set_free_parameters(const double* free, ProblemWorkspace& ws) const;
+    // An estimated start's seeds: each estimation window's recipe state at the parameters'
+    // init (ProblemDefinition::EstimatedStarts). Throws InputError when one has none.
+    void seed_estimated_starts();
 
     const Experiment* experiment_;
     ProblemDefinition definition_;

@@ -187,6 +187,14 @@ ProblemDefinition problem_definition(const Experiment& experiment) {
     d.initial_state = experiment.initial_state;
     d.initial_speed_output = experiment.initial_speed_output;
     d.steady = experiment.steady;
+    d.estimated.on = experiment.estimated_start.on;
+    d.estimated.validation = experiment.estimated_start.validation;
+    d.estimated.of_window.resize(d.estimated.on ? d.estimation.size() : 0);
+    for (const NetworkSpec::StartCoordinate& c : d.network.start_coordinates)
+        if (c.window < d.estimated.of_window.size()) {
+            d.estimated.of_window[c.window].push_back(c);
+            if (c.window == 0) d.estimated.states.push_back(c.state);
+        }
     if (!d.steady.speed_column.empty()) read_steady_speed(d, experiment);
     d.crank_angle = experiment.crank_angle;
     d.angle_node = experiment.angle_node;

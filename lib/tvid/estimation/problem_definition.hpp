@@ -31,6 +31,17 @@ struct ProblemDefinition {
     InitialStateKind initial_state = InitialStateKind::equilibrium;
     int initial_speed_output = -1;               ///< measured start: the measured output of the speed
     SteadyStartSpec steady;                      ///< steady start: its node, speed and averaging
+    /// initial_state estimated (experiment/estimated_start.hpp): the start of estimation
+    /// window k is seed[k], the recipe's state at the parameters' init (IdentificationProblem
+    /// solves it once), plus the parameters of of_window[k]; initial_state is the recipe.
+    struct EstimatedStarts {
+        bool on = false;
+        bool validation = false;  ///< validation windows' starts estimated on their first samples
+        std::vector<std::vector<NetworkSpec::StartCoordinate>> of_window;
+        std::vector<std::vector<double>> seed;
+        std::vector<std::size_t> states;  ///< the state coordinates estimated (the same in every window)
+    };
+    EstimatedStarts estimated;
     /// And its speed column per sample, when it reads one: read exactly as a channel bound
     /// to that column reads it (its unit, scale and delay), so the start agrees with the
     /// model's channel. The first input bound to the column (steady_speed_input, an index

@@ -21,7 +21,45 @@ double speed_ratio(const std::vector<double>& x, std::size_t n, std::size_t node
     return std::isfinite(r) ? r : 1.0;
 }
 
+std::size_t WindowStarts::estimation_index(const Window& w) const {
+    for (std::size_t k = 0; k < d_->estimation.size(); ++k) {
+        const Window& e = d_->estimation[k];
+        if (&e == &w || (e.start == w.start && e.first == w.first && e.last == w.last && e.recording == w.recording))
+            return k;
+    }
+    return kNotEstimation;
+}
+
+std::pair<std::size_t, std::size_t> WindowStarts::estimated_start_samples(const Window& w) const {
+    if (w.first > w.start) return {w.start, w.first};
+    const std::size_t tenth = std::max<std::size_t>((w.last - w.start) / 10, 2 * d_->estimated.states.size());
+    return {w.start, std::min(w.last, w.start + tenth)};
+}
+
 bool WindowStarts::initial_state(const Window& w, ProblemWorkspace& ws, std::string* problem) const {
+    const ProblemDefinition::EstimatedStarts& estimated = d_->estimated;
+    if (estimated.on) {
+        if (const std::size_t k = estimation_index(w); k != kNotEstimation) {
+            if (k >= estimated.seed.size() || estimated.seed[k].size() != ws.x.size()) {
+                if (problem) *problem = "the estimated start has no seed";
+                return false;
+            }
+            // The seed (the recipe's state at the parameters' init) plus the window's corrections.
+            std::size_t hint = w.start;
+            ws.inputs->at(d_->inputs.time()[w.start], hint, ws.u0.data());
+            ws.x = estimated.seed[k];
+            const std::vector<double>& p = ws.model.parameters();
+            for (const NetworkSpec::StartCoordinate& c : estimated.of_window[k])
+                ws.x[c.state] += p[static_cast<std::size_t>(c.parameter)];
+            return true;
+        }
+        if (!recipe_state(w, ws, problem)) return false;
+        return !estimated.validation || estimate_start(w, ws, problem);
+    }
+    return recipe_state(w, ws, problem);
+}
+
+bool WindowStarts::recipe_state(const Window& w, ProblemWorkspace& ws, std::string* problem) const {
     const std::size_t n = ws.model.node_count();
     const std::size_t start = w.start;
     std::size_t hint = start;

@@ -5,6 +5,7 @@
 
 #include <cstddef>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "tvid/estimation/problem_definition.hpp"
@@ -59,9 +60,27 @@ public:
     /// start's effect on ws from a start solved before for the same parameters.
     static WindowStart restore(const SolvedStart& solved, ProblemWorkspace& ws);
 
+    /// The index of w among the estimation windows (the same samples and recording), or
+    /// kNotEstimation: an estimated start holds parameters for those windows alone.
+    static constexpr std::size_t kNotEstimation = static_cast<std::size_t>(-1);
+    std::size_t estimation_index(const Window& w) const;
+
+    /// ws.x set to the initial_state recipe's state at w's start, for ws.model's
+    /// parameters (an estimated start's seed); false (with a reason) if impossible.
+    bool recipe_state(const Window& w, ProblemWorkspace& ws, std::string* problem) const;
+
+    /// The samples [from, to] a validation window's estimated start is fitted on
+    /// (`validation: estimated`): its warm-up when it has one (then none of them is
+    /// scored), else its first tenth (which is scored).
+    std::pair<std::size_t, std::size_t> estimated_start_samples(const Window& w) const;
+
 private:
     // Sets ws.x to the initial state at window w's start; false (with a reason) if impossible.
     bool initial_state(const Window& w, ProblemWorkspace& ws, std::string* problem) const;
+    // A validation window's estimated start: the recipe's state in ws.x, corrected by
+    // Levenberg–Marquardt so that the outputs meet the measured ones on
+    // estimated_start_samples(w) with the model held (window_start_estimate.cpp).
+    bool estimate_start(const Window& w, ProblemWorkspace& ws, std::string* problem) const;
     // Measured initial state with a warm-up: leaves ws.x at the window's first sample.
     SimulationStatus shoot_warmup(const Window& w, ProblemWorkspace& ws, WindowStart& start) const;
     // With fixed-step RK4 it solves by Newton's method with the exact Jacobian

@@ -111,6 +111,21 @@ struct SteadyStartSpec {
     std::string speed_column;    ///< or the mean of this column of the recording [rad/s]
     std::size_t samples = 0;     ///< samples averaged from the window's start (0: its warm-up, or 50)
 };
+/// `initial_state: { kind: estimated, from: RECIPE, validation: from | estimated }`: the start
+/// of each estimation window is identified with the model. The `from:` recipe
+/// (initial_state) gives every window's seed at the parameters' init; the start is the
+/// seed plus one parameter per independent coordinate (NetworkSpec::start_coordinates):
+/// every node's speed, and every node's angle but one per rigid rotation the outputs and
+/// the elements cannot see (a line not tied to ground).
+struct EstimatedStartSpec {
+    bool on = false;
+    /// `validation: estimated`: a validation window's start is estimated from its first
+    /// samples with the model held (its warm-up, or its first tenth), as nlgreyest's
+    /// compare does; otherwise validation windows start from the recipe.
+    bool validation = false;
+    SourceLocation where;  ///< the initial_state entry
+};
+
 enum class CostKind { l1, l2 };
 /// How the Jacobian of the residuals is formed (LM steps, standard errors): forward
 /// sensitivities (the methodology paper eq. 9) or central finite differences.
@@ -161,7 +176,8 @@ struct Experiment {
     double warmup = 0.0;                  ///< seconds simulated before each window, not scored (or:)
     int warmup_cycles = 0;                ///< engine cycles simulated before each window, not scored
     InitialStateKind initial_state = InitialStateKind::equilibrium;
-    SteadyStartSpec steady;               ///< initial_state steady
+    SteadyStartSpec steady;               ///< initial_state steady (or from: steady)
+    EstimatedStartSpec estimated_start;   ///< initial_state estimated; then initial_state is its from:
     int initial_speed_output = -1;        ///< measured: index into `outputs` of the speed that starts every node
     SimulationSettings simulation;
     EstimationSettings estimation_settings;

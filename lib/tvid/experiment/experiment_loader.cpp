@@ -12,6 +12,7 @@
 #include "tvid/experiment/channel_reader.hpp"
 #include "tvid/experiment/data_reader.hpp"
 #include "tvid/experiment/experiment.hpp"
+#include "tvid/experiment/estimated_start.hpp"
 #include "tvid/experiment/model_reader.hpp"
 #include "tvid/experiment/optimizer_settings_reader.hpp"
 #include "tvid/experiment/overrides.hpp"
@@ -183,9 +184,10 @@ void check_fixed_step_count(const YamlMap& simulation, const RecordingRead& reco
 
 // initial_state: { kind: steady, node: NAME, speed: RAD_PER_S or COLUMN, samples: N }.
 SteadyStartSpec read_steady_start(const YamlMap& m, const NetworkSpec& network,
-                                  const std::vector<RecordingRead>& recordings) {
+                                  const std::vector<RecordingRead>& recordings, bool estimated) {
     const CsvTable& data = recordings.front().table;
-    m.allow_only({"kind", "node", "speed", "samples"});
+    if (estimated) m.allow_only({"kind", "from", "validation", "node", "speed", "samples"});
+    else m.allow_only({"kind", "node", "speed", "samples"});
     SteadyStartSpec s;
     const std::string node = m.text("node");
     s.node = network.node_index(node);
@@ -288,17 +290,36 @@ void read_initial_state(const YamlMap& top, const YamlMap& data, const DataSecti
         const bool detailed = top.get("initial_state").IsMap();
         const YamlMap start = detailed ? top.map("initial_state") : top;
         const std::string key = detailed ? "kind" : "initial_state";
-        const std::string kind = start.choice(key, {"equilibrium", "rest", "measured", "steady"});
+        std::string kind = start.choice(key, {"equilibrium", "rest", "measured", "steady", "estimated"});
+        const bool estimated = kind == "estimated";
+        if (estimated) {
+            // The start identified with the model, seeded by a recipe (estimated_start.hpp).
+            if (!detailed)
+                top.fail("initial_state", "estimated needs the recipe of its seed: initial_state: { kind: estimated, "
+                                          "from: steady | measured | equilibrium | rest }");
+            if (!start.has("from"))
+                start.fail_missing("from", "(the recipe that seeds the estimated start: steady, measured, equilibrium "
+                                           "or rest)");
+            kind = start.choice("from", {"equilibrium", "rest", "measured", "steady"});
+            ex.estimated_start.on = true;
+            ex.estimated_start.where = start.source().where(start.node(), start.path());
+            if (start.has("validation"))
+                ex.estimated_start.validation = start.choice("validation", {"from", "estimated"}) == "estimated";
+            if (!ex.angle_column.empty())
+                start.fail("kind", "an estimated start is for a line driven by time channels; with a crank-angle "
+                                   "channel the start is shot on the encoder (initial_state: measured)");
+        }
         ex.initial_state = kind == "rest"       ? InitialStateKind::rest
                            : kind == "measured" ? InitialStateKind::measured
                            : kind == "steady"   ? InitialStateKind::steady
                                                 : InitialStateKind::equilibrium;
-        if (detailed && ex.initial_state != InitialStateKind::steady) start.allow_only({"kind"});
+        if (detailed && ex.initial_state != InitialStateKind::steady)
+            estimated ? start.allow_only({"kind", "from", "validation"}) : start.allow_only({"kind"});
         if (ex.initial_state == InitialStateKind::steady) {
             if (!detailed)
                 top.fail("initial_state", "steady needs its node and speed: initial_state: { kind: steady, node: "
                                           "NAME, speed: RAD_PER_S or COLUMN }");
-            ex.steady = read_steady_start(start, ex.network, recorded.recordings);
+            ex.steady = read_steady_start(start, ex.network, recorded.recordings, estimated);
             if (const std::string held = held_to_ground(ex.network); !held.empty())
                 start.fail("kind", "steady on a line held to ground by " + held +
                                        ": it cannot turn steadily, and at rest its start is the static equilibrium "
@@ -413,6 +434,7 @@ Experiment load_experiment(const std::filesystem::path& file, const std::vector<
     read_initial_state(top, data, recorded, ex);
     read_simulation_and_report(top, folder, recorded, ex);
     join_recordings(std::move(recorded), ex);
+    if (ex.estimated_start.on) define_estimated_starts(ex);
     return ex;
 }
 

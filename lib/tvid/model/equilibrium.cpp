@@ -61,7 +61,8 @@ EquilibriumResult solve_single_node(NetworkModel<double>& model, const double* u
     if (f_hi == 0) { r.found = true; r.theta = {hi}; return r; }
     if (f_lo * f_hi > 0) {
         r.problem = "no angle balances the static torque: node " + model.spec().nodes.front().name +
-                    " has no elastic connection to ground; start from initial_state: { kind: steady, … } or measured";
+                    " has no elastic connection to ground; start from initial_state: { kind: steady, … }, measured, or "
+                    "{ kind: estimated, from: measured }";
         return r;
     }
     std::uintmax_t max_iter = 200;
@@ -90,7 +91,8 @@ EquilibriumResult solve_network(NetworkModel<double>& model, const double* u) {
             r.problem = "the static stiffness matrix is singular: " +
                         nodes_without_hold(model.spec(), model.parameters(), solved.free_unknowns) +
                         " no elastic connection to ground, so no angle balances the torques; start from "
-                        "initial_state: { kind: steady, … } or measured, which let the line turn";
+                        "initial_state: { kind: steady, … }, measured or { kind: estimated, from: measured }, which "
+                        "let the line turn";
             return r;
         case NewtonStatus::not_converged: break;
     }

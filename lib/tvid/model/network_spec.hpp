@@ -159,6 +159,16 @@ struct NetworkSpec {
     /// Parameters that are a measured channel's delay [s] (ChannelBinding::delay): they move
     /// the recording against the model's time and enter no element.
     std::vector<int> delay_parameters;
+    /// A parameter that is no element's but the start of an estimation window
+    /// (`initial_state: { kind: estimated }`): state coordinate `state` (θ_i at i, ω_i at
+    /// n + i) of estimation window `window` starts at its `from:` recipe's value plus the
+    /// parameter. It enters no element either.
+    struct StartCoordinate {
+        int parameter = -1;
+        std::size_t window = 0;
+        std::size_t state = 0;
+    };
+    std::vector<StartCoordinate> start_coordinates;
 
     int parameter_index(const std::string& name) const;  ///< -1 if absent
     int input_index(const std::string& name) const;
@@ -224,5 +234,12 @@ bool element_has_output_side(ElementKind kind);
 
 /// Whether some element of n prescribes its node's motion (a speed source).
 bool prescribes_motion(const NetworkSpec& n);
+
+/// The start coordinate that parameter `parameter` of n is, or nullptr for a model parameter.
+inline const NetworkSpec::StartCoordinate* start_coordinate(const NetworkSpec& n, std::size_t parameter) {
+    for (const NetworkSpec::StartCoordinate& c : n.start_coordinates)
+        if (static_cast<std::size_t>(c.parameter) == parameter) return &c;
+    return nullptr;
+}
 
 }  // namespace tvid

@@ -69,6 +69,12 @@ std::string input_unit(const NetworkSpec& network, std::size_t input) {
 std::vector<std::string> parameter_units(const NetworkSpec& network) {
     std::vector<std::string> units(network.parameter_names.size());
     for (int p : network.delay_parameters) assign(units, Field::param(p), "s");
+    const std::size_t n = network.nodes.size();
+    for (const NetworkSpec::StartCoordinate& c : network.start_coordinates) {
+        const NodeSpec& node = network.nodes[c.state % n];
+        const std::string unit = c.state < n ? "rad" : "rad/s";
+        assign(units, Field::param(c.parameter), node.linear ? translational_unit(unit) : unit);
+    }
     if (const PresetInfo* preset = find_preset(network.preset);
         preset && preset->parameter_units.size() <= network.parameter_names.size()) {
         std::copy(preset->parameter_units.begin(), preset->parameter_units.end(), units.begin());  // then the delays

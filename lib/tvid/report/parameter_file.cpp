@@ -36,6 +36,16 @@ std::vector<double> read_parameter_file(const std::filesystem::path& file, const
                 throw InputError(name, 0, "parameters", "each entry needs a name and a value");
             set(entry["name"].get<std::string>(), entry["value"]);
         }
+        // An estimated start's corrections, where this experiment estimates the same ones
+        // (another experiment starts its windows from its own recipe).
+        if (j.contains("initial_states") && j["initial_states"].is_array())
+            for (const auto& entry : j["initial_states"]) {
+                if (!entry.is_object() || !entry.contains("parameter") || !entry["parameter"].is_string() ||
+                    !entry.contains("correction"))
+                    throw InputError(name, 0, "initial_states", "each entry needs its parameter and correction");
+                const std::string key = entry["parameter"].get<std::string>();
+                if (experiment.network.parameter_index(key) >= 0) set(key, entry["correction"]);
+            }
     } else if (j.is_object()) {
         for (const auto& [key, value] : j.items()) set(key, value);
     } else {

@@ -96,13 +96,52 @@ json split_json(const Experiment& experiment, const SplitEvaluation& split) {
     return json{{"pooled", pooled}, {"windows", windows}, {"ok", split.ok}};
 }
 
+// One coordinate of an estimated start: the recipe's seed, the fitted correction (the
+// parameter) and their sum, the start itself, with the correction's standard error.
+json initial_state_json(const IdentificationProblem& problem, const FitResult& fit,
+                        const NetworkSpec::StartCoordinate& c, int j) {
+    const Experiment& ex = problem.experiment();
+    const ProblemDefinition::EstimatedStarts& estimated = problem.definition().estimated;
+    const std::size_t n = ex.network.nodes.size();
+    const NodeSpec& node = ex.network.nodes[c.state % n];
+    const auto parameter = static_cast<std::size_t>(c.parameter);
+    const double seed = c.window < estimated.seed.size() ? estimated.seed[c.window][c.state] : 0.0;
+    const double correction = fit.best_params[parameter];
+    const Window& w = ex.estimation[c.window];
+    json entry{{"window", w.label},
+               {"node", node.name},
+               {"coordinate", c.state < n ? (node.linear ? "position" : "angle") : "speed"},
+               {"unit", parameter_units(ex.network)[parameter]},
+               {"parameter", ex.parameters[parameter].name},
+               {"value", json_number(seed + correction)},
+               {"seed", json_number(seed)},
+               {"correction", json_number(correction)}};
+    if (lists_recordings(ex)) entry["recording"] = recording_name(ex, w);
+    const bool known = j >= 0 && fit.uncertainty.available;
+    const auto jj = static_cast<std::size_t>(std::max(j, 0));
+    entry["std_error"] = known ? json_number(fit.uncertainty.std_error[jj]) : json(nullptr);
+    entry["determined"] = known ? json(static_cast<bool>(fit.uncertainty.determined[jj])) : json(nullptr);
+    return entry;
+}
+
+// How an estimated start was made: its recipe, the coordinates fitted in each estimation
+// window (as params.json's initial_states) and, with `validation: estimated`, the samples
+// each validation window's own start was fitted on.
+namespace {
+json estimated_start_json(const IdentificationProblem& problem, const FitResult& fit);
+}  // namespace
+
 json parameters_json(const IdentificationProblem& problem, const FitResult& fit) {
     const Experiment& ex = problem.experiment();
     const std::vector<std::string> units = parameter_units(ex.network);
-    json params = json::array();
+    json params = json::array(), initial_states = json::array();
     for (std::size_t i = 0; i < ex.parameters.size(); ++i) {
         const ParameterSetting& p = ex.parameters[i];
         const int j = free_position(problem, i);
+        if (const NetworkSpec::StartCoordinate* c = start_coordinate(ex.network, i)) {
+            initial_states.push_back(initial_state_json(problem, fit, *c, j));
+            continue;
+        }
         json entry{{"name", p.name},        {"unit", units[i]}, {"scale", scale_name(p.scale)},
                    {"value", json_number(fit.best_params[i])}, {"init", p.init},
                    {"min", bound(p, true)}, {"max", bound(p, false)},              {"fixed", p.fixed}};
@@ -131,8 +170,10 @@ json parameters_json(const IdentificationProblem& problem, const FitResult& fit)
         for (double c : row) r.push_back(json_number(c));
         covariance["matrix"].push_back(r);
     }
-    return json{{"experiment", ex.name}, {"model", ex.network.preset}, {"parameters", params},
-                {"correlation", correlation}, {"covariance", covariance}};
+    json out{{"experiment", ex.name}, {"model", ex.network.preset}, {"parameters", params},
+             {"correlation", correlation}, {"covariance", covariance}};
+    if (ex.estimated_start.on) out["initial_states"] = initial_states;
+    return out;
 }
 
 // The cost's kind and value, and how it weighs the outputs: each output's residual is
@@ -321,9 +362,35 @@ json fit_summary_json(const IdentificationProblem& problem, const FitResult& fit
            {"step_stability", stability_json(fit.stability)},
            {"verdict", verdict_json(fit.verdict)}};
     add_data_fields(ex, s);
+    if (ex.estimated_start.on) s["initial_state"] = estimated_start_json(problem, fit);
     if (json modes = fit_modes_json(problem, fit.best_params); !modes.is_null()) s["modes"] = std::move(modes);
     return s;
 }
+
+namespace {
+json estimated_start_json(const IdentificationProblem& problem, const FitResult& fit) {
+    const Experiment& ex = problem.experiment();
+    const char* recipe = ex.initial_state == InitialStateKind::rest       ? "rest"
+                         : ex.initial_state == InitialStateKind::measured ? "measured"
+                         : ex.initial_state == InitialStateKind::steady   ? "steady"
+                                                                          : "equilibrium";
+    json windows = json::array();
+    if (ex.estimated_start.validation) {
+        const std::vector<double>& time = problem.inputs().time();
+        for (const Window& w : ex.validation) {
+            const auto [from, to] = problem.estimated_start_samples(w);
+            windows.push_back({{"window", w.label},
+                               {"estimated_on", json::array({time[from], time[to]})},
+                               {"scored", w.first <= w.start}});
+        }
+    }
+    return json{{"kind", "estimated"},
+                {"from", recipe},
+                {"estimation", parameters_json(problem, fit)["initial_states"]},
+                {"validation", ex.estimated_start.validation ? json("estimated") : json("from")},
+                {"validation_windows", windows}};
+}
+}  // namespace
 
 std::string trace_csv(const Experiment& experiment, const SplitEvaluation& split) {
     std::ostringstream out;

@@ -1,0 +1,111 @@
+#include "tvid/experiment/estimated_start.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "tvid/model/network_model.hpp"
+#include "tvid/model/steady_motion.hpp"
+#include "tvid/util/input_error.hpp"
+
+namespace tvid {
+
+namespace {
+
+// Which nodes a speed source turns: their speed comes from its channel, not the state.
+std::vector<char> prescribed_speeds(NetworkModel<double>& model) {
+    const std::size_t n = model.node_count();
+    std::vector<double> x(2 * n, std::nan("")), u(model.input_count() + model.spec().input_rates.size(), 1.0);
+    for (std::size_t i = 0; i < n; ++i) x[i] = 0.0;
+    const double* seen = model.speeds_seen(x.data(), u.data());
+    std::vector<char> prescribed(n, 0);
+    for (std::size_t i = 0; i < n; ++i) prescribed[i] = std::isfinite(seen[i]) ? 1 : 0;
+    return prescribed;
+}
+
+// Whether turning the nodes of a rigid motion (rigid.ratio, on the nodes it ties) all
+// together changes any node's acceleration or any output: false for a line that nothing
+// ties to ground and no output reads an angle of. Tried at an arbitrary twisted, turning
+// state with every input at 1 (a rigid rotation leaves the twists, so a line invariant
+// under it is so at every state).
+bool rotation_is_seen(NetworkModel<double>& model, const RigidMotion& rigid) {
+    const std::size_t n = model.node_count();
+    std::vector<double> x(2 * n), u(model.input_count() + model.spec().input_rates.size(), 1.0);
+    for (std::size_t i = 0; i < n; ++i) {
+        x[i] = 0.1 * std::sin(1.0 + static_cast<double>(i));
+        x[n + i] = 3.0 + std::cos(2.0 + static_cast<double>(i));
+    }
+    const auto observe = [&](std::vector<double>& out) {
+        out.resize(2 * n + model.spec().outputs.size());
+        model.derivative(x.data(), u.data(), out.data());
+        for (std::size_t k = 0; k < model.spec().outputs.size(); ++k) out[2 * n + k] = model.output(k, x.data(), u.data());
+    };
+    std::vector<double> before, after;
+    observe(before);
+    for (std::size_t i = 0; i < n; ++i)
+        if (rigid.tied[i]) x[i] += 0.7 * rigid.ratio[i];
+    observe(after);
+    for (std::size_t k = 0; k < before.size(); ++k)
+        if (!(std::abs(after[k] - before[k]) <= 1e-9 * (1.0 + std::abs(before[k])))) return true;
+    return false;
+}
+
+// The largest measured speed [rad/s or m/s]: the speed outputs' columns as the model reads them.
+double largest_measured_speed(const Experiment& ex) {
+    double largest = 0.0;
+    for (std::size_t k = 0; k < ex.outputs.size(); ++k) {
+        if (ex.network.outputs[static_cast<std::size_t>(ex.output_indices[k])].kind != OutputKind::speed) continue;
+        for (const double v : ex.data.column(ex.outputs[k].column))
+            if (std::isfinite(v)) largest = std::max(largest, std::abs(v * ex.outputs[k].scale));
+    }
+    return largest;
+}
+
+}  // namespace
+
+void define_estimated_starts(Experiment& ex) {
+    const std::size_t n = ex.network.nodes.size();
+    std::vector<char> estimate_angle(n, 1), estimate_speed(n, 1);
+    {
+        std::vector<double> p;
+        for (const ParameterSetting& s : ex.parameters) p.push_back(s.init);
+        NetworkModel<double> model(ex.network);
+        model.set_parameters(p.data());
+        const std::vector<char> prescribed = prescribed_speeds(model);
+        for (std::size_t i = 0; i < n; ++i) estimate_speed[i] = prescribed[i] ? 0 : 1;
+        // One angle per rigid rotation nothing sees stays the recipe's: its first node's.
+        std::vector<char> placed(n, 0);
+        for (std::size_t r = 0; r < n; ++r) {
+            if (placed[r]) continue;
+            const RigidMotion rigid = rigid_motion(ex.network, p, static_cast<int>(r));
+            for (std::size_t i = 0; i < n; ++i) placed[i] = placed[i] || rigid.tied[i];
+            placed[r] = 1;
+            if (rigid.problem.empty() && !rotation_is_seen(model, rigid)) estimate_angle[r] = 0;
+        }
+    }
+    const double speed_range = std::max(1.0, 0.1 * largest_measured_speed(ex));
+    for (std::size_t w = 0; w < ex.estimation.size(); ++w)
+        for (std::size_t state = 0; state < 2 * n; ++state) {
+            const std::size_t node = state % n;
+            const bool angle = state < n;
+            if (!(angle ? estimate_angle[node] : estimate_speed[node])) continue;
+            const NodeSpec& spec = ex.network.nodes[node];
+            ParameterSetting s;
+            s.name = "start" + std::to_string(w + 1) + "." + spec.name + (angle ? (spec.linear ? ".position" : ".angle")
+                                                                                 : ".speed");
+            if (ex.network.parameter_index(s.name) >= 0)
+                throw InputError(ex.estimated_start.where.file, ex.estimated_start.where.line, ex.estimated_start.where.key,
+                                 "the estimated start's parameter " + s.name + " is also a model parameter: rename it");
+            s.init = 0.0;  // a correction to the recipe's seed
+            const double range = angle ? kStartAngleRange : speed_range;
+            s.range = std::make_pair(-range, range);
+            s.where = ex.estimated_start.where;
+            const int index = static_cast<int>(ex.network.parameter_names.size());
+            ex.network.parameter_names.push_back(s.name);
+            ex.network.start_coordinates.push_back({index, w, state});
+            ex.parameters.push_back(std::move(s));
+        }
+}
+
+}  // namespace tvid
