@@ -3,7 +3,8 @@
 tied to ground recorded in motion, data/free_line/truth.json): three reports of `tvid fit`,
 the same recording and model with three starts, drawn side by side (numpy and matplotlib):
 
-  top:    the shaft torque's residual over the estimation window of each;
+  top:    the vehicle speed's residual over the estimation window of each (the slow
+          rigid-body mode keeps a start's speed error longest);
   bottom: each parameter's distance from the truth, in its own standard errors.
 
     tvid fit configs/free_line.yaml -o results/start-estimated
@@ -48,7 +49,7 @@ def main():
     fig, (top, bottom) = plt.subplots(2, 1, figsize=(9, 7.5), gridspec_kw={"height_ratios": [1.2, 1]})
     width = 0.8 / len(reports)
     for k, (report, label, colour) in enumerate(zip(reports, LABELS, COLOURS)):
-        t, r = read_trace(report, "T_shaft_residual")
+        t, r = read_trace(report, "w_vehicle_residual")
         top.plot(t, r, color=colour, lw=0.8, label=label, alpha=0.85)
         params = {p["name"]: p for p in json.load(open(os.path.join(report, "params.json")))["parameters"]}
         sigmas = [(params[n]["value"] - truth[n]) / params[n]["std_error"] if params[n]["std_error"] else np.nan
@@ -56,14 +57,14 @@ def main():
         bottom.bar(np.arange(len(names)) + (k - 1) * width, np.clip(sigmas, -30, 30), width, color=colour,
                    label=label)
     top.set_xlabel("time [s]")
-    top.set_ylabel("T_shaft residual [N m]")
-    top.set_title("shaft torque residual over the estimation window (noise: 2 N m)")
+    top.set_ylabel("w_vehicle residual [rad/s]")
+    top.set_title("vehicle speed residual over the estimation window (noise: 0.05 rad/s)")
     top.legend(loc="upper right")
     bottom.axhspan(-3, 3, color="0.85", zorder=0, label="within 3 standard errors")
     bottom.set_xticks(np.arange(len(names)), names)
     bottom.set_ylabel("(fit − truth) / std error")
     bottom.set_title("each parameter from the truth, in its standard errors (clipped at ±30)")
-    bottom.legend(loc="lower left", fontsize=9)
+    bottom.legend(loc="upper left", fontsize=9)
     fig.tight_layout()
     fig.savefig(out, dpi=100)
     print(f"wrote {out}")
