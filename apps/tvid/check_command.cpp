@@ -122,6 +122,9 @@ std::string table_text(const CheckResult& result) {
 
 int write_reference(const CheckCommand& cmd) {
     const FitReportFiles report = read_fit_report(cmd.report_dir);
+    // A reference file tvid did not write (a hand-kept one) is replaced only with --force;
+    // after the report is read, so that a target among its files is named as such.
+    check_replaceable(cmd.write_reference, cmd.force, "written by tvid check --write-reference", "a reference");
     const nlohmann::ordered_json reference = reference_from_report(report, cmd.rel, cmd.sigmas);
     // Checked before it is written: only a valid reference that this report passes reaches
     // the disk (its text parsed back, as a later tvid check reads it).
@@ -134,6 +137,19 @@ int write_reference(const CheckCommand& cmd) {
         return kExitNotSucceeded;
     }
     write_named_output_file(cmd.write_reference, text);
+    // Tolerances from standard errors hold for a fit whose residual is noise; a fit the
+    // verdict faults (a residual that is not white: a missing dynamic, or noise on an
+    // input) moves by more than its standard errors on a new recording of the system.
+    if (const nlohmann::json& verdict = report.summary.value("verdict", nlohmann::json::object());
+        verdict.value("errors", 0) > 0) {
+        std::string kinds;
+        for (const nlohmann::json& f : verdict.value("findings", nlohmann::json::array()))
+            if (f.value("severity", "") == "error" && kinds.find(f.value("code", "")) == std::string::npos)
+                kinds += (kinds.empty() ? "" : ", ") + f.value("code", std::string());
+        std::cerr << "tvid check: warning: the verdict of " << cmd.report_dir << " has " << verdict.value("errors", 0)
+                  << " error(s) (" << kinds << "): its standard errors understate how far a refit on a new "
+                  << "recording moves; widen the tolerances (--sigmas, or from a batch's spread) or fix the fit first\n";
+    }
     if (!cmd.quiet)
         std::cout << "tvid check: wrote " << cmd.write_reference << " with " << result.rows.size() << " checks from "
                   << cmd.report_dir << "\n  " << reference["description"].get<std::string>() << '\n';

@@ -54,6 +54,8 @@ struct EvaluateCommand {
     CommonOptions common;
     std::string params_file;            ///< --params P.json (empty: the experiment's init values)
     std::string output;                 ///< -o FILE.csv (simulate) / FILE.json (validate)
+    std::string output_dir;             ///< --output-dir DIR: the file under its default name there
+    bool force = false;                 ///< --force: replace a file there that tvid did not write
 };
 
 struct SensitivityCommand {
@@ -83,6 +85,7 @@ struct CheckCommand {
     double sigmas = kReferenceStandardErrors;  ///< --sigmas: tolerances in standard errors and spreads
     bool quiet = false;                 ///< only the final line
     bool json = false;                  ///< the rows as JSON
+    bool force = false;                 ///< --force: replace a --write-reference file tvid did not write
 };
 
 int run_fit_command(const FitCommand& cmd);

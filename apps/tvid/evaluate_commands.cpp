@@ -62,14 +62,28 @@ nlohmann::json traces_json(const Experiment& ex, const SplitEvaluation& split) {
     return {{"t", t}, {"window", window}, {"outputs", outputs}};
 }
 
+// Where the command's file goes: -o FILE, or its default name in --output-dir DIR; empty
+// for none (stdout). -o naming a folder is refused (check_output_target): nothing
+// replaces a folder.
+std::filesystem::path output_file(const EvaluateCommand& cmd, const char* default_name) {
+    if (!cmd.output_dir.empty()) return std::filesystem::path(cmd.output_dir) / default_name;
+    return cmd.output;
+}
+
+// What every file of the kind holds (atomic_file.hpp's check_replaceable).
+constexpr const char* kSimulationCsvMark = "t [s],window,";
+constexpr const char* kValidationJsonMark = "\"written_by\": \"tvid validate\"";
+
 }  // namespace
 
 int run_simulate_command(const EvaluateCommand& cmd) {
     const Experiment ex = load_experiment(cmd.common.experiment, parse_overrides(cmd.common.overrides));
     const IdentificationProblem problem(ex);
     const std::vector<double> params = chosen_parameters(cmd, ex);
-    // Before the work: -o must be a place for a new file, not a FIFO or a file this run reads.
-    if (!cmd.output.empty()) check_output_target(cmd.output);
+    // Before the work: the file must be a place for a new file or one tvid wrote, not a
+    // FIFO, a file this run reads or a user's file (without --force).
+    const std::filesystem::path target = output_file(cmd, "simulation.csv");
+    if (!target.empty()) check_replaceable(target, cmd.force, kSimulationCsvMark, "a simulation CSV");
     const Evaluation ev = evaluate_parameters(problem, params, resolve_thread_count(cmd.common.threads));
     std::string csv = trace_csv(ex, ev.estimation);
     if (!ev.validation.windows.empty()) {
@@ -78,15 +92,15 @@ int run_simulate_command(const EvaluateCommand& cmd) {
     }
     // The CSV goes to -o, else to stdout (for a pipe); --json prints the same samples with
     // the metrics as JSON instead, and with -o the terminal gets the summary table.
-    if (!cmd.output.empty()) write_named_output_file(cmd.output, csv);
+    if (!target.empty()) write_named_output_file(target, csv);
     if (cmd.common.json) {
         nlohmann::json j = evaluation_json(ex, ev);
         j["traces"] = {{"estimation", traces_json(ex, ev.estimation)}, {"validation", traces_json(ex, ev.validation)}};
         std::cout << json_text(j) << std::endl;
-    } else if (cmd.output.empty()) {
+    } else if (target.empty()) {
         std::cout << csv;
     } else if (!cmd.common.quiet) {
-        std::cout << evaluation_summary_text("simulate", ex, ev) << "  written: " << cmd.output << "\n" << std::flush;
+        std::cout << evaluation_summary_text("simulate", ex, ev) << "  written: " << target.string() << "\n" << std::flush;
     }
     return report_failed_windows(ev);
 }
@@ -95,10 +109,12 @@ int run_validate_command(const EvaluateCommand& cmd) {
     const Experiment ex = load_experiment(cmd.common.experiment, parse_overrides(cmd.common.overrides));
     const IdentificationProblem problem(ex);
     const std::vector<double> params = chosen_parameters(cmd, ex);
-    if (!cmd.output.empty()) check_output_target(cmd.output);
+    const std::filesystem::path target = output_file(cmd, "validation.json");
+    if (!target.empty()) check_replaceable(target, cmd.force, kValidationJsonMark, "a validation JSON");
     const Evaluation ev = evaluate_parameters(problem, params, resolve_thread_count(cmd.common.threads));
-    const nlohmann::json j = evaluation_json(ex, ev);
-    if (!cmd.output.empty()) write_named_output_file(cmd.output, json_text(j) + "\n");
+    nlohmann::json j = evaluation_json(ex, ev);
+    j["written_by"] = "tvid validate";
+    if (!target.empty()) write_named_output_file(target, json_text(j) + "\n");
     // The table as `tvid fit` prints it; the JSON with --json.
     if (cmd.common.json) std::cout << json_text(j) << std::endl;
     else if (!cmd.common.quiet) std::cout << evaluation_summary_text("validate", ex, ev) << std::flush;

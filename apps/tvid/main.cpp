@@ -69,19 +69,25 @@ std::string exit_status_help() {
 }
 
 // The first word when it names no command: one line with the nearest command, or null.
-std::optional<std::string> unknown_command(const CLI::App& app, int argc, char** argv) {
-    if (argc < 2 || argv[1][0] == '-') return std::nullopt;
-    const std::string word = argv[1];
+// "; did you mean 'fit'?" for the command nearest `word` when one is near, else "".
+std::string nearest_command_hint(const CLI::App& app, const std::string& word) {
     std::string nearest;
     std::size_t best = word.size();
     for (const CLI::App* sub : app.get_subcommands({})) {
-        if (sub->get_name() == word) return std::nullopt;
+        if (sub->get_name() == "help") continue;
         const std::size_t d = tvid::edit_distance(word, sub->get_name());
         if (d < best) best = d, nearest = sub->get_name();
     }
-    std::string line = "tvid: '" + word + "' is not a tvid command";
-    if (!nearest.empty() && best <= std::max<std::size_t>(2, word.size() / 3)) line += "; did you mean '" + nearest + "'?";
-    return line + " (tvid --help lists them)";
+    if (nearest.empty() || best > std::max<std::size_t>(2, word.size() / 3)) return "";
+    return "; did you mean '" + nearest + "'?";
+}
+
+std::optional<std::string> unknown_command(const CLI::App& app, int argc, char** argv) {
+    if (argc < 2 || argv[1][0] == '-') return std::nullopt;
+    const std::string word = argv[1];
+    for (const CLI::App* sub : app.get_subcommands({}))
+        if (sub->get_name() == word) return std::nullopt;
+    return "tvid: '" + word + "' is not a tvid command" + nearest_command_hint(app, word) + " (tvid --help lists them)";
 }
 
 void add_common(CLI::App* sub, tvid::cli::CommonOptions& o) {
@@ -125,13 +131,25 @@ int main(int argc, char** argv) {
     auto* sim_cmd = app.add_subcommand("simulate", "simulate every window and print measured vs simulated as CSV");
     add_common(sim_cmd, simulate.common);
     sim_cmd->add_option("--params", simulate.params_file, "parameter file (params.json of a fit, or {name: value})");
-    sim_cmd->add_option("-o,--output", simulate.output, "write the CSV to this file")->check(kNonEmptyPath);
+    auto* sim_output = sim_cmd->add_option("-o,--output", simulate.output,
+                                           "write the CSV to this file")
+                           ->check(kNonEmptyPath);
+    sim_cmd->add_option("--output-dir", simulate.output_dir, "write simulation.csv into this folder")
+        ->check(kNonEmptyPath)
+        ->excludes(sim_output);
+    sim_cmd->add_flag("--force", simulate.force, "replace a file that tvid did not write");
 
     EvaluateCommand validate;
     auto* val_cmd = app.add_subcommand("validate", "score a parameter set on the estimation and validation windows");
     add_common(val_cmd, validate.common);
     val_cmd->add_option("--params", validate.params_file, "parameter file")->required();
-    val_cmd->add_option("-o,--output", validate.output, "write the JSON to this file")->check(kNonEmptyPath);
+    auto* val_output = val_cmd->add_option("-o,--output", validate.output,
+                                           "write the JSON to this file")
+                           ->check(kNonEmptyPath);
+    val_cmd->add_option("--output-dir", validate.output_dir, "write validation.json into this folder")
+        ->check(kNonEmptyPath)
+        ->excludes(val_output);
+    val_cmd->add_flag("--force", validate.force, "replace a file that tvid did not write");
 
     SensitivityCommand sensitivity;
     auto* sens_cmd = app.add_subcommand(
@@ -175,6 +193,8 @@ int main(int argc, char** argv) {
                           "the residual ratio in their spread over the noise (default 5)")
         ->needs(write_opt)
         ->check(kTolerance);
+    check_cmd->add_flag("--force", check.force, "replace a --write-reference file that tvid did not write")
+        ->needs(write_opt);
     check_cmd->add_flag("-q,--quiet", check.quiet, "print only the final line");
     check_cmd->add_flag("--json", check.json, "print the checks as JSON");
 
@@ -245,8 +265,8 @@ int main(int argc, char** argv) {
         return kExitBadInput;
     }
     if (*help_cmd) {
-        if (help_topic.empty()) {
-            std::cout << app.help();
+        if (help_topic.empty()) {  // the command list (app.help() would show the selected `help` itself)
+            std::cout << app.get_formatter()->make_help(&app, app.get_name(), CLI::AppFormatMode::Normal);
             return kExitDone;
         }
         for (const CLI::App* sub : app.get_subcommands({}))
@@ -254,7 +274,8 @@ int main(int argc, char** argv) {
                 std::cout << sub->help();
                 return kExitDone;
             }
-        std::cerr << "tvid help: '" << help_topic << "' is not a tvid command (tvid --help lists them)\n";
+        std::cerr << "tvid help: '" << help_topic << "' is not a tvid command" << nearest_command_hint(app, help_topic)
+                  << " (tvid --help lists them)\n";
         return kExitBadInput;
     }
     const std::string command_line = joined_command_line(argc, argv);

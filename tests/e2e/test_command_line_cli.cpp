@@ -1,10 +1,12 @@
 // The command line as a whole: `tvid help COMMAND`, the nearest command on a typo, the
-// exit statuses in every --help, and -o / --output-dir (and the older --output) in the
-// commands that write a directory.
+// exit statuses in every --help, -o / --output-dir (and the older --output) in the
+// commands that write a directory and in simulate and validate, and no file that tvid did
+// not write replaced without --force (simulate's and validate's -o, --write-reference).
 #include <catch2/catch.hpp>
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "support/run_tvid.hpp"
 #include "support/test_files.hpp"
@@ -22,7 +24,12 @@ TEST_CASE("tvid help COMMAND prints that command's options", "[e2e][cli]") {
     CHECK_THAT(frf.out, !Catch::Contains("--optimizer"));
     const RunResult unknown = run_tvid({"help", "fitt"});
     CHECK(unknown.exit_code == 2);
-    CHECK_THAT(unknown.err, Catch::Contains("'fitt' is not a tvid command"));
+    CHECK_THAT(unknown.err, Catch::Contains("'fitt' is not a tvid command; did you mean 'fit'?"));
+    // `tvid help` alone lists the commands, as `tvid --help` does.
+    const RunResult all = run_tvid({"help"});
+    CHECK(all.exit_code == 0);
+    CHECK(all.out == run_tvid({"--help"}).out);
+    CHECK_THAT(all.out, Catch::Contains("simulate") && Catch::Contains("batch"));
 }
 
 TEST_CASE("a mistyped command gets the nearest one, in one line with exit 2", "[e2e][cli]") {
@@ -58,4 +65,62 @@ TEST_CASE("fit takes its report directory as -o, --output-dir or --output", "[e2
         CHECK(r.exit_code == 0);
         CHECK(std::filesystem::is_regular_file(std::filesystem::path(out) / "params.json"));
     }
+}
+
+TEST_CASE("simulate and validate write to -o FILE or into --output-dir DIR", "[e2e][cli]") {
+    TempDir dir;
+    const std::string experiment = std::string(TVID_SOURCE_DIR) + "/configs/cvt_custom_network.yaml";
+    const auto simulate = [&](const std::vector<std::string>& more) {
+        std::vector<std::string> args{"simulate", experiment, "-q"};
+        args.insert(args.end(), more.begin(), more.end());
+        return run_tvid(args);
+    };
+    CHECK(simulate({"-o", (dir.path() / "mine.csv").string()}).exit_code == 0);
+    CHECK(std::filesystem::is_regular_file(dir.path() / "mine.csv"));
+    const std::filesystem::path sub = dir.path() / "sub";
+    std::filesystem::create_directory(sub);
+    CHECK(simulate({"--output-dir", sub.string()}).exit_code == 0);
+    CHECK(std::filesystem::is_regular_file(sub / "simulation.csv"));
+    dir.write("p.json", "{\"k_minus\": 3000}");
+    CHECK(run_tvid({"validate", experiment, "--params", (dir.path() / "p.json").string(), "--output-dir", sub.string(),
+                    "-q"}).exit_code == 0);
+    CHECK_THAT(read_text(sub / "validation.json"), Catch::Contains("\"written_by\": \"tvid validate\""));
+}
+
+TEST_CASE("a file tvid did not write is replaced only with --force", "[e2e][cli]") {
+    TempDir dir;
+    const std::string experiment = std::string(TVID_SOURCE_DIR) + "/configs/cvt_custom_network.yaml";
+    const std::filesystem::path csv = dir.path() / "mine.csv", json = dir.path() / "mine.json",
+                                params = dir.path() / "p.json";
+    dir.write("mine.csv", "my own notes\n");
+    dir.write("mine.json", "{\"mine\": true}\n");
+    dir.write("p.json", "{\"k_minus\": 3000}");
+    // simulate -o over a user's CSV: refused in one line, the file untouched; --force replaces it.
+    RunResult r = run_tvid({"simulate", experiment, "-o", csv.string(), "-q"});
+    CHECK(r.exit_code == 2);
+    CHECK(r.err == csv.string() + ": exists and is not a simulation CSV that tvid wrote: give --force to replace it, or "
+                                  "another name\n");
+    CHECK(read_text(csv) == "my own notes\n");
+    CHECK(run_tvid({"simulate", experiment, "-o", csv.string(), "-q", "--force"}).exit_code == 0);
+    CHECK(read_text(csv).rfind("t [s],window,", 0) == 0);
+    CHECK(run_tvid({"simulate", experiment, "-o", csv.string(), "-q"}).exit_code == 0);  // its own file: replaced
+    // validate -o likewise.
+    r = run_tvid({"validate", experiment, "--params", params.string(), "-o", json.string(), "-q"});
+    CHECK(r.exit_code == 2);
+    CHECK_THAT(r.err, Catch::Contains("is not a validation JSON that tvid wrote"));
+    CHECK(read_text(json) == "{\"mine\": true}\n");
+    CHECK(run_tvid({"validate", experiment, "--params", params.string(), "-o", json.string(), "-q", "--force"})
+              .exit_code == 0);
+    CHECK(run_tvid({"validate", experiment, "--params", params.string(), "-o", json.string(), "-q"}).exit_code == 0);
+    // --write-reference over a hand-kept reference.
+    const std::filesystem::path report = dir.path() / "report", reference = dir.path() / "ref.json";
+    REQUIRE(run_tvid({"fit", experiment, "-o", report.string(), "--optimizer", "lm", "--set", "estimation.cost=l2",
+                      "-q"}).exit_code == 0);
+    dir.write("ref.json", "{\"parameters\": {\"k_minus\": {\"expected\": 3000, \"rel\": 0.5}}}\n");
+    r = run_tvid({"check", report.string(), "--write-reference", reference.string(), "-q"});
+    CHECK(r.exit_code == 2);
+    CHECK_THAT(r.err, Catch::Contains("is not a reference that tvid wrote"));
+    CHECK_THAT(read_text(reference), Catch::Contains("\"rel\": 0.5"));
+    CHECK(run_tvid({"check", report.string(), "--write-reference", reference.string(), "-q", "--force"}).exit_code == 0);
+    CHECK(run_tvid({"check", report.string(), "--write-reference", reference.string(), "-q"}).exit_code == 0);
 }

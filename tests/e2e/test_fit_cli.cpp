@@ -343,6 +343,10 @@ TEST_CASE("tvid models lists the presets and the element kinds with their fields
     CHECK(sd["fields"][0]["key"] == "k");
     CHECK(sd["fields"][0]["unit"] == "N m/rad");
     CHECK(kinds["speed_controller"]["composite"] == true);
+    // A composite lists its own numbers too.
+    REQUIRE(kinds["speed_controller"]["fields"].size() == 3);
+    CHECK(kinds["speed_controller"]["fields"][1]["key"] == "kp");
+    CHECK(kinds["speed_controller"]["fields"][1]["unit"] == "N m s/rad");
     CHECK(r.out.find("element kinds of a custom network") != std::string::npos);
     CHECK(r.out.find("N m s/rad") != std::string::npos);
 }

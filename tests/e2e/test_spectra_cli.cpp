@@ -136,6 +136,7 @@ TEST_CASE("a fit report's spectra.csv holds densities in unit squared per Hz tha
         CHECK(text.find("order") == std::string::npos);
     }
     CHECK(r.out.find("% of its variance at ") != std::string::npos);
+    CHECK(r.out.find("; white noise would put ") != std::string::npos);  // the share read against the noise
     bool validation = false;
     for (const auto& row : spectra.rows) validation = validation || row[0] == "validation";
     CHECK(validation);

@@ -27,12 +27,14 @@ endfunction()
 
 run("cmake --install" ${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${prefix})
 foreach(installed include/tvid/tvid.hpp share/tvid/configs/cvt_tipin.yaml bin/tvid share/tvid/scripts/plot_report.py
-                  share/tvid/scripts/report_plots/common.py share/doc/tvid/README.md share/doc/tvid/docs/api.md
-                  share/doc/tvid/docs/getting-started.md)
+                  share/tvid/scripts/report_plots/common.py share/tvid/README.md share/tvid/docs/api.md
+                  share/tvid/docs/getting-started.md share/tvid/tests/package/consumer/simulate_experiment.cpp)
   if(NOT EXISTS ${prefix}/${installed})
     message(FATAL_ERROR "the install has no ${installed}")
   endif()
 endforeach()
+# Every link of the installed README and docs resolves in the installed tree.
+run("the installed docs' links" /usr/bin/python3 ${SOURCE_DIR}/tests/docs/check_links.py ${prefix}/share/tvid)
 file(GLOB_RECURSE headers RELATIVE ${prefix}/include ${prefix}/include/*)
 if(NOT headers STREQUAL "tvid/tvid.hpp")
   message(FATAL_ERROR "the install has headers besides the public tvid/tvid.hpp: ${headers}")

@@ -3,9 +3,11 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <stdexcept>
+#include <fstream>
 #include <string>
 
 #include "tvid/io/input_file.hpp"
@@ -46,6 +48,18 @@ void check_output_target(const std::filesystem::path& target) {
     if (const std::string input = input_file_at(target); !input.empty())
         throw InputError(target.string(), 0, "",
                          "is " + input + " that this run reads: tvid never replaces a file it reads; write elsewhere (-o)");
+}
+
+void check_replaceable(const std::filesystem::path& target, bool force, std::string_view mark, const std::string& what) {
+    check_output_target(target);
+    if (force || not_a_file_reason(target) == "does not exist") return;
+    std::ifstream in(target, std::ios::binary);
+    std::string head(1 << 20, '\0');
+    in.read(head.data(), static_cast<std::streamsize>(head.size()));
+    head.resize(static_cast<std::size_t>(std::max<std::streamsize>(in.gcount(), 0)));
+    if (head.find(mark) == std::string::npos)
+        throw InputError(target.string(), 0, "",
+                         "exists and is not " + what + " that tvid wrote: give --force to replace it, or another name");
 }
 
 void write_output_file(const std::filesystem::path& dir, const std::string& name, std::string_view content) {

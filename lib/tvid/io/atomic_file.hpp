@@ -42,6 +42,13 @@ void remove_output_file(const std::filesystem::path& dir, const std::string& nam
 /// their work, so that a refusal comes first.
 void check_output_target(const std::filesystem::path& target);
 
+/// Unless `force`, throws InputError naming `target` when it is an existing file that does
+/// not hold `mark` (the text every file of its kind that tvid writes holds: a CSV's first
+/// heading, a JSON key) in its first megabyte: a file tvid did not write is replaced only
+/// when asked (--force). `what` names the kind for the message ("a simulation CSV").
+/// A target that does not exist passes.
+void check_replaceable(const std::filesystem::path& target, bool force, std::string_view mark, const std::string& what);
+
 /// Why `name` (of a parameter, output, node or element, as the user chose it) cannot be
 /// part of a file or folder name: empty, "." or "..", or holding '/' or '\\'; "" when it
 /// is a plain name. The experiment reader refuses such names with this text.

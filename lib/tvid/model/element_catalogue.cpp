@@ -44,7 +44,14 @@ std::vector<ElementKindDoc> element_kind_catalogue() {
             spec);
         out.push_back(std::move(doc));
     });
-    for_each_composite_kind([&](auto kind) { out.push_back(kind_doc<decltype(kind)>(true)); });
+    for_each_composite_kind([&](auto kind) {
+        using K = decltype(kind);
+        ElementKindDoc doc = kind_doc<K>(true);
+        if constexpr (requires { K::fields; })
+            for (const FieldInfo& info : K::fields)
+                doc.fields.push_back({info.name, info.role ? info.role : "", info.unit, sign_text(info.sign)});
+        out.push_back(std::move(doc));
+    });
     return out;
 }
 

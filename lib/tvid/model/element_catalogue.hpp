@@ -20,7 +20,7 @@ struct ElementKindDoc {
     std::string type;       ///< `type:` in the experiment file
     std::string summary;
     std::vector<std::string> keys;        ///< every key it reads besides type and name
-    std::vector<ElementFieldDoc> fields;  ///< its numeric fields (a number or a parameter); none for a composite kind
+    std::vector<ElementFieldDoc> fields;  ///< its numeric fields (a number or a parameter); a composite kind's as it declares them
     bool composite = false;  ///< built from other kinds' nodes and elements (a speed controller)
 };
 

@@ -168,9 +168,16 @@ std::string residual_spectrum_line(const ResidualSpectrumSummary& s, const Resid
         return line;
     }
     if (!s.band.available) return {};
+    // Beside the share white noise of the same variance would put in that band (its width
+    // over the Nyquist frequency), so that a share is read against the noise, as the
+    // verdict's systematic share is.
+    const double nyquist = 0.5 * s.resolution_hz * static_cast<double>(s.segment_length);
+    const double white = nyquist > 0 ? (s.band.band_high_hz - s.band.band_low_hz) / nyquist : 0.0;
     std::snprintf(line, sizeof line, "residual %s: %s of its variance at %.3g–%.3g Hz (peak %.3g Hz)", s.output.c_str(),
                   percent(s.band.share).c_str(), s.band.band_low_hz, s.band.band_high_hz, s.band.peak_hz);
-    return line;
+    std::string text = line;
+    if (white > 0 && white < 1) text += "; white noise would put " + percent(white) + " there";
+    return text;
 }
 
 }  // namespace tvid

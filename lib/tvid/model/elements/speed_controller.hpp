@@ -19,6 +19,12 @@ struct SpeedController {
     static constexpr const char* type_name = "speed_controller";
     static constexpr const char* summary = "a PI speed controller on a node: T = kp*(w_set - w) + ki*integral(w_set - w)";
     static constexpr const char* keys[] = {"node", "setpoint", "kp", "ki"};
+    /// Its numbers, as `tvid models` lists them (the spring-damper it builds holds kp as c, ki as k).
+    static constexpr FieldInfo fields[] = {
+        {"setpoint", nullptr, SignRule::any, "rad/s"},
+        {"kp", "a controller gain", SignRule::non_negative, "N m s/rad"},
+        {"ki", "a controller gain", SignRule::non_negative, "N m/rad"},
+    };
 
     static void build(ElementSource& src, const std::string& name, NetworkSpec& net) {
         const int drive = src.node("node");
