@@ -55,9 +55,10 @@ Evaluation evaluate_parameters(const IdentificationProblem& problem, const std::
     ev.params = params;
     const Experiment& ex = problem.experiment();
     const std::size_t n_est = ex.estimation.size(), n_val = ex.validation.size();
-    // Task 0 is the estimation cost, then one task per window. Each task simulates from its
+    // One task per window, then the estimation cost from the starts the estimation windows'
+    // traces solved (the same value as solving them again). Each task simulates from its
     // own inputs only, so the results do not depend on which thread ran it.
-    const std::size_t tasks = 1 + n_est + n_val;
+    const std::size_t tasks = n_est + n_val;
     const int team = static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(std::max(1, threads)), tasks));
     std::vector<std::unique_ptr<ProblemWorkspace>> workspaces;
     for (int t = 0; t < team; ++t) {
@@ -75,22 +76,24 @@ Evaluation evaluate_parameters(const IdentificationProblem& problem, const std::
     for (std::size_t j : problem.free_indices()) free.push_back(params[j]);
 
     std::vector<WindowTrace> estimation(n_est), validation(n_val);
+    ev.estimation_starts.resize(n_est);
     const auto n_tasks = static_cast<long long>(tasks);
     FirstException errors;
 #pragma omp parallel for schedule(dynamic, 1) num_threads(team)
     for (long long task = 0; task < n_tasks; ++task) try {
         ProblemWorkspace& ws = *workspaces[static_cast<std::size_t>(omp_get_thread_num())];
         const auto i = static_cast<std::size_t>(task);
-        if (i == 0)
-            ev.cost = problem.cost(free.data(), ws);
-        else if (i <= n_est)
-            estimation[i - 1] = problem.trace(params, ex.estimation[i - 1], ws);
+        if (i < n_est)
+            estimation[i] = problem.trace(params, ex.estimation[i], ws, &ev.estimation_starts[i]);
         else
-            validation[i - 1 - n_est] = problem.trace(params, ex.validation[i - 1 - n_est], ws);
+            validation[i - n_est] = problem.trace(params, ex.validation[i - n_est], ws);
     } catch (...) {
         errors.capture();
     }
     errors.rethrow();
+    for (std::size_t i = 0; i < n_est; ++i)  // a failed window's start is solved again, and fails again
+        if (estimation[i].status != SimulationStatus::ok) ev.estimation_starts[i] = SolvedStart{};
+    ev.cost = problem.cost(free.data(), *workspaces[0], ev.estimation_starts);
     ev.estimation = assemble_split(problem, std::move(estimation), "estimation", ev.output_offsets);
     ev.validation = assemble_split(problem, std::move(validation), "validation", ev.output_offsets);
     return ev;

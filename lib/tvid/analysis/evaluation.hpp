@@ -31,6 +31,9 @@ struct Evaluation {
     /// How the cost weighs each output (ProblemDefinition::output_scale, output_spread, normalized).
     std::vector<double> output_scale, output_spread;
     bool normalized = false;
+    /// Each estimation window's start as its trace solved it (empty where it failed): the
+    /// analyses at these parameters (step stability, modes) set out from it.
+    std::vector<SolvedStart> estimation_starts;
 };
 
 /// Simulates every window on up to `threads` threads (one window per thread at a time);

@@ -36,7 +36,8 @@ double rk4_stability_radius(double angle) {
     return inside;
 }
 
-StepStability assess_step_stability(const IdentificationProblem& problem, const std::vector<double>& params) {
+StepStability assess_step_stability(const IdentificationProblem& problem, const std::vector<double>& params,
+                                    const std::vector<SolvedStart>* starts) {
     StepStability s;
     const ProblemDefinition& def = problem.definition();
     if (def.simulation.method != IntegrationMethod::rk4) return s;
@@ -44,10 +45,15 @@ StepStability assess_step_stability(const IdentificationProblem& problem, const 
     auto ws = problem.make_workspace();
     StateJacobian jacobian;
     std::vector<double> u(problem.inputs().count()), a;
-    for (const Window& w : def.estimation) {
+    if (starts && starts->size() != def.estimation.size()) starts = nullptr;
+    for (std::size_t wi = 0; wi < def.estimation.size(); ++wi) {
+        const Window& w = def.estimation[wi];
         problem.use_parameters(params, *ws);
         std::string why;
-        if (problem.start_window(w, *ws, &why).status != SimulationStatus::ok) continue;
+        const SolvedStart* solved = starts && (*starts)[wi].x_start.size() == ws->x.size() ? &(*starts)[wi] : nullptr;
+        const WindowStart start =
+            solved ? IdentificationProblem::restore_start(*solved, *ws) : problem.start_window(w, *ws, &why);
+        if (start.status != SimulationStatus::ok) continue;
         const std::size_t at = problem.warms_up(w) ? w.first : w.start;
         if (at + 1 >= time.size()) continue;
         const double interval = time[at + 1] - time[at];

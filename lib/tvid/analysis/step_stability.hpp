@@ -30,7 +30,9 @@ struct StepStability {
 double rk4_stability_radius(double angle);
 
 /// The margin of the rk4 simulation of `params` (full parameter vector) over the
-/// estimation windows' starts.
-StepStability assess_step_stability(const IdentificationProblem& problem, const std::vector<double>& params);
+/// estimation windows' starts; with `starts` (Evaluation::estimation_starts at the same
+/// parameters), from those instead of solving them again.
+StepStability assess_step_stability(const IdentificationProblem& problem, const std::vector<double>& params,
+                                    const std::vector<SolvedStart>* starts = nullptr);
 
 }  // namespace tvid

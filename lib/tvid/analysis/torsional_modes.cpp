@@ -200,14 +200,16 @@ ModalAnalysis torsional_modes(const LinearNetwork& system, const std::vector<dou
 }
 
 OperatingPoint window_operating_point(const IdentificationProblem& problem, const std::vector<double>& params,
-                                      std::size_t window) {
+                                      std::size_t window, const SolvedStart* given) {
     const ProblemDefinition& d = problem.definition();
     if (window >= d.estimation.size()) throw std::runtime_error("there is no estimation window " + std::to_string(window));
     const Window& w = d.estimation[window];
     auto ws = problem.make_workspace();
     problem.use_parameters(params, *ws);
     std::string why;
-    const WindowStart start = problem.start_window(w, *ws, &why);
+    const WindowStart start = given && given->x_start.size() == ws->x.size()
+                                  ? IdentificationProblem::restore_start(*given, *ws)
+                                  : problem.start_window(w, *ws, &why);
     if (start.status != SimulationStatus::ok || !why.empty())
         throw std::runtime_error("the start of estimation window " + w.label + " cannot be prepared" +
                                  (why.empty() ? std::string(": ") + to_string(start.status) : ": " + why));
@@ -228,9 +230,9 @@ OperatingPoint window_operating_point(const IdentificationProblem& problem, cons
 }
 
 ModesStudy study_modes(const IdentificationProblem& problem, const std::vector<double>& params, std::size_t window,
-                       AngleDependence angle_dependence) {
+                       AngleDependence angle_dependence, const SolvedStart* given) {
     ModesStudy s;
-    s.operating_point = window_operating_point(problem, params, window);
+    s.operating_point = window_operating_point(problem, params, window, given);
     const ProblemDefinition& d = problem.definition();
     s.linear = linearise_network(d.network, params, &d.angle_inputs, s.operating_point.x, s.operating_point.u,
                                  angle_dependence);

@@ -73,8 +73,9 @@ struct OperatingPoint {
 
 /// Operating point of estimation window `window` at model parameters `params`; throws
 /// std::runtime_error when the start cannot be prepared (the reason in the message).
+/// With `given` (its start as a simulation at the same parameters solved it), from that.
 OperatingPoint window_operating_point(const IdentificationProblem& problem, const std::vector<double>& params,
-                                      std::size_t window);
+                                      std::size_t window, const SolvedStart* given = nullptr);
 
 /// Linearisation and modes at one operating point.
 struct ModesStudy {
@@ -85,6 +86,6 @@ struct ModesStudy {
 
 /// The operating point of estimation window `window`, the linearisation there and its modes.
 ModesStudy study_modes(const IdentificationProblem& problem, const std::vector<double>& params, std::size_t window,
-                       AngleDependence angle_dependence);
+                       AngleDependence angle_dependence, const SolvedStart* given = nullptr);
 
 }  // namespace tvid

@@ -164,8 +164,10 @@ bool IdentificationProblem::set_free_parameters(const double* free, ProblemWorks
 
 template <class Observer>
 SimulationStatus IdentificationProblem::simulate_window(const Window& w, ProblemWorkspace& ws, std::string* problem,
-                                                        Observer&& on_scored, SolvedStart* solved) const {
-    const WindowStart start = start_window(w, ws, problem);
+                                                        Observer&& on_scored, SolvedStart* solved,
+                                                        const SolvedStart* given) const {
+    const bool restored = given && given->x_start.size() == ws.x.size();
+    const WindowStart start = restored ? restore_start(*given, ws) : start_window(w, ws, problem);
     if (start.status != SimulationStatus::ok) return start.status;
     if (solved) {  // assigned member by member: the vectors keep their storage
         solved->start = start;
@@ -266,11 +268,22 @@ double IdentificationProblem::cost(const double* free, ProblemWorkspace& ws) con
 }
 
 double IdentificationProblem::cost(const double* free, ProblemWorkspace& ws, double bound) const {
+    return window_cost(free, ws, bound, nullptr);
+}
+
+double IdentificationProblem::cost(const double* free, ProblemWorkspace& ws, const std::vector<SolvedStart>& starts) const {
+    return window_cost(free, ws, std::numeric_limits<double>::infinity(), &starts);
+}
+
+double IdentificationProblem::window_cost(const double* free, ProblemWorkspace& ws, double bound,
+                                          const std::vector<SolvedStart>* starts) const {
     if (!set_free_parameters(free, ws)) return std::numeric_limits<double>::infinity();
+    if (starts && starts->size() != definition_.estimation.size()) starts = nullptr;
     const std::size_t n_out = definition_.measured.size();
     const bool bounded = bound < std::numeric_limits<double>::infinity();
     double total = 0.0;
-    for (const Window& w : definition_.estimation) {
+    for (std::size_t wi = 0; wi < definition_.estimation.size(); ++wi) {
+        const Window& w = definition_.estimation[wi];
         WindowScore<double> score(definition_.cost, scored_sample_count(w));
         double cut_at = 0.0;
         bool cut = false;
@@ -290,7 +303,8 @@ double IdentificationProblem::cost(const double* free, ProblemWorkspace& ws, dou
             cut = WindowScore<double>::reached(cut_at, bound);
             return !cut;
         };
-        const SimulationStatus status = simulate_window(w, ws, nullptr, add_sample);
+        const SimulationStatus status =
+            simulate_window(w, ws, nullptr, add_sample, nullptr, starts ? &(*starts)[wi] : nullptr);
         if (cut) return cut_at;
         if (status != SimulationStatus::ok) return std::numeric_limits<double>::infinity();
         if (definition_.filtered) {
@@ -336,7 +350,7 @@ void IdentificationProblem::filter_window_residuals(const Window& w, double* r, 
 }
 
 WindowTrace IdentificationProblem::trace(const std::vector<double>& params, const Window& window,
-                                         ProblemWorkspace& ws) const {
+                                         ProblemWorkspace& ws, SolvedStart* solved, const SolvedStart* given) const {
     WindowTrace tr;
     tr.window = &window;
     const std::size_t n_out = definition_.measured.size();
@@ -352,7 +366,7 @@ WindowTrace IdentificationProblem::trace(const std::vector<double>& params, cons
         }
         return true;
     };
-    tr.status = simulate_window(window, ws, &tr.problem, record);
+    tr.status = simulate_window(window, ws, &tr.problem, record, solved, given);
     return tr;
 }
 

@@ -100,6 +100,11 @@ public:
     /// optimizer that only asks whether the candidate beats `bound`. bound = +inf: cost().
     double cost(const double* free, ProblemWorkspace& ws, double bound) const;
 
+    /// The cost from the estimation windows' starts as a simulation at the same parameters
+    /// solved them (trace's `solved`, one per window; an empty one is solved again): the
+    /// same value as cost(), without solving the starts a second time.
+    double cost(const double* free, ProblemWorkspace& ws, const std::vector<SolvedStart>& starts) const;
+
     /// Residuals f·(y − y*) (output_residual, window_score.hpp) of every scored sample of every
     /// estimation window and output
     /// (window by window, sample-major). False when a simulation fails. With `starts`,
@@ -113,8 +118,10 @@ public:
     std::string failure(const double* free, ProblemWorkspace& ws) const;
 
     /// Simulates one window with the full parameter vector `params` and records every
-    /// scored sample.
-    WindowTrace trace(const std::vector<double>& params, const Window& window, ProblemWorkspace& ws) const;
+    /// scored sample. With `solved`, the window's start is kept there; with `given` (a start
+    /// solved before at the same parameters), it is set out from instead of solved again.
+    WindowTrace trace(const std::vector<double>& params, const Window& window, ProblemWorkspace& ws,
+                      SolvedStart* solved = nullptr, const SolvedStart* given = nullptr) const;
 
     /// Prepares window w with the parameters already set in ws.model: ws.x_start gets the
     /// state at w.start and, after a warm-up, ws.x the state at w.first (WindowStarts::start).
@@ -152,9 +159,13 @@ public:
 private:
     // Simulates window w from its initial state (through its warm-up) and calls
     // on_scored(i, x, u) at every scored sample.
+    // With `given` (not empty), that start is set out from instead of solved.
     template <class Observer>
     SimulationStatus simulate_window(const Window& w, ProblemWorkspace& ws, std::string* problem,
-                                     Observer&& on_scored, SolvedStart* solved = nullptr) const;
+                                     Observer&& on_scored, SolvedStart* solved = nullptr,
+                                     const SolvedStart* given = nullptr) const;
+    // cost() over the estimation windows, from `starts` where given.
+    double window_cost(const double* free, ProblemWorkspace& ws, double bound, const std::vector<SolvedStart>* starts) const;
     // "simulation STATUS", and for a state that left the finite or sane range the node,
     // the value, the sample interval and what to try; x the state the march stopped at,
     // `reached` the last sample it passed.

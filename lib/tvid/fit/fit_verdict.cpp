@@ -494,7 +494,10 @@ void judge_fit(const IdentificationProblem& problem, FitResult& fit) {
         fit.correlation_estimation = split_correlation(problem, fit.evaluation.estimation, fit.best_params);
         fit.correlation_validation = split_correlation(problem, fit.evaluation.validation, fit.best_params);
         fit.criteria = estimation_criteria(fit.evaluation.estimation, outputs, static_cast<int>(problem.dimension()));
-        if (!fit.interrupted) fit.stability = assess_step_stability(problem, fit.best_params);
+        if (!fit.interrupted)
+            fit.stability = assess_step_stability(
+                problem, fit.best_params,
+                fit.evaluation.params == fit.best_params ? &fit.evaluation.estimation_starts : nullptr);
         bound_intervals(problem, fit.best_free, fit.uncertainty);
         judge_windows(ex, fit.evaluation, v);
         judge_residuals(ex, fit, v);

@@ -127,9 +127,9 @@ json modes_summary_json(const ModesStudy& s) {
             {"modes", modes}};
 }
 
-json fit_modes_json(const IdentificationProblem& problem, const std::vector<double>& params) {
+json fit_modes_json(const IdentificationProblem& problem, const std::vector<double>& params, const SolvedStart* start) {
     try {
-        return modes_summary_json(study_modes(problem, params, 0, AngleDependence::revolution_mean));
+        return modes_summary_json(study_modes(problem, params, 0, AngleDependence::revolution_mean, start));
     } catch (const std::exception&) {
         return nullptr;  // no start at these parameters, or no eigenvalues: no block
     }

@@ -29,7 +29,8 @@ nlohmann::json modes_summary_json(const ModesStudy& study);
 
 /// summary.json's `modes` block of a fit at its parameters `params` (linearised at the
 /// first estimation window's start), or null when the model cannot be linearised there.
-nlohmann::json fit_modes_json(const IdentificationProblem& problem, const std::vector<double>& params);
+nlohmann::json fit_modes_json(const IdentificationProblem& problem, const std::vector<double>& params,
+                              const SolvedStart* start = nullptr);
 
 /// modes.csv: one row per mode, then per node its shape (real part, magnitude, phase) and
 /// the shape referred to the reference node's shaft.

@@ -363,7 +363,10 @@ json fit_summary_json(const IdentificationProblem& problem, const FitResult& fit
            {"verdict", verdict_json(fit.verdict)}};
     add_data_fields(ex, s);
     if (ex.estimated_start.on) s["initial_state"] = estimated_start_json(problem, fit);
-    if (json modes = fit_modes_json(problem, fit.best_params); !modes.is_null()) s["modes"] = std::move(modes);
+    // The first estimation window's start as the evaluation at these parameters solved it.
+    const std::vector<SolvedStart>& starts = fit.evaluation.estimation_starts;
+    const SolvedStart* first = fit.evaluation.params == fit.best_params && !starts.empty() ? &starts[0] : nullptr;
+    if (json modes = fit_modes_json(problem, fit.best_params, first); !modes.is_null()) s["modes"] = std::move(modes);
     return s;
 }
 
