@@ -77,7 +77,8 @@ BatchRow fit_row(const BatchColumns& columns, const std::string& id, const Ident
     return row;
 }
 
-BatchRow run_batch_job(const BatchSettings& settings, const BatchJob& job, const BatchColumns& columns) {
+BatchRow run_batch_job(const BatchSettings& settings, const BatchJob& job, const BatchColumns& columns,
+                       const ThreadBudget* budget) {
     using clock = std::chrono::steady_clock;
     const auto start = clock::now();
     const auto seconds = [&] { return std::chrono::duration<double>(clock::now() - start).count(); };
@@ -95,6 +96,7 @@ BatchRow run_batch_job(const BatchSettings& settings, const BatchJob& job, const
             return stopped(kBatchBadInput, "the free parameters differ from those of the batch's experiment");
         FitOptions options;
         options.threads = 1;
+        options.budget = budget;
         options.seed = settings.seed;
         options.stop = &stop_request();
         const FitResult fit = run_fit(problem, options);

@@ -12,6 +12,8 @@
 #include "tvid/batch/batch_table.hpp"
 #include "tvid/fit/fit_run.hpp"
 
+#include "tvid/util/thread_budget.hpp"
+
 namespace tvid {
 
 struct BatchSettings {
@@ -25,7 +27,9 @@ struct BatchSettings {
 BatchRow fit_row(const BatchColumns& columns, const std::string& id, const IdentificationProblem& problem,
                  const FitResult& fit, double wall_seconds);
 
-/// Runs one job single-threaded (its result does not depend on how many jobs run at once).
-BatchRow run_batch_job(const BatchSettings& settings, const BatchJob& job, const BatchColumns& columns);
+/// Runs one job (its result does not depend on how many jobs run at once, nor on its
+/// threads): on one thread, or with `budget`, on its share of the batch's cores.
+BatchRow run_batch_job(const BatchSettings& settings, const BatchJob& job, const BatchColumns& columns,
+                       const ThreadBudget* budget = nullptr);
 
 }  // namespace tvid

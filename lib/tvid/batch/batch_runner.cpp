@@ -9,12 +9,16 @@
 #include "tvid/util/parallel_region.hpp"
 #include "tvid/estimation/parallel_evaluator.hpp"
 #include "tvid/util/stop_request.hpp"
+#include "tvid/util/thread_budget.hpp"
 
 namespace tvid {
 
 void run_batch_jobs(const BatchSettings& settings, const std::vector<BatchJob>& jobs, const NextBatchJob& next,
                     const BatchColumns& columns, int threads, const BatchJobFinished& on_finished) {
     const auto workers = static_cast<std::size_t>(std::max(1, resolve_thread_count(threads)));
+    // The cores the running jobs share: once no job is left to start, the last ones take
+    // up the cores of the finished (thread_budget.hpp).
+    ThreadBudget budget(static_cast<int>(workers));
     std::atomic<bool> stop{false};
     std::mutex finished;
     std::exception_ptr error;
@@ -23,7 +27,15 @@ void run_batch_jobs(const BatchSettings& settings, const std::vector<BatchJob>& 
             if (stop || stop_requested()) return;  // a stop request: no new job starts
             const std::optional<std::size_t> job = next();
             if (!job) return;
-            const BatchRow row = run_batch_job(settings, jobs[*job], columns);
+            budget.job_started();
+            BatchRow row;
+            try {
+                row = run_batch_job(settings, jobs[*job], columns, &budget);
+            } catch (...) {
+                budget.job_finished();
+                throw;
+            }
+            budget.job_finished();
             const std::lock_guard<std::mutex> lock(finished);
             if (stop) return;
             try {

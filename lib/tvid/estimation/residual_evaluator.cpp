@@ -23,8 +23,9 @@ std::size_t estimation_residual_count(const Experiment& experiment) {
 }
 
 ResidualEvaluator::ResidualEvaluator(const IdentificationProblem& problem, int threads, JacobianKind kind,
-                                               const std::atomic<bool>* stop)
-    : problem_(&problem), kind_(kind), sensitivity_(problem), threads_(resolve_thread_count(threads)),
+                                     const std::atomic<bool>* stop, const ThreadBudget* budget)
+    : problem_(&problem), kind_(kind), sensitivity_(problem),
+      threads_(budget ? budget->cores() : resolve_thread_count(threads)), budget_(budget),
       residual_count_(estimation_residual_count(problem.definition().estimation, problem.definition().measured.size())),
       stop_(stop) {
     for (int t = 0; t < threads_; ++t) {
@@ -95,7 +96,8 @@ void ResidualEvaluator::residuals_side_by_side(std::size_t count, const double* 
     for (EvaluatedPoint& e : evaluated_) e.valid = false;
     const auto points = static_cast<long long>(count);
     FirstException errors;
-#pragma omp parallel for schedule(static, 1) num_threads(threads_)
+    const int team = this->team();
+#pragma omp parallel for schedule(static, 1) num_threads(team)
     for (long long kk = 0; kk < points; ++kk) try {
         const auto k = static_cast<std::size_t>(kk);
         ok[k] = !stop_requested() && evaluate_into(k, x[k], *workspaces_[static_cast<std::size_t>(omp_get_thread_num())]);
@@ -170,12 +172,13 @@ bool ResidualEvaluator::sensitivity_jacobian(const double* x, const double* r,
     const std::size_t m = problem_->dimension();
     const bool fixed_step = problem_->definition().simulation.method == IntegrationMethod::rk4;
     std::size_t blocks = (m + ForwardSensitivity::kMaxBlock - 1) / ForwardSensitivity::kMaxBlock;
-    if (fixed_step) blocks = std::max(blocks, std::min(m, static_cast<std::size_t>(threads_)));
+    const int team = this->team();
+    if (fixed_step) blocks = std::max(blocks, std::min(m, static_cast<std::size_t>(team)));
     const std::size_t width = (m + blocks - 1) / blocks;
     std::vector<char> ok(blocks, 1);
     const auto count = static_cast<long long>(blocks);
     FirstException errors;
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads_)
+#pragma omp parallel for schedule(dynamic, 1) num_threads(team)
     for (long long b = 0; b < count; ++b) try {
         if (stop_requested()) {
             ok[static_cast<std::size_t>(b)] = 0;
@@ -202,7 +205,8 @@ bool ResidualEvaluator::finite_difference_columns(const double* x, const double*
     std::vector<char> ok(m, 1);
     const auto columns = static_cast<long long>(which.size());
     FirstException errors;
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads_)
+    const int team = this->team();
+#pragma omp parallel for schedule(dynamic, 1) num_threads(team)
     for (long long jj = 0; jj < columns; ++jj) try {
         const std::size_t j = which[static_cast<std::size_t>(jj)];
         if (stop_requested()) {

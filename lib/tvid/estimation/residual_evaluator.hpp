@@ -29,14 +29,17 @@
 #include "tvid/estimation/forward_sensitivity.hpp"
 #include "tvid/estimation/identification_problem.hpp"
 #include "tvid/optim/levenberg_marquardt.hpp"
+#include "tvid/util/thread_budget.hpp"
 
 namespace tvid {
 
 class ResidualEvaluator : public LeastSquaresProblem {
 public:
     /// threads <= 0: all hardware threads. `stop` (may be null): give up evaluations once set.
+    /// With `budget` (a batch job's), each parallel region takes the budget's current team
+    /// of at most its cores, and `threads` is ignored.
     ResidualEvaluator(const IdentificationProblem& problem, int threads, JacobianKind kind,
-                           const std::atomic<bool>* stop = nullptr);
+                      const std::atomic<bool>* stop = nullptr, const ThreadBudget* budget = nullptr);
 
     std::size_t residual_count() const override { return residual_count_; }
     bool residuals(const double* x, double* r) override;
@@ -44,7 +47,8 @@ public:
     bool stopped() const override { return stopped_; }
     std::string failure(const double* x) override;
     /// As many as there are threads, one per thread, each with its own workspace.
-    int concurrent_residuals() const override { return threads_; }
+    int concurrent_residuals() const override { return team(); }
+    int max_concurrent_residuals() const override { return threads_; }
     void residuals_side_by_side(std::size_t count, const double* const* x, double* const* r, char* ok,
                                 char* stopped) override;
 
@@ -55,6 +59,8 @@ public:
     WindowSensitivity output_sensitivity(const double* x, const Window& w, int thread);
 
     int threads() const { return threads_; }
+    /// The threads of the next parallel region: threads(), or the budget's share of them.
+    int team() const { return budget_ ? std::min(threads_, budget_->team()) : threads_; }
     JacobianKind jacobian_kind() const { return kind_; }
     long long simulations() const override { return simulations_; }  ///< simulations run so far
     long long right_hand_sides() const override;
@@ -73,6 +79,7 @@ private:
     ForwardSensitivity sensitivity_;
     std::vector<std::unique_ptr<SensitivityWorkspace>> sensitivity_workspaces_;
     int threads_;
+    const ThreadBudget* budget_ = nullptr;
     std::size_t residual_count_ = 0;
     std::vector<std::unique_ptr<ProblemWorkspace>> workspaces_;
     std::vector<std::vector<double>> plus_, minus_;  ///< residuals at x ± h e_j, per column

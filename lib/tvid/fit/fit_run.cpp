@@ -60,7 +60,8 @@ FitResult run_fit(const IdentificationProblem& problem, const FitOptions& option
         // still running then is cut short and its window reported as stopped.
         std::optional<SimulationGracePeriod> grace;
         if (r.interrupted) grace.emplace(kStopGraceSeconds);
-        r.evaluation = evaluate_parameters(problem, r.best_params, resolve_thread_count(options.threads));
+        r.evaluation = evaluate_parameters(problem, r.best_params,
+                                           options.budget ? options.budget->team() : resolve_thread_count(options.threads));
     }
     if (r.interrupted) r.uncertainty.problem = "skipped: interrupted";  // the user wants out: no extra Jacobian
     else if (r.success) {

@@ -14,6 +14,7 @@
 #include "tvid/analysis/evaluation.hpp"
 #include "tvid/analysis/information_criteria.hpp"
 #include "tvid/analysis/residual_correlation.hpp"
+#include "tvid/util/thread_budget.hpp"
 #include "tvid/analysis/residual_whiteness.hpp"
 #include "tvid/analysis/step_stability.hpp"
 #include "tvid/analysis/verdict.hpp"
@@ -39,6 +40,9 @@ struct FitOptions {
     /// mpirun: swarm candidates are scored by every process of the group (run_fit on the
     /// root, serve_candidate_evaluations on the others). Levenberg–Marquardt runs on the root alone.
     ProcessGroup* processes = nullptr;
+    /// A batch job's share of the batch's cores (util/thread_budget.hpp), or null: then
+    /// `threads`. Least squares and the evaluation after the fit take their team from it.
+    const ThreadBudget* budget = nullptr;
 };
 
 /// What every optimizer reports, whichever ran.

@@ -497,7 +497,7 @@ private:
     // They are evaluated side by side with it; a later iteration takes its residuals
     // from here when its trial point is the same to the bit.
     void set_up_trials_ahead() {
-        concurrency_ = static_cast<std::size_t>(std::clamp(problem_.concurrent_residuals(), 1, kMaxTrialsSideBySide));
+        concurrency_ = static_cast<std::size_t>(std::clamp(problem_.max_concurrent_residuals(), 1, kMaxTrialsSideBySide));
         ahead_.assign(concurrency_ - 1, AheadTrial{Eigen::VectorXd(m_), Eigen::VectorXd(n_), false});
         side_x_.resize(concurrency_);
         side_r_.resize(concurrency_);
@@ -525,7 +525,9 @@ private:
         side_x_[0] = x_trial_.data();
         side_r_[0] = r_trial_.data();
         double damping = lambda_, growth = nu_;
-        const std::size_t wanted = std::min(concurrency_, steps_left);
+        // As many as the problem evaluates at once now (at most the arrays' concurrency_).
+        const auto now = static_cast<std::size_t>(std::max(1, problem_.concurrent_residuals()));
+        const std::size_t wanted = std::min({now, concurrency_, steps_left});
         while (count < wanted) {
             damping *= growth;  // as a rejection updates λ and ν
             growth *= 2.0;

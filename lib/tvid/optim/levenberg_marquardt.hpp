@@ -59,6 +59,9 @@ public:
     /// the other). The solver then evaluates, next to each trial step, the steps that the
     /// next rejections would take, so a rejection costs no wall time.
     virtual int concurrent_residuals() const { return 1; }
+    /// The most concurrent_residuals() will ever say (it may change between calls: a batch
+    /// job's share of the cores grows as the batch ends).
+    virtual int max_concurrent_residuals() const { return concurrent_residuals(); }
     /// r(x[k]) into r[k] for k < count: ok[k] as residuals() returns it and stopped[k] as
     /// stopped() would say right after it. The results must be those of residuals() at
     /// each point alone, and a later jacobian() at any of the points may reuse them.

@@ -85,6 +85,7 @@ public:
     bool stopped() const override { return problem_->stopped(); }
     std::string failure(const double* u) override;
     int concurrent_residuals() const override { return problem_->concurrent_residuals(); }
+    int max_concurrent_residuals() const override { return problem_->max_concurrent_residuals(); }
     void residuals_side_by_side(std::size_t count, const double* const* u, double* const* r, char* ok,
                                 char* stopped) override;
     long long simulations() const override { return problem_->simulations(); }

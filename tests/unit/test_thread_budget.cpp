@@ -1,0 +1,61 @@
+// A batch job's share of the cores (util/thread_budget.hpp): the team is the cores over the
+// jobs running, and a least-squares fit whose share grows while it runs (the batch's other
+// jobs finish) takes the same steps to the same bits as one on a single thread.
+#include <catch2/catch.hpp>
+#include <Eigen/Dense>
+#include <vector>
+
+#include "support/test_files.hpp"
+#include "tvid/estimation/residual_evaluator.hpp"
+#include "tvid/experiment/experiment.hpp"
+#include "tvid/optim/levenberg_marquardt.hpp"
+#include "tvid/util/thread_budget.hpp"
+
+using namespace tvid;
+using tvid::test::source_dir;
+
+TEST_CASE("a thread budget shares its cores among the running jobs", "[thread_budget]") {
+    ThreadBudget budget(4);
+    CHECK(budget.team() == 4);  // nothing running: a region would take every core
+    budget.job_started();
+    budget.job_started();
+    budget.job_started();
+    CHECK(budget.team() == 1);  // three jobs on four cores: one each (the fourth is the spare)
+    budget.job_finished();
+    CHECK(budget.team() == 2);
+    budget.job_finished();
+    CHECK(budget.team() == 4);  // the last job takes up the cores the others left
+    CHECK(ThreadBudget(0).cores() == 1);
+}
+
+TEST_CASE("least squares whose share of the cores grows mid-fit ends on the single thread's bits",
+          "[thread_budget][lm]") {
+    const Experiment ex = load_experiment(source_dir() / "configs/cvt_tipin_clean.yaml",
+                                          {{"windows.estimation", "[{time: [1.0, 2.0]}]"}});
+    const IdentificationProblem problem(ex);
+    LmSettings settings;
+    settings.max_iterations = 12;
+    const std::vector<double> lower = problem.lower(), upper = problem.upper();
+
+    ResidualEvaluator one(problem, 1, JacobianKind::sensitivity);
+    const LmSummary alone = run_levenberg_marquardt(settings, problem.initial(), lower, upper, one);
+
+    ThreadBudget budget(2);
+    budget.job_started();
+    budget.job_started();  // two jobs: this one runs on one core
+    ResidualEvaluator shared(problem, 1, JacobianKind::sensitivity, nullptr, &budget);
+    CHECK(shared.threads() == 2);
+    CHECK(shared.team() == 1);
+    int iteration = 0;
+    const LmProgress progress = [&](const HistoryRow&) {
+        if (++iteration == 4) budget.job_finished();  // the other job is done: both cores from here
+        return true;
+    };
+    const LmSummary grown = run_levenberg_marquardt(settings, problem.initial(), lower, upper, shared, progress);
+    CHECK(shared.team() == 2);
+    REQUIRE(grown.best.size() == alone.best.size());
+    for (std::size_t j = 0; j < alone.best.size(); ++j) CHECK(grown.best[j] == alone.best[j]);
+    CHECK(grown.best_cost == alone.best_cost);
+    CHECK(grown.iterations == alone.iterations);
+    CHECK((grown.jacobian_at_best - alone.jacobian_at_best).cwiseAbs().maxCoeff() == 0.0);
+}
