@@ -152,6 +152,9 @@ std::string fit_summary_text(const IdentificationProblem& problem, const FitResu
                       fit.evaluation.cost);
         out << line;
     }
+    if (const long long stiff = problem.subdivided_starts(); stiff > 0)
+        out << "  " << stiff << " window simulation" << (stiff == 1 ? "" : "s")
+            << " of stiff candidates took a smaller step than the experiment's, within RK4's stability limit\n";
     out << split_lines(ex, fit.evaluation.estimation) << split_lines(ex, fit.evaluation.validation);
     // Where the estimation residual's variance lies: its dominant band, or order for an engine.
     // A white residual (the whiteness test passes) has no band to name, and the line says so.

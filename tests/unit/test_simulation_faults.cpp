@@ -171,16 +171,20 @@ TEST_CASE("an evaluation says which window failed first and how many did", "[fau
     const Evaluation ok = evaluate_parameters(problem, problem.full_parameters(candidate()));
     CHECK(first_failed_window(ok).empty());
     CHECK(failed_window_count(ok) == 0);
-    // Contact stiffness RK4 cannot follow: the windows that cross the tip-in (from 1.54 s)
-    // diverge; the quiet window before it, [1, 1.5] s, stays out of contact.
+    // Contact stiffness RK4 cannot follow at the recording's step. The window that starts
+    // in contact, [3, 3.5] s, is linearised there and takes substeps (stable_step.hpp); the
+    // one that starts out of contact and crosses the tip-in (from 1.54 s) does not see the
+    // contact coming and diverges; the quiet window before it, [1, 1.5] s, stays out of
+    // contact.
     const Evaluation stiff =
         evaluate_parameters(problem, problem.full_parameters(candidate({{0, 100.0}, {1, 1e6}, {2, 1e6}})));
     // The account names the node, the sample interval and what to try.
     CHECK(first_failed_window(stiff).rfind(
               "estimation window time 1.5 to 3: diverged: node cvt_input_shaft's speed reached ", 0) == 0);
     CHECK(first_failed_window(stiff).find("after t = 1.701 s (by t = 1.702 s); a stiff candidate") != std::string::npos);
-    CHECK(failed_window_count(stiff) == 2);
+    CHECK(failed_window_count(stiff) == 1);
     REQUIRE(stiff.validation.windows.size() == 2);
     CHECK(stiff.validation.windows[0].trace.status == SimulationStatus::ok);
-    CHECK(stiff.validation.windows[1].trace.status == SimulationStatus::diverged);
+    CHECK(stiff.validation.windows[1].trace.status == SimulationStatus::ok);
+    CHECK(problem.subdivided_starts() > 0);
 }

@@ -10,32 +10,6 @@
 
 namespace tvid {
 
-namespace {
-
-double rk4_amplification(std::complex<double> z) {
-    return std::abs(1.0 + z * (1.0 + z * (0.5 + z * (1.0 / 6.0 + z / 24.0))));
-}
-
-}  // namespace
-
-double rk4_stability_radius(double angle) {
-    const double phi = std::clamp(std::abs(angle), std::numbers::pi / 2, std::numbers::pi);
-    const std::complex<double> direction = std::polar(1.0, phi);
-    // The region is star-shaped about 0 in the left half-plane: scan out to the first
-    // r where the amplification exceeds 1, then bisect.
-    double inside = 0.0, outside = 0.0;
-    for (double r = 0.05; r <= 4.0; r += 0.05) {
-        if (rk4_amplification(r * direction) > 1.0) { outside = r; break; }
-        inside = r;
-    }
-    if (outside == 0.0) return 4.0;
-    for (int i = 0; i < 60; ++i) {
-        const double mid = 0.5 * (inside + outside);
-        (rk4_amplification(mid * direction) > 1.0 ? outside : inside) = mid;
-    }
-    return inside;
-}
-
 StepStability assess_step_stability(const IdentificationProblem& problem, const std::vector<double>& params,
                                     const std::vector<SolvedStart>* starts) {
     StepStability s;
@@ -57,7 +31,9 @@ StepStability assess_step_stability(const IdentificationProblem& problem, const 
         const std::size_t at = problem.warms_up(w) ? w.first : w.start;
         if (at + 1 >= time.size()) continue;
         const double interval = time[at + 1] - time[at];
-        const double h = def.simulation.max_step > 0 ? std::min(def.simulation.max_step, interval) : interval;
+        // The step the window is simulated at: the experiment's, over a stiff candidate's substeps.
+        const double h = (def.simulation.max_step > 0 ? std::min(def.simulation.max_step, interval) : interval) /
+                         static_cast<double>(std::max<std::size_t>(ws->substeps, 1));
         std::size_t hint = at;
         ws->inputs->at(time[at], hint, u.data());
         jacobian.bind(ws->model);
@@ -78,6 +54,7 @@ StepStability assess_step_stability(const IdentificationProblem& problem, const 
             s.margin = margin;
             s.window = w.label;
             s.step = h;
+            s.substeps = ws->substeps;
             s.rate = rate;
             s.frequency_hz = std::abs(lambda.imag()) / (2 * std::numbers::pi);
             s.damping_ratio = -lambda.real() / rate;

@@ -12,22 +12,21 @@
 #include <vector>
 
 #include "tvid/estimation/identification_problem.hpp"
+#include "tvid/sim/rk4_stability.hpp"  // rk4_stability_radius
 
 namespace tvid {
 
 struct StepStability {
     bool assessed = false;     ///< false for the adaptive integrators, or when no start could be solved
     std::string window;        ///< the window of the largest margin
-    double step = 0.0;         ///< h [s]
+    double step = 0.0;         ///< h [s]: the experiment's step over the window's substeps
+    std::size_t substeps = 1;  ///< of that window at these parameters (estimation/stable_step.hpp)
     double margin = 0.0;       ///< the largest |λh| / r(arg λ)
     double rate = 0.0;         ///< |λ| of that eigenvalue [1/s]
     double frequency_hz = 0.0; ///< |Im λ| / 2π
     double damping_ratio = 0.0;///< −Re λ / |λ|
 };
 
-/// The edge of RK4's stability region along direction `angle` (radians, π = the negative
-/// real axis); directions in the right half-plane count as the imaginary axis.
-double rk4_stability_radius(double angle);
 
 /// The margin of the rk4 simulation of `params` (full parameter vector) over the
 /// estimation windows' starts; with `starts` (Evaluation::estimation_starts at the same

@@ -165,6 +165,7 @@ public:
     bool run(const double* candidates, std::size_t count, const double* bounds, double* costs) {
         const double inf = std::numeric_limits<double>::infinity();
         const std::size_t m = problem_.dimension();
+        candidates_ = candidates;
         CandidateScores& s = scores_;
         s.parameter_count = d_.network.parameter_names.size();
         s.parameters.assign(count * s.parameter_count, 0.0);
@@ -238,6 +239,12 @@ private:
         s.window_sum[c] = 0.0;
         if (problem_.start_window(d_.estimation[wi], ws, nullptr).status != SimulationStatus::ok) {
             s.finish(c, std::numeric_limits<double>::infinity());
+            return;
+        }
+        if (ws.substeps > 1) {
+            // A stiff candidate takes a smaller step than the lanes share (stable_step.hpp):
+            // scored alone, as cost() scores it.
+            s.finish(c, problem_.cost(candidates_ + c * problem_.dimension(), ws));
             return;
         }
         std::copy_n(ws.x.begin(), N, s.state.begin() + static_cast<std::ptrdiff_t>(c * N));
@@ -361,6 +368,7 @@ private:
     const ProblemDefinition& d_;
     std::span<BatchWorkspace* const> workspaces_;
     const std::atomic<bool>* stop_;
+    const double* candidates_ = nullptr;  ///< the candidates of the current run, m values each
     CandidateScores scores_;
     std::vector<Stage> stages_;
     std::vector<int> delayed_output_;  ///< per output: its index in d_.delayed_outputs, or -1

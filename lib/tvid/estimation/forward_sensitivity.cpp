@@ -6,6 +6,7 @@
 #include <type_traits>
 
 #include "tvid/channels/channel_delay.hpp"
+#include "tvid/estimation/stable_step.hpp"
 #include "tvid/model/steady_motion.hpp"
 #include "tvid/sim/fixed_state_rk4.hpp"
 #include "tvid/sim/sensitivity_system.hpp"
@@ -205,7 +206,8 @@ SimulationStatus ForwardSensitivity::simulate_augmented(const double* free, cons
             return !ws.plain->stop_requested();
         };
         const SimulationStatus status =
-            march_samples(warm, *ws.plain->inputs, w.start, w.first, ws.z, state, def.simulation, ws.buffers, watch);
+            march_samples(warm, *ws.plain->inputs, w.start, w.first, ws.z, state, window_settings(def, w, *ws.plain),
+                          ws.buffers, watch);
         if (status != SimulationStatus::ok) {
             if (problem) *problem = std::string("warm-up simulation ") + to_string(status);
             return status;
@@ -247,7 +249,8 @@ SimulationStatus ForwardSensitivity::simulate_augmented(const double* free, cons
         return i < w.first ? true : outputs(i, z, u);
     };
     const SimulationStatus status =
-        march_samples(system, *ws.plain->inputs, from, w.last, ws.z, state, def.simulation, ws.buffers, scored);
+        march_samples(system, *ws.plain->inputs, from, w.last, ws.z, state, window_settings(def, w, *ws.plain),
+                      ws.buffers, scored);
     if (status != SimulationStatus::ok && problem) *problem = std::string("simulation ") + to_string(status);
     return status;
 }

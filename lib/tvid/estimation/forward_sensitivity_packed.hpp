@@ -9,6 +9,7 @@
 #include <string>
 
 #include "tvid/estimation/forward_sensitivity.hpp"
+#include "tvid/estimation/stable_step.hpp"
 #include "tvid/sim/fixed_state_rk4.hpp"
 
 namespace tvid {
@@ -66,7 +67,7 @@ SimulationStatus ForwardSensitivity::simulate_packed(const double* free, const W
             if (i == start.mid) at_mid = state[start.node];
             return !ws.plain->stop_requested();
         };
-        const SimulationStatus status = march_fixed_rk4<N>(dual.model, inputs, w.start, w.first, x, def.simulation.max_step,
+        const SimulationStatus status = march_fixed_rk4<N>(dual.model, inputs, w.start, w.first, x, window_max_step(def, w, *ws.plain),
                                                            ws.buffers.u, ws.buffers.u_stages, rhs, watch);
         if (status != SimulationStatus::ok) {
             if (problem) *problem = std::string("warm-up simulation ") + to_string(status);
@@ -111,7 +112,7 @@ SimulationStatus ForwardSensitivity::simulate_packed(const double* free, const W
         if (ws.plain->stop_requested()) return false;
         return i < w.first ? true : outputs(i, state, u);
     };
-    const SimulationStatus status = march_fixed_rk4<N>(dual.model, inputs, from, w.last, x, def.simulation.max_step,
+    const SimulationStatus status = march_fixed_rk4<N>(dual.model, inputs, from, w.last, x, window_max_step(def, w, *ws.plain),
                                                        ws.buffers.u, ws.buffers.u_stages, rhs, scored);
     if (status != SimulationStatus::ok && problem) *problem = std::string("simulation ") + to_string(status);
     return status;

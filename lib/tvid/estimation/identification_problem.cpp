@@ -8,6 +8,7 @@
 #include <cmath>
 #include <limits>
 
+#include "tvid/estimation/stable_step.hpp"
 #include "tvid/estimation/window_score.hpp"
 #include "tvid/util/input_error.hpp"
 #include "tvid/util/text.hpp"
@@ -198,7 +199,7 @@ SimulationStatus IdentificationProblem::simulate_window(const Window& w, Problem
         return i < w.first ? true : on_scored(i, x, u);  // warm-up: simulated, not scored
     };
     SimulationStatus status =
-        simulate_samples(ws.model, *ws.inputs, from, w.last, ws.x, definition_.simulation, ws.buffers, scored);
+        simulate_samples(ws.model, *ws.inputs, from, w.last, ws.x, window_settings(definition_, w, ws), ws.buffers, scored);
     if (beyond >= 0) {
         status = SimulationStatus::diverged;
         if (problem) *problem = speed_account(static_cast<std::size_t>(beyond), reached, ws.x);

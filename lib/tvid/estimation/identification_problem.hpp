@@ -140,6 +140,10 @@ public:
     /// judged against this, not against its value. 0 for a model parameter.
     double start_scale(std::size_t j) const;
 
+    /// How many window starts so far needed a smaller step than the experiment's, a stiff
+    /// candidate's (estimation/stable_step.hpp).
+    long long subdivided_starts() const { return subdivided_.load(std::memory_order_relaxed); }
+
     /// The index of w among the estimation windows, or WindowStarts::kNotEstimation.
     std::size_t estimation_index(const Window& w) const { return starts_.estimation_index(w); }
     /// The samples a validation window's estimated start is fitted on (`validation: estimated`).
@@ -180,7 +184,8 @@ private:
 
     const Experiment* experiment_;
     ProblemDefinition definition_;
-    WindowStarts starts_{definition_};
+    mutable std::atomic<long long> subdivided_{0};
+    WindowStarts starts_{definition_, &subdivided_};
     std::vector<std::size_t> free_;
     std::vector<std::string> free_names_;
     std::vector<double> lower_, upper_, range_lo_, range_hi_, init_;

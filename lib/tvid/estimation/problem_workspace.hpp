@@ -10,6 +10,7 @@
 #include "tvid/channels/input_channels.hpp"
 #include "tvid/model/network_model.hpp"
 #include "tvid/model/packed_dual.hpp"
+#include "tvid/model/state_jacobian.hpp"
 #include "tvid/sim/simulate.hpp"
 
 namespace tvid {
@@ -39,6 +40,11 @@ struct ProblemWorkspace {
     std::vector<double> x0;      ///< initial state of a warm-up being shot
     std::vector<double> x_start; ///< the state at the window start a simulation set out from
     std::vector<double> window_residuals;  ///< a window's residuals, filtered before they are scored
+    /// Substeps per experiment step of the window being simulated (estimation/stable_step.hpp):
+    /// set by its start, 1 unless the candidate is stiff at the experiment's step.
+    std::size_t substeps = 1;
+    StateJacobian state_jacobian;          ///< the linearisation that decides them
+    std::vector<double> jacobian_values;
     /// Set by an optimizer that can be interrupted: once the flag is up, a simulation on this
     /// workspace (warm-up shooting included) ends at its next sample as stopped_by_observer.
     const std::atomic<bool>* stop = nullptr;

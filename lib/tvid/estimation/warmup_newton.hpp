@@ -25,6 +25,7 @@
 #include <limits>
 #include <vector>
 
+#include "tvid/estimation/stable_step.hpp"
 #include "tvid/estimation/window_start.hpp"
 #include "tvid/sim/fixed_state_rk4.hpp"
 
@@ -36,7 +37,7 @@ public:
     WarmupNewton(const ProblemDefinition& d, const Window& w, ProblemWorkspace& ws, WindowStart& start)
         : d_(d), w_(w), ws_(ws), start_(start), node_(static_cast<std::size_t>(d.angle_node)),
           mid_(w.start + (w.first - w.start) / 2), angle_(d.crank_angle),
-          tolerance_(1e-12 + 1e-15 * std::abs(d.crank_angle[w.first])) {}
+          tolerance_(1e-12 + 1e-15 * std::abs(d.crank_angle[w.first])), max_step_(window_max_step(d, w, ws)) {}
 
     /// Solves the shooting; leaves ws.x at the state at w.first.
     SimulationStatus solve() {
@@ -50,7 +51,7 @@ public:
         if (from_guesses() != GuessOutcome::not_solved) return status_;
         coarse_guess();
         // 2. Newton with the full simulation's tangents.
-        if (!tangent_miss(a_, s_, d_.simulation.max_step)) return status_;
+        if (!tangent_miss(a_, s_, max_step_)) return status_;
         return finish_from_tangents();
     }
 
@@ -92,7 +93,7 @@ private:
         e_[1] = x[node_].value() - angle_[w_.first];
         jac_[0][0] = at_mid.derivative(0), jac_[0][1] = at_mid.derivative(1);
         jac_[1][0] = x[node_].derivative(0), jac_[1][1] = x[node_].derivative(1);
-        if (max_step == d_.simulation.max_step) start_.miss_jacobian = jac_;
+        if (max_step == max_step_) start_.miss_jacobian = jac_;
         return miss_is_finite();
     }
 
@@ -106,7 +107,7 @@ private:
             if (i == mid_) at_mid = state[node_];
             return !ws_.stop_requested();
         };
-        status_ = march_fixed_rk4<N>(ws_.model, *ws_.inputs, w_.start, w_.first, x, d_.simulation.max_step,
+        status_ = march_fixed_rk4<N>(ws_.model, *ws_.inputs, w_.start, w_.first, x, max_step_,
                                      ws_.buffers.u, ws_.buffers.u_stages, ws_.buffers.rhs_evaluations, watch);
         for (std::size_t i = 0; i < N; ++i) ws_.x[i] = x[i];
         e_[0] = at_mid - angle_[mid_];
@@ -170,7 +171,7 @@ private:
 
     // 1. The guess from the coarse simulation, taken when it gets within 1e-7 rad.
     void coarse_guess() {
-        if (!(d_.simulation.max_step > 0.0)) return;
+        if (!(max_step_ > 0.0)) return;
         constexpr double coarse_tolerance = 1e-7;
         double ca = a_, cs = s_;
         bool usable = false;
@@ -207,6 +208,7 @@ private:
     const std::size_t node_, mid_;
     const std::vector<double>& angle_;
     const double tolerance_;
+    const double max_step_;  // the window's step at these parameters (stable_step.hpp)
     SimulationStatus status_ = SimulationStatus::ok;
     double e_[2] = {0, 0};
     MissJacobian jac_{};

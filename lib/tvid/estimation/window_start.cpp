@@ -1,4 +1,5 @@
 #include "tvid/estimation/window_start.hpp"
+#include "tvid/estimation/stable_step.hpp"
 #include "tvid/estimation/warmup_newton.hpp"
 
 #include <algorithm>
@@ -54,7 +55,9 @@ bool WindowStarts::initial_state(const Window& w, ProblemWorkspace& ws, std::str
             return true;
         }
         if (!recipe_state(w, ws, problem)) return false;
-        return !estimated.validation || estimate_start(w, ws, problem);
+        if (!estimated.validation) return true;
+        ws.substeps = stable_substeps(*d_, w, ws);  // the fit of the start simulates too
+        return estimate_start(w, ws, problem);
     }
     return recipe_state(w, ws, problem);
 }
@@ -175,7 +178,8 @@ SimulationStatus WindowStarts::shoot_warmup_by_differences(const Window& w, Prob
             if (i == mid) at_mid = x[node];
             return !ws.stop_requested();
         };
-        status = simulate_samples(ws.model, *ws.inputs, w.start, w.first, ws.x, d_->simulation, ws.buffers, watch);
+        status = simulate_samples(ws.model, *ws.inputs, w.start, w.first, ws.x, window_settings(*d_, w, ws), ws.buffers,
+                                  watch);
         e[0] = at_mid - angle[mid];
         e[1] = ws.x[node] - angle[w.first];
         return status == SimulationStatus::ok && std::isfinite(e[0]) && std::isfinite(e[1]);
@@ -187,7 +191,8 @@ SimulationStatus WindowStarts::shoot_warmup_by_differences(const Window& w, Prob
         const auto plain = [&](std::size_t, const std::vector<double>&, const std::vector<double>&) {
             return !ws.stop_requested();
         };
-        return simulate_samples(ws.model, *ws.inputs, w.start, w.first, ws.x, d_->simulation, ws.buffers, plain);
+        return simulate_samples(ws.model, *ws.inputs, w.start, w.first, ws.x, window_settings(*d_, w, ws), ws.buffers,
+                                plain);
     }
     if (!miss(a, s, e)) return status;
     // The Jacobian by differences, once: the map is close to linear.
@@ -218,6 +223,9 @@ WindowStart WindowStarts::start(const Window& w, ProblemWorkspace& ws, std::stri
         start.status = SimulationStatus::not_finite;
         return start;
     }
+    // The step of this window's simulations at these parameters (stable_step.hpp).
+    ws.substeps = start.substeps = stable_substeps(*d_, w, ws);
+    if (start.substeps > 1 && subdivided_) subdivided_->fetch_add(1, std::memory_order_relaxed);
     ws.x_start = ws.x;
     if (warms_up(w)) {
         start.status = shoot_warmup(w, ws, start);
@@ -233,6 +241,7 @@ WindowStart WindowStarts::restore(const SolvedStart& solved, ProblemWorkspace& w
     ws.x_start = solved.x_start;
     ws.x = solved.x;
     ws.u0 = solved.u0;
+    ws.substeps = solved.start.substeps;
     return solved.start;
 }
 

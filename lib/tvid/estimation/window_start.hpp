@@ -3,6 +3,7 @@
 // the methodology paper's measured state made consistent with the encoder by a warm-up shooting), for
 // the parameters already set in a workspace's model.
 
+#include <atomic>
 #include <cstddef>
 #include <string>
 #include <utility>
@@ -26,6 +27,7 @@ struct WindowStart {
     MissJacobian miss_jacobian{};
     std::size_t mid = 0;     ///< its first matching sample
     std::size_t node = 0;    ///< the encoder's node
+    std::size_t substeps = 1;  ///< substeps per step of this window's simulations (stable_step.hpp)
 };
 
 /// A window's start as a simulation solved it, to set out from again without solving it
@@ -45,7 +47,9 @@ double speed_ratio(const std::vector<double>& x, std::size_t n, std::size_t node
 /// The starts of the windows of one problem definition.
 class WindowStarts {
 public:
-    explicit WindowStarts(const ProblemDefinition& definition) : d_(&definition) {}
+    /// `subdivided` (may be null) counts the starts that needed substeps (stable_step.hpp).
+    explicit WindowStarts(const ProblemDefinition& definition, std::atomic<long long>* subdivided = nullptr)
+        : d_(&definition), subdivided_(subdivided) {}
 
     /// Whether window w is simulated from a measured start through a warm-up (then its
     /// march begins at w.first, whose sample is scored too).
@@ -89,6 +93,7 @@ private:
     SimulationStatus shoot_warmup_by_differences(const Window& w, ProblemWorkspace& ws, WindowStart& start) const;
 
     const ProblemDefinition* d_;
+    std::atomic<long long>* subdivided_ = nullptr;
 };
 
 }  // namespace tvid

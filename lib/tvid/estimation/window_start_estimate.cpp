@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "tvid/estimation/stable_step.hpp"
 #include "tvid/estimation/window_score.hpp"
 #include "tvid/estimation/window_start.hpp"
 #include "tvid/optim/levenberg_marquardt.hpp"
@@ -21,8 +22,8 @@ namespace {
 // corrected by δ on the estimated coordinates.
 class StartCorrection final : public LeastSquaresProblem {
 public:
-    StartCorrection(const ProblemDefinition& d, ProblemWorkspace& ws, std::size_t from, std::size_t to)
-        : d_(d), ws_(ws), from_(from), to_(to), recipe_(ws.x) {}
+    StartCorrection(const ProblemDefinition& d, const Window& w, ProblemWorkspace& ws, std::size_t from, std::size_t to)
+        : d_(d), ws_(ws), from_(from), to_(to), recipe_(ws.x), settings_(window_settings(d, w, ws)) {}
 
     std::size_t residual_count() const override { return (to_ - from_) * d_.measured.size(); }
 
@@ -41,7 +42,7 @@ public:
         };
         std::vector<double> x = ws_.x;
         const SimulationStatus status =
-            simulate_samples(ws_.model, *ws_.inputs, from_, to_, x, d_.simulation, ws_.buffers, observe);
+            simulate_samples(ws_.model, *ws_.inputs, from_, to_, x, settings_, ws_.buffers, observe);
         if (status != SimulationStatus::ok || row != count) return false;
         for (std::size_t i = 0; i < count; ++i)
             if (!std::isfinite(r[i])) return false;
@@ -71,6 +72,7 @@ private:
     ProblemWorkspace& ws_;
     std::size_t from_, to_;
     std::vector<double> recipe_;
+    SimulationSettings settings_;
 };
 
 }  // namespace
@@ -79,7 +81,7 @@ bool WindowStarts::estimate_start(const Window& w, ProblemWorkspace& ws, std::st
     const std::vector<std::size_t>& states = d_->estimated.states;
     const auto [from, to] = estimated_start_samples(w);
     if (states.empty() || to <= from) return true;
-    StartCorrection correction(*d_, ws, from, to);
+    StartCorrection correction(*d_, w, ws, from, to);
     LmSettings settings;
     settings.max_iterations = 60;
     settings.stol = 0.0;  // the start to the bit the data give, not to a standard error
