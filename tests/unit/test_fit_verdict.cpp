@@ -187,6 +187,16 @@ TEST_CASE("a stiff mode past RK4's stability limit takes substeps and is simulat
     const FitResult r = fit(ex);
     CHECK_FALSE(has(r.verdict, "near_instability"));
     CHECK(problem.subdivided_starts() > 0);
+    // Its cost is the cost at the substep given as the experiment's step, to the bit.
+    const Experiment halved = noisy_bench().load("  k_s: { init: 4.6e5, min: 1e5, max: 4.7e5 }\n  c_s: { value: 0.5 }",
+                                                 {parse_override("simulation.step=5e-4")});
+    const IdentificationProblem fine(halved);
+    auto ws = problem.make_workspace();
+    auto fine_ws = fine.make_workspace();
+    const double cost = problem.cost(problem.initial().data(), *ws);
+    CHECK(std::isfinite(cost));
+    CHECK(cost == fine.cost(fine.initial().data(), *fine_ws));
+    CHECK(fine.subdivided_starts() == 0);
 }
 
 TEST_CASE("RK4's stability region: 2.785 on the negative real axis, 2√2 on the imaginary", "[verdict]") {
