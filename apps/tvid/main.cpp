@@ -100,6 +100,17 @@ void add_common(CLI::App* sub, tvid::cli::CommonOptions& o) {
     sub->add_flag("--json", o.json, "print the summary as JSON on stdout");
 }
 
+// The one file simulate and validate write: -o FILE, or --output-dir DIR (its default
+// name there), and --force.
+void add_file_output(CLI::App* sub, tvid::cli::EvaluateCommand& cmd, const std::string& what,
+                     const std::string& default_name) {
+    auto* file = sub->add_option("-o,--output", cmd.output, "write " + what + " to this file")->check(kNonEmptyPath);
+    sub->add_option("--output-dir", cmd.output_dir, "write " + default_name + " into this folder")
+        ->check(kNonEmptyPath)
+        ->excludes(file);
+    sub->add_flag("--force", cmd.force, "replace a file that tvid did not write");
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -131,25 +142,13 @@ int main(int argc, char** argv) {
     auto* sim_cmd = app.add_subcommand("simulate", "simulate every window and print measured vs simulated as CSV");
     add_common(sim_cmd, simulate.common);
     sim_cmd->add_option("--params", simulate.params_file, "parameter file (params.json of a fit, or {name: value})");
-    auto* sim_output = sim_cmd->add_option("-o,--output", simulate.output,
-                                           "write the CSV to this file")
-                           ->check(kNonEmptyPath);
-    sim_cmd->add_option("--output-dir", simulate.output_dir, "write simulation.csv into this folder")
-        ->check(kNonEmptyPath)
-        ->excludes(sim_output);
-    sim_cmd->add_flag("--force", simulate.force, "replace a file that tvid did not write");
+    add_file_output(sim_cmd, simulate, "the CSV", "simulation.csv");
 
     EvaluateCommand validate;
     auto* val_cmd = app.add_subcommand("validate", "score a parameter set on the estimation and validation windows");
     add_common(val_cmd, validate.common);
     val_cmd->add_option("--params", validate.params_file, "parameter file")->required();
-    auto* val_output = val_cmd->add_option("-o,--output", validate.output,
-                                           "write the JSON to this file")
-                           ->check(kNonEmptyPath);
-    val_cmd->add_option("--output-dir", validate.output_dir, "write validation.json into this folder")
-        ->check(kNonEmptyPath)
-        ->excludes(val_output);
-    val_cmd->add_flag("--force", validate.force, "replace a file that tvid did not write");
+    add_file_output(val_cmd, validate, "the JSON", "validation.json");
 
     SensitivityCommand sensitivity;
     auto* sens_cmd = app.add_subcommand(

@@ -15,6 +15,7 @@
 #include <string>
 
 #include "support/run_tvid.hpp"
+#include "support/shipped_fit.hpp"
 #include "support/test_files.hpp"
 
 using namespace tvid::test;
@@ -24,14 +25,6 @@ namespace {
 
 json truth_of(const std::string& recording) {
     return json::parse(read_text(source_dir() / "data" / recording / "truth.json"));
-}
-
-json fit(const TempDir& tmp, const std::string& config) {
-    const RunResult r = run_tvid({"fit", (source_dir() / "configs" / (config + ".yaml")).string(), "-o",
-                                  (tmp.path() / config).string(), "--threads", "2", "--json"});
-    INFO(r.err);
-    REQUIRE(r.exit_code == 0);
-    return json::parse(r.out);
 }
 
 std::map<std::string, json> parameters_of(const json& summary) {
@@ -46,7 +39,7 @@ TEST_CASE("each new element's noise-free recording gives every parameter back", 
     const TempDir tmp;
     for (const std::string recording : {"dry_friction", "road_load", "clutch_damper", "lossy_gear", "positioning_drive"}) {
         INFO(recording);
-        const json s = fit(tmp, recording + "_clean");
+        const json s = fit_shipped(tmp, recording + "_clean");
         CHECK(s["optimizer"]["converged"] == true);
         const json truth = truth_of(recording)["parameters"];
         const auto fitted = parameters_of(s);
@@ -62,7 +55,7 @@ TEST_CASE("each new element's noisy recording: the noise floor, the truth within
     const TempDir tmp;
     for (const std::string recording : {"dry_friction", "road_load", "clutch_damper", "lossy_gear", "positioning_drive"}) {
         INFO(recording);
-        const json s = fit(tmp, recording);
+        const json s = fit_shipped(tmp, recording);
         const json t = truth_of(recording);
         // Validation over time the fit never saw: at the sensors' noise.
         const json& v = s["validation"]["pooled"];
@@ -83,8 +76,8 @@ TEST_CASE("each new element's noisy recording: the noise floor, the truth within
 TEST_CASE("inverse model: dry friction as an element gives the exact sign column's parameters within 1 %",
           "[e2e][element_fits]") {
     const TempDir tmp;
-    const auto element = parameters_of(fit(tmp, "inverse_friction"));
-    const auto sign = parameters_of(fit(tmp, "inverse_friction_sign"));
+    const auto element = parameters_of(fit_shipped(tmp, "inverse_friction"));
+    const auto sign = parameters_of(fit_shipped(tmp, "inverse_friction_sign"));
     for (const std::string name : {"J", "c", "Fc"}) {
         const double a = element.at(name)["value"].get<double>(), b = sign.at(name)["value"].get<double>();
         INFO(name << ": element " << a << ", sign column " << b);
@@ -94,17 +87,17 @@ TEST_CASE("inverse model: dry friction as an element gives the exact sign column
 
 TEST_CASE("the new elements' units reach the report", "[e2e][element_fits]") {
     const TempDir tmp;
-    const auto friction = parameters_of(fit(tmp, "dry_friction_clean"));
+    const auto friction = parameters_of(fit_shipped(tmp, "dry_friction_clean"));
     CHECK(friction.at("coulomb")["unit"] == "N m");
     CHECK(friction.at("stribeck_speed")["unit"] == "rad/s");
     CHECK(friction.at("c_negative")["unit"] == "N m s/rad");
-    const auto damper = parameters_of(fit(tmp, "clutch_damper_clean"));
+    const auto damper = parameters_of(fit_shipped(tmp, "clutch_damper_clean"));
     CHECK(damper.at("k2")["unit"] == "N m/rad");
     CHECK(damper.at("theta1")["unit"] == "rad");
     CHECK(damper.at("Fh")["unit"] == "N m");
-    const auto road = parameters_of(fit(tmp, "road_load_clean"));
+    const auto road = parameters_of(fit_shipped(tmp, "road_load_clean"));
     CHECK(road.at("c_air")["unit"] == "N m s^2/rad^2");
-    const auto gear = parameters_of(fit(tmp, "lossy_gear_clean"));
+    const auto gear = parameters_of(fit_shipped(tmp, "lossy_gear_clean"));
     CHECK(gear.at("eta")["unit"] == "1");
 }
 

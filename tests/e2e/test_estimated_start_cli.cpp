@@ -12,20 +12,13 @@
 #include <string>
 
 #include "support/run_tvid.hpp"
+#include "support/shipped_fit.hpp"
 #include "support/test_files.hpp"
 
 using namespace tvid::test;
 using nlohmann::json;
 
 namespace {
-
-json fit(const TempDir& tmp, const std::string& config) {
-    const RunResult r = run_tvid({"fit", (source_dir() / "configs" / (config + ".yaml")).string(), "-o",
-                                  (tmp.path() / config).string(), "--threads", "2", "--json"});
-    INFO(r.err);
-    REQUIRE(r.exit_code == 0);
-    return json::parse(r.out);
-}
 
 const json& truth() {
     static const json t = json::parse(read_text(source_dir() / "data/free_line/truth.json"));
@@ -42,7 +35,7 @@ std::string coordinate(const json& entry) {
 TEST_CASE("an estimated start on a noisy free line: every parameter and start within 3 standard errors",
           "[e2e][estimated_start]") {
     const TempDir tmp;
-    const json s = fit(tmp, "free_line");
+    const json s = fit_shipped(tmp, "free_line");
     CHECK(s["verdict"]["summary"] == "clean");
     for (const json& p : s["parameters"]) {
         const std::string name = p["name"];
@@ -85,7 +78,7 @@ TEST_CASE("an estimated start on a noisy free line: every parameter and start wi
 TEST_CASE("an estimated start on the noise-free free line gives every parameter and the start back",
           "[e2e][estimated_start]") {
     const TempDir tmp;
-    const json s = fit(tmp, "free_line_clean");
+    const json s = fit_shipped(tmp, "free_line_clean");
     for (const json& p : s["parameters"]) {
         INFO(p["name"]);
         CHECK(p["value"].get<double>() == Approx(truth()["parameters"][p["name"].get<std::string>()].get<double>()).epsilon(1e-6));
