@@ -344,7 +344,7 @@ TEST_CASE("tvid models lists the presets and the element kinds with their fields
     CHECK(sd["fields"][0]["unit"] == "N m/rad");
     CHECK(kinds["speed_controller"]["composite"] == true);
     // A composite lists its own numbers too.
-    REQUIRE(kinds["speed_controller"]["fields"].size() == 3);
+    REQUIRE(kinds["speed_controller"]["fields"].size() == 5);  // setpoint, kp, ki and the limits of a sampled one
     CHECK(kinds["speed_controller"]["fields"][1]["key"] == "kp");
     CHECK(kinds["speed_controller"]["fields"][1]["unit"] == "N m s/rad");
     CHECK(r.out.find("element kinds of a custom network") != std::string::npos);

@@ -257,6 +257,21 @@ TEST_CASE("engine candidates (cylinders, warm-up shooting, substeps) cost the sa
     CHECK(mismatches_at_once(problem, points, bounds, 2) == 0);
 }
 
+TEST_CASE("a drive under a sampled controller costs the same bits in a group, each window marched whole",
+          "[batch][sampled_controller]") {
+    const Experiment ex = load_experiment(test::source_dir() / "configs/digital_drive.yaml");
+    const IdentificationProblem problem(ex);
+    REQUIRE(batch_supported(problem));
+    const std::vector<double> points = points_in_box(problem, 2 * kBatchLanes + 3, 11);
+    auto ws = problem.make_workspace();
+    const double third = problem.cost(points.data() + 2 * problem.dimension(), *ws);
+    REQUIRE(std::isfinite(third));
+    std::vector<double> bounds(2 * kBatchLanes + 3, kInf);
+    bounds[2] = 0.5 * third;  // cut short in a lane
+    CHECK(mismatches(problem, points, bounds, kBatchLanes) == 0);
+    CHECK(mismatches_at_once(problem, points, bounds, 2) == 0);
+}
+
 TEST_CASE("a custom network with every element kind but the cylinder costs the same bits in a group",
           "[batch][network]") {
     test::TempDir dir;

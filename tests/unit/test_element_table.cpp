@@ -43,7 +43,7 @@ double typical_value(const std::string& field) {
         {"breakaway", 1.2}, {"stribeck_speed", 6.0}, {"smoothing_speed", 5.0},
         {"a", 3.0},       {"b", 0.2},          {"efficiency", 0.9},    {"smoothing_power", 300.0},
         {"stages.angle", 0.1}, {"stages.k", 150.0}, {"stages_negative.angle", 0.05}, {"stages_negative.k", 90.0},
-        {"smoothing_angle", 0.05}, {"setpoint", 0.2}, {"kp", 50.0}, {"kd", 0.8}};
+        {"smoothing_angle", 0.05}, {"setpoint", 0.2}, {"kp", 50.0}, {"kd", 0.8}, {"ki", 5.0}};
     return values.at(field);
 }
 
@@ -172,7 +172,7 @@ TEST_CASE("each kind's field walk visits each field once, in step over a spec an
         {"road_load", {"a", "b", "c", "smoothing_speed"}},
         {"multistage_spring",
          {"stages.angle", "stages.k", "stages_negative.angle", "stages_negative.k", "c", "smoothing_angle"}},
-        {"position_controller", {"setpoint", "kp", "kd", "limits.min", "limits.max"}}};
+        {"position_controller", {"setpoint", "kp", "kd", "limits.min", "limits.max", "ki"}}};
     for_each_element_kind([&](auto kind) {
         using Kind = decltype(kind);
         typename Kind::Spec spec{};

@@ -151,11 +151,15 @@ public:
         for (std::size_t q = 0; q < d_.delayed_outputs.size(); ++q)
             delayed_output_[d_.delayed_outputs[q].channel] = static_cast<int>(q);
         // Each window in pieces of kRegroupMinSamples samples or more, at most kRegroupPieces.
+        // A model with sampled elements (a digital controller) marches each window whole:
+        // their memory restarts where a march starts (march_batch_rk4) and stays in the lanes.
+        const bool whole_windows = has_sampled_elements(d_.network);
         for (std::size_t wi = 0; wi < d_.estimation.size(); ++wi) {
             const Window& w = d_.estimation[wi];
             const std::size_t from = problem_.warms_up(w) ? w.first : w.start;
             const std::size_t length = w.last > from ? w.last - from : 0;
-            const std::size_t pieces = std::clamp<std::size_t>(length / kRegroupMinSamples, 1, kRegroupPieces);
+            const std::size_t pieces =
+                whole_windows ? 1 : std::clamp<std::size_t>(length / kRegroupMinSamples, 1, kRegroupPieces);
             for (std::size_t k = 0; k < pieces; ++k)
                 stages_.push_back({wi, from + length * k / pieces, from + length * (k + 1) / pieces,
                                    k == 0 && problem_.warms_up(w), k + 1 == pieces});

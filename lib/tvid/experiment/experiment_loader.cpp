@@ -10,6 +10,7 @@
 #include <string_view>
 
 #include "tvid/experiment/channel_reader.hpp"
+#include "tvid/experiment/controller_clock.hpp"
 #include "tvid/experiment/data_reader.hpp"
 #include "tvid/experiment/experiment.hpp"
 #include "tvid/experiment/estimated_start.hpp"
@@ -402,6 +403,7 @@ Experiment load_experiment(const std::filesystem::path& file, const std::vector<
     // The model, its channels and parameters.
     const YamlMap parameters = top.map("parameters");
     ex.network = read_model(top.map("model"), parameters.keys(), ex.model_constants);
+    check_controller_clocks(top.map("model"), recorded);
     ex.inputs = read_inputs(top.map("inputs"), ex.network, recorded.recordings, parameters.keys());
     if (data.has("angle_node")) {
         if (ex.angle_column.empty()) data.fail("angle_node", "names the node of the crank-angle channel: give data.angle too");

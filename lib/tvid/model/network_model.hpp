@@ -57,6 +57,7 @@ public:
         }
         last_torques_.assign(at, T(0));
         prescribes_motion_ = prescribes_motion(spec);
+        samples_ = has_sampled_elements(spec);
     }
 
     /// The crank-angle channels (cylinder pressures) the cylinders read; must outlive the model.
@@ -115,6 +116,34 @@ public:
                                             dxdt + node_count_);
         });
         if (prescribes_motion_) impose_prescribed_motion(u, node_torque_.data(), dxdt + node_count_, last_torques_.data());
+    }
+
+    /// Whether some element samples the line at instants and holds its output between them
+    /// (a digital controller): then every simulation calls restart_sampling at its start
+    /// and sample at each later sample of the recording.
+    bool samples() const { return samples_; }
+
+    /// The sampled elements' memory set for a simulation starting at state x, inputs u.
+    void restart_sampling(const T* x, const double* u) {
+        if (!samples_) return;
+        const NodeMotion<T> motion{x, speeds_seen(x, u), u, angle_inputs_, true};
+        for_each_element_kind([&](auto kind) {
+            using Kind = decltype(kind);
+            if constexpr (requires { Kind::restart(elements_of<Kind>()[0], motion); })
+                for (auto& e : elements_of<Kind>()) Kind::restart(e, motion);
+        });
+    }
+
+    /// At sample time t of the recording (state x, inputs u), before the observer sees it:
+    /// each sampled element whose clock ticks at t samples and updates the output it holds.
+    void sample(double t, const T* x, const double* u) {
+        if (!samples_) return;
+        const NodeMotion<T> motion{x, speeds_seen(x, u), u, angle_inputs_, true};
+        for_each_element_kind([&](auto kind) {
+            using Kind = decltype(kind);
+            if constexpr (requires { Kind::sample(elements_of<Kind>()[0], t, motion); })
+                for (auto& e : elements_of<Kind>()) Kind::sample(e, t, motion);
+        });
     }
 
     /// Net torque on each node with all speeds zero (for the static equilibrium).
@@ -267,6 +296,7 @@ private:
     typename StorageOf<ElementTypes>::type elements_;  ///< the bound elements, one list per kind
     std::vector<T> inertia_;
     bool prescribes_motion_ = false;         ///< some node's speed is prescribed (a speed source)
+    bool samples_ = false;                   ///< some element is sampled (has_sampled_elements)
     mutable std::vector<T> seen_speeds_;     ///< speeds_seen's result when prescribes_motion_
     mutable std::vector<T> other_torques_;   ///< element_torque's node sums for a reaction
     const CrankAngleChannels* angle_inputs_ = nullptr;

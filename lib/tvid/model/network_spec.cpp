@@ -77,6 +77,16 @@ bool prescribes_motion(const NetworkSpec& n) {
     return prescribes;
 }
 
+bool has_sampled_elements(const NetworkSpec& n) {
+    bool sampled = false;
+    for_each_element_kind([&](auto k) {
+        using K = decltype(k);
+        if constexpr (requires(const typename K::Spec& s) { K::sampled(s); })
+            for (const auto& s : ElementRow<K>::list(n)) sampled = sampled || K::sampled(s);
+    });
+    return sampled;
+}
+
 const char* output_kind_key(OutputKind kind) {
     const char* key = "";
     for_each_output_kind([&](auto k) {

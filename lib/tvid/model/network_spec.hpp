@@ -235,6 +235,10 @@ bool element_has_output_side(ElementKind kind);
 /// Whether some element of n prescribes its node's motion (a speed source).
 bool prescribes_motion(const NetworkSpec& n);
 
+/// Whether some element of n samples the line at instants and holds its output between
+/// them (a digital controller: its kind's `sampled(spec)` says so).
+bool has_sampled_elements(const NetworkSpec& n);
+
 /// The start coordinate that parameter `parameter` of n is, or nullptr for a model parameter.
 inline const NetworkSpec::StartCoordinate* start_coordinate(const NetworkSpec& n, std::size_t parameter) {
     for (const NetworkSpec::StartCoordinate& c : n.start_coordinates)

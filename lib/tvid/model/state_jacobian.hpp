@@ -39,6 +39,20 @@ public:
 
     std::size_t state_size() const { return x_.size(); }
 
+    /// The dual model's sampled elements (NetworkModel::samples) follow the simulation's:
+    /// restarted and sampled at the same states, their held outputs are constants of a step
+    /// (no column of the Jacobian), as they are in f.
+    void restart_sampling(const double* x, const double* u) {
+        if (!dual_model_->samples()) return;
+        for (std::size_t j = 0; j < x_.size(); ++j) x_[j] = Dual(x[j]);
+        dual_model_->restart_sampling(x_.data(), u);
+    }
+    void sample(double t, const double* x, const double* u) {
+        if (!dual_model_->samples()) return;
+        for (std::size_t j = 0; j < x_.size(); ++j) x_[j] = Dual(x[j]);
+        dual_model_->sample(t, x_.data(), u);
+    }
+
     /// jacobian[i·n + j] = ∂f_i/∂x_j at (x, u), row-major n × n with n = state_size();
     /// also f(x, u) itself into `f` when given.
     void evaluate(const double* x, const double* u, double* jacobian, double* f = nullptr) {

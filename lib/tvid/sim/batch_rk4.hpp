@@ -10,6 +10,10 @@
 // evaluated before the observer is called, at the sample's state and inputs, so the
 // observer reads the outputs from it (NetworkModel::output_after_derivative) instead of
 // evaluating the elements once more.
+//
+// Sampled elements (a digital controller) restart their memory where the march starts and
+// sample at every later sample, before the observer: a caller marches a simulation of such
+// a model whole, from its true start.
 
 #include <array>
 #include <cmath>
@@ -56,6 +60,7 @@ void march_batch_rk4(NetworkModel<Pack<W>>& model, const InputChannels& inputs, 
     for (int l = 0; l < W; ++l) needed += active[l] ? 1 : 0;
     if (needed == 0 || start >= last) return;
     for (std::size_t k = 0; k < n_in; ++k) u[k] = inputs.value(k, start);
+    model.restart_sampling(x.data(), u.data());  // sampled elements: the caller marches whole simulations
     model.derivative(x.data(), u.data(), k1.data());
     ++pack_rhs;
     const auto step = [&](const FixedStep& s) {
@@ -86,6 +91,7 @@ void march_batch_rk4(NetworkModel<Pack<W>>& model, const InputChannels& inputs, 
     };
     const auto observe = [&](std::size_t i) {
         for (std::size_t k = 0; k < n_in; ++k) u[k] = inputs.value(k, i);
+        model.sample(inputs.time()[i], x.data(), u.data());
         model.derivative(x.data(), u.data(), k1.data());  // the next step's first stage, at sample i
         active = observer(i, x, u, sane_lanes(x)) & active;
         needed = 0;

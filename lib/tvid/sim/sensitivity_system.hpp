@@ -42,6 +42,20 @@ public:
         }
     }
 
+    /// The model's sampled elements (NetworkModel::samples) restarted and sampled at the
+    /// Dual state z holds: the outputs they hold carry their derivatives (through the
+    /// sampled states and the parameters) into S' until the next sample.
+    void restart_sampling(const std::vector<double>& z, const std::vector<double>& u) {
+        if (!model_->samples()) return;
+        unpack(z, x_->size(), static_cast<std::size_t>(directions_), *x_);
+        model_->restart_sampling(x_->data(), u.data());
+    }
+    void sample(double t, const std::vector<double>& z, const std::vector<double>& u) {
+        if (!model_->samples()) return;
+        unpack(z, x_->size(), static_cast<std::size_t>(directions_), *x_);
+        model_->sample(t, x_->data(), u.data());
+    }
+
     /// The Dual state (value, sensitivity rows) held in z.
     static void unpack(const std::vector<double>& z, std::size_t n, std::size_t d, std::vector<Dual>& x) {
         for (std::size_t i = 0; i < n; ++i) {

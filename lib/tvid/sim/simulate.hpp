@@ -37,6 +37,13 @@ public:
         inputs_->at(t, hint_, u_->data());
         model_->derivative(x.data(), u_->data(), dxdt.data());
     }
+    /// The model's sampled elements restarted at the start and sampled at each later sample.
+    void restart_sampling(const std::vector<double>& x, const std::vector<double>& u) {
+        model_->restart_sampling(x.data(), u.data());
+    }
+    void sample(double t, const std::vector<double>& x, const std::vector<double>& u) {
+        model_->sample(t, x.data(), u.data());
+    }
     std::size_t evaluations = 0;
 
 private:
@@ -86,15 +93,25 @@ inline bool state_is_sane(const std::vector<double>& x, SimulationStatus& status
 /// sample `start` to `last` with the integrator of `settings`, calling
 /// `observer(i, x, u)` at every sample i in (start, last] with u the inputs at time[i].
 /// The observer returns false to stop early. Only x[0 … checked) is tested for divergence.
+/// A system with sampled elements (restart_sampling, sample: NetworkSystem,
+/// SensitivitySystem) restarts them at `start` and samples at every later sample, before
+/// the observer: every integrator stops at each sample, so a held output changes only
+/// between steps.
 template <class System, class Observer>
 SimulationStatus march_samples(System& system, const InputChannels& inputs, std::size_t start, std::size_t last,
                                std::vector<double>& x, std::size_t checked, const SimulationSettings& settings,
                                SimulationBuffers& buffers, Observer&& observer) {
     namespace odeint = boost::numeric::odeint;
+    constexpr bool sampled = requires { system.sample(0.0, x, buffers.u); };
     buffers.u.resize(inputs.count());
     std::size_t hint = start;
+    if constexpr (sampled) {
+        inputs.at(inputs.time()[start], hint, buffers.u.data());
+        system.restart_sampling(x, buffers.u);
+    }
     const auto hand_over = [&](std::size_t i) {
         inputs.at(inputs.time()[i], hint, buffers.u.data());
+        if constexpr (sampled) system.sample(inputs.time()[i], x, buffers.u);
         return observer(i, x, buffers.u) ? SimulationStatus::ok : SimulationStatus::stopped_by_observer;
     };
     if (settings.method == IntegrationMethod::rk4) {
@@ -116,6 +133,17 @@ SimulationStatus march_samples(System& system, const InputChannels& inputs, std:
         return attempt;
     };
     const auto no_interval_setup = [](std::size_t) {};
+    if constexpr (sampled) {
+        // dopri5 reuses its last stage as the next step's first (FSAL): after a held
+        // output changed at the sample, that stage is stale.
+        const auto hand_over_fresh = [&](std::size_t i) {
+            const SimulationStatus status = hand_over(i);
+            stepper.reset();
+            return status;
+        };
+        return march_controlled_steps(inputs.time(), start, last, settings.max_steps, no_interval_setup, try_step,
+                                      hand_over_fresh);
+    }
     return march_controlled_steps(inputs.time(), start, last, settings.max_steps, no_interval_setup, try_step,
                                   hand_over);
 }
@@ -137,6 +165,8 @@ SimulationStatus march_samples_stiff(StiffNetworkSystem& stiff, const InputChann
     state.resize(x.size(), false);
     std::copy(x.begin(), x.end(), state.begin());
     std::size_t hint = start;
+    inputs.at(inputs.time()[start], hint, buffers.u.data());
+    stiff.restart_sampling(x, buffers.u);
     const auto enter_interval = [&](std::size_t i) { stiff.enter_interval(i); };
     const auto try_step = [&](double& t, double& dt) {
         StepAttempt attempt;
@@ -151,6 +181,7 @@ SimulationStatus march_samples_stiff(StiffNetworkSystem& stiff, const InputChann
     };
     const auto observe = [&](std::size_t i) {
         inputs.at(inputs.time()[i], hint, buffers.u.data());
+        stiff.sample(inputs.time()[i], x, buffers.u);
         return observer(i, x, buffers.u) ? SimulationStatus::ok : SimulationStatus::stopped_by_observer;
     };
     return march_controlled_steps(inputs.time(), start, last, settings.max_steps, enter_interval, try_step, observe);

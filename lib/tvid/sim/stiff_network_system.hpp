@@ -69,6 +69,17 @@ public:
         interval_ = time[i + 1] - time[i];
     }
 
+    /// The sampled elements (NetworkModel::samples) restarted at the simulation's start and
+    /// sampled at each later sample, in f and in its Jacobian alike.
+    void restart_sampling(const std::vector<double>& x, const std::vector<double>& u) {
+        model_->restart_sampling(x.data(), u.data());
+        b_->jacobian.restart_sampling(x.data(), u.data());
+    }
+    void sample(double t, const std::vector<double>& x, const std::vector<double>& u) {
+        model_->sample(t, x.data(), u.data());
+        b_->jacobian.sample(t, x.data(), u.data());
+    }
+
     /// dx/dt = f(x, u(t)).
     void rhs(const UblasVector& x, UblasVector& dxdt, double t) {
         ++evaluations;

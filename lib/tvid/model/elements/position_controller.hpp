@@ -2,8 +2,21 @@
 // A PD position controller on a node, as a drive's position loop: proportional on the
 // angle error, derivative on the measured speed (not on the error, so a setpoint step
 // gives no derivative kick).
+//
+// With `sample_period` it is digital, as a drive's firmware runs it: at every multiple of
+// the period it samples its node's angle and its setpoint, takes the speed as the backward
+// difference of its sampled angles (over `angle_average` periods: the difference of the
+// averages of the last N angles), adds the error to its integral (`ki`), computes its
+// command, saturates it at `limits`, and applies it `delay` later, held constant until
+// the next one (zero-order hold). A sampled speed_controller (speed_controller.hpp) is the
+// same element measuring its speed loop: kp on the speed error, ki on its integral.
+// The memory of samples and commands lives in the bound element; a simulation restarts it
+// (restart()) at its first sample as if the line had been turning there steadily, and
+// each march calls sample() at every sample of the recording (NetworkModel::sample).
 
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <string>
 
 #include "tvid/model/element_source.hpp"
@@ -13,9 +26,17 @@
 
 namespace tvid {
 
+/// What a controller's loop measures: its node's angle against an angle setpoint
+/// (position_controller), or its speed against a speed setpoint (a sampled speed_controller).
+enum class ControlledQuantity { angle, speed };
+
+/// The longest delay and angle average a sampled controller keeps, in sample periods.
+inline constexpr int kMaxControllerDelay = 16;
+inline constexpr int kMaxAngleAverage = 16;
+
 /// T = kp·(θ_set − θa) − kd·ωa on node a, θ_set a measured angle channel (input ≥ 0) or a
 /// constant (a number or a parameter); with `limits: [min, max]` the command saturates there
-/// (an actuator's torque limit).
+/// (an actuator's torque limit). With sample_period > 0 it is sampled (see above).
 struct PositionControllerSpec {
     std::string name;
     int node = 0;
@@ -23,6 +44,12 @@ struct PositionControllerSpec {
     Field setpoint = Field::value(0.0), kp = Field::value(0.0), kd = Field::value(0.0);
     bool limited = false;
     Field lower = Field::value(0.0), upper = Field::value(0.0);  ///< the torque limits [N m], when limited
+    Field ki = Field::value(0.0);  ///< the integral gain (sampled controllers)
+    double sample_period = 0.0;    ///< [s]; 0: continuous
+    int delay_periods = 0;         ///< the computation delay in sample periods
+    int angle_average = 1;         ///< the speed: the difference of the averages of this many angles
+    ControlledQuantity measures = ControlledQuantity::angle;
+    bool sampled() const { return sample_period > 0.0; }
 };
 
 namespace elements {
@@ -32,8 +59,18 @@ struct PositionController {
     template <class T>
     struct Bound {
         int node = 0, input = -1;
-        T setpoint, kp, kd, lower, upper;
+        T setpoint, kp, kd, lower, upper, ki;
         bool limited = false;
+        // A sampled controller: its clock and its memory, restarted by each simulation.
+        double period = 0.0;
+        int delay = 0, average = 1;
+        bool speed_loop = false;
+        bool holding = false;  ///< restarted: the torque is `held` (else the continuous law)
+        int angle_at = 0, command_at = 0;  ///< the newest entries of the rings below
+        std::array<T, kMaxAngleAverage + 1> angles{};     ///< the sampled angles, a ring
+        std::array<T, kMaxControllerDelay + 1> commands{};  ///< the computed commands, a ring
+        T integral{};  ///< ki·Σ Ts·error [N m], kept within the limits
+        T held{};      ///< the command applied now
     };
 
     // ---- the experiment file: `{ type: position_controller, node: NODE, setpoint: CHANNEL | RAD, kp: KP, kd: KD,
@@ -41,7 +78,8 @@ struct PositionController {
     static constexpr const char* type_name = "position_controller";
     static constexpr const char* summary =
         "a PD position controller on a node: T = kp*(theta_set - theta) - kd*omega (derivative on the measured speed)";
-    static constexpr const char* keys[] = {"node", "setpoint", "kp", "ki", "kd", "limits"};
+    static constexpr const char* keys[] = {"node", "setpoint", "kp", "ki", "kd", "limits", "sample_period", "delay",
+                                           "angle_average"};
 
     static Spec read(ElementSource& src, const std::string& name) {
         Spec e;
@@ -55,12 +93,17 @@ struct PositionController {
             e.input = src.time_input("setpoint", "an angle");
         e.kp = src.field("kp");
         e.kd = src.field_or("kd", Field::value(0.0));
-        // An integral of the angle error is a state of its own, which the network's states
-        // (each node's angle and speed) do not hold.
-        if (src.has("ki") && (src.field("ki").is_parameter() || src.field("ki").constant != 0))
-            src.fail("ki", "a continuous position controller is PD: the integral of the angle error needs a state "
-                           "the network does not carry; leave ki out, or close the drive's speed loop with a "
-                           "speed_controller (PI)");
+        read_sampling(src, e);
+        // A continuous controller's integral of the angle error would be a state of its own,
+        // which the network's states (each node's angle and speed) do not hold; a sampled
+        // controller keeps it with its samples.
+        if (src.has("ki")) {
+            const Field ki = src.field("ki");
+            if (!e.sampled() && (ki.is_parameter() || ki.constant != 0))
+                src.fail("ki", "a continuous position controller is PD: give it a sample_period (a digital controller "
+                               "keeps the integral of its error with its samples), or leave ki out");
+            e.ki = ki;
+        }
         if (src.has("limits")) {
             const auto limits = src.field_pair("limits");
             e.limited = true;
@@ -68,6 +111,38 @@ struct PositionController {
             e.upper = limits.second;
         }
         return e;
+    }
+
+    /// `sample_period`, `delay` and `angle_average` of a controller (this one or a sampled
+    /// speed_controller): a period in seconds (a number: the drive's clock), a delay of a
+    /// whole number of periods, an average of 1 to kMaxAngleAverage angles.
+    static void read_sampling(ElementSource& src, Spec& e) {
+        if (!src.has("sample_period")) {
+            for (const char* key : {"delay", "angle_average"})
+                if (src.has(key)) src.fail(key, "belongs to a sampled controller: give its sample_period too");
+            return;
+        }
+        e.sample_period = plain_number(src, "sample_period", "a number of seconds (a controller's clock is known, not "
+                                                             "estimated)");
+        if (!(e.sample_period > 0.0) || !std::isfinite(e.sample_period))
+            src.fail("sample_period", "expected a positive number of seconds, got " + linear_number(e.sample_period));
+        if (src.has("delay")) {
+            const double delay = plain_number(src, "delay", "a number of seconds, not a parameter");
+            const double periods = delay / e.sample_period;
+            if (!(delay >= 0.0) || std::abs(periods - std::round(periods)) > 1e-6 ||
+                std::round(periods) > kMaxControllerDelay)
+                src.fail("delay", "expected a whole number of sample periods (0 to " +
+                                      std::to_string(kMaxControllerDelay) + " times " +
+                                      linear_number(e.sample_period) + " s), got " + linear_number(delay) + " s");
+            e.delay_periods = static_cast<int>(std::round(periods));
+        }
+        if (src.has("angle_average")) {
+            const double n = plain_number(src, "angle_average", "a whole number of sampled angles, not a parameter");
+            if (!(n >= 1 && n <= kMaxAngleAverage) || n != std::floor(n))
+                src.fail("angle_average", "expected a whole number of sampled angles from 1 to " +
+                                              std::to_string(kMaxAngleAverage) + ", got " + linear_number(n));
+            e.angle_average = static_cast<int>(n);
+        }
     }
 
     /// After the sign rules: the limits hold zero between them (a constant pair).
@@ -81,11 +156,15 @@ struct PositionController {
     /// f(info, field...) for each numeric field, of each of s, e... (a spec first, then bound elements) in step.
     template <class F, class Spec_, class... E>
     static void for_each_field(F&& f, Spec_& s, E&... e) {
-        f(FieldInfo{"setpoint", nullptr, SignRule::any, "rad", s.input < 0}, s.setpoint, e.setpoint...);
-        f(FieldInfo{"kp", "a controller gain", SignRule::non_negative, "N m/rad"}, s.kp, e.kp...);
-        f(FieldInfo{"kd", "a controller gain", SignRule::non_negative, "N m s/rad"}, s.kd, e.kd...);
+        const bool speed = s.measures == ControlledQuantity::speed;
+        f(FieldInfo{"setpoint", nullptr, SignRule::any, speed ? "rad/s" : "rad", s.input < 0}, s.setpoint,
+          e.setpoint...);
+        f(FieldInfo{"kp", "a controller gain", SignRule::non_negative, speed ? "N m s/rad" : "N m/rad"}, s.kp, e.kp...);
+        f(FieldInfo{"kd", "a controller gain", SignRule::non_negative, "N m s/rad", !speed}, s.kd, e.kd...);
         f(FieldInfo{"limits.min", nullptr, SignRule::any, "N m", s.limited}, s.lower, e.lower...);
         f(FieldInfo{"limits.max", nullptr, SignRule::any, "N m", s.limited}, s.upper, e.upper...);
+        f(FieldInfo{"ki", "a controller gain", SignRule::non_negative, speed ? "N m/rad" : "N m/(rad s)", s.sampled()},
+          s.ki, e.ki...);
     }
 
     static constexpr ChannelUse channel{"rad"};  ///< a measured angle setpoint, by time
@@ -95,6 +174,16 @@ struct PositionController {
     /// Linear: kp a spring and kd a damper from the node to ground, the setpoint an input (at
     /// the operating point's command, inside its limits or saturated there).
     static LinearNote linearise(const Spec& s, Spec&, const LinearisationPoint&) {
+        if (s.sampled())
+            return {"operating_point",
+                    std::string(s.measures == ControlledQuantity::speed
+                                    ? "a sampled speed controller, as its continuous law: kp a damper to ground; "
+                                      "its integral (ki) is left out"
+                                    : "a sampled PD(I), as its continuous law: kp a spring and kd a damper to ground; "
+                                      "its integral (ki) is left out") +
+                        "; the hold, the delay and the speed's backward difference (together a lag of about (" +
+                        linear_number(0.5 + s.delay_periods + 0.5 * (s.angle_average - 1)) + " × " +
+                        linear_number(s.sample_period) + ") s) are left out"};
         if (s.limited) return {"operating_point", "kp a spring and kd a damper to ground while inside its limits; "
                                                   "saturated, a constant torque"};
         return {"exact", "linear: kp a spring and kd a damper to ground, the setpoint an input"};
@@ -107,23 +196,95 @@ struct PositionController {
         e.node = s.node;
         e.input = s.input;
         e.limited = s.limited;
+        e.period = s.sample_period;
+        e.delay = s.delay_periods;
+        e.average = s.angle_average;
+        e.speed_loop = s.measures == ControlledQuantity::speed;
+        e.holding = false;  // new parameters: a simulation restarts the memory
     }
+
+    static bool sampled(const Spec& s) { return s.sampled(); }
 
     static constexpr bool acts_at_rest = true;  ///< it holds its node at the setpoint
 
-    /// The controller's torque on its node.
+    /// The controller's torque on its node: a sampled one's held command once a simulation
+    /// has restarted it; else (and at rest) the continuous law on the node's angle and speed.
     template <class T>
     [[gnu::always_inline]] static T torque(const Bound<T>& e, const NodeMotion<T>& m) {
+        if (e.holding && m.moving()) return e.held;
+        const T rate = m.twist_rate(e.node, kGround);
+        return command(e, m, e.speed_loop ? T(0) : T(m.theta[e.node]), rate, T(0));
+    }
+
+    /// A simulation's start: the memory as if the node had turned at its present speed
+    /// through every earlier sample (so the backward difference gives that speed), the
+    /// integral empty, and every command in the delay line the one computed now.
+    template <class T>
+    static void restart(Bound<T>& e, const NodeMotion<T>& m) {
+        if (e.period <= 0.0) return;
+        const T theta = m.theta[e.node], omega = m.omega[e.node];
+        e.angle_at = 0;
+        for (int j = 0; j <= e.average; ++j)  // angles[−j mod size] = θ(t − j·Ts)
+            e.angles[static_cast<std::size_t>((kAngleRing - j) % kAngleRing)] = theta - T(j * e.period) * omega;
+        e.integral = T(0);
+        e.command_at = 0;
+        e.held = command(e, m, e.speed_loop ? T(0) : theta, omega, T(0));
+        for (T& c : e.commands) c = e.held;
+        e.holding = true;
+    }
+
+    /// At time t (a sample of the recording, the state there in m): if t is on the
+    /// controller's clock, it samples, computes its command and applies the one `delay` old.
+    template <class T>
+    static void sample(Bound<T>& e, double t, const NodeMotion<T>& m) {
+        if (e.period <= 0.0 || !on_clock(t, e.period)) return;
         using std::max;
         using std::min;
+        e.angle_at = (e.angle_at + 1) % kAngleRing;
+        const T theta = m.theta[e.node];
+        e.angles[static_cast<std::size_t>(e.angle_at)] = theta;
+        // The difference of the averages of the last N angles: (θ_k − θ_{k−N}) / (N·Ts).
+        const T oldest = e.angles[static_cast<std::size_t>((e.angle_at - e.average + kAngleRing) % kAngleRing)];
+        const T rate = (theta - oldest) / T(e.average * e.period);
         const T target = e.input < 0 ? e.setpoint : T(m.u[e.input]);
-        const T command = e.kp * (target - m.theta[e.node]) - e.kd * m.twist_rate(e.node, kGround);
-        return e.limited ? min(max(command, e.lower), e.upper) : command;
+        const T error = e.speed_loop ? target - rate : target - theta;
+        e.integral = e.integral + e.ki * T(e.period) * error;
+        if (e.limited) e.integral = min(max(e.integral, e.lower), e.upper);  // anti-windup: clamped to the limits
+        e.command_at = (e.command_at + 1) % kCommandRing;
+        e.commands[static_cast<std::size_t>(e.command_at)] = command(e, m, e.speed_loop ? T(0) : theta, rate, e.integral);
+        e.held = e.commands[static_cast<std::size_t>((e.command_at - e.delay + kCommandRing) % kCommandRing)];
+    }
+
+    /// A key that must hold a number (not a parameter or a channel).
+    static double plain_number(ElementSource& src, const char* key, const char* expected) {
+        if (!src.names_constant(key) || src.field(key).is_parameter()) src.fail(key, std::string("expected ") + expected);
+        return src.field(key).constant;
+    }
+
+    /// Whether t is a multiple of the period (to a millionth of it).
+    static bool on_clock(double t, double period) {
+        const double k = std::round(t / period);
+        return std::abs(t - k * period) <= 1e-6 * period;
     }
 
     template <class T>
     [[gnu::always_inline]] static void load(const Bound<T>& e, const T& t, const NodeMotion<T>&, T* node_torque) {
         node_torque[e.node] += t;
+    }
+
+private:
+    static constexpr int kAngleRing = kMaxAngleAverage + 1, kCommandRing = kMaxControllerDelay + 1;
+
+    /// The command for the angle `theta` and speed `rate` the controller sees, with the
+    /// integral term, saturated: position kp·(θ_set − θ) + I − kd·ω; speed kp·(ω_set − ω) + I.
+    template <class T>
+    [[gnu::always_inline]] static T command(const Bound<T>& e, const NodeMotion<T>& m, const T& theta, const T& rate,
+                                            const T& integral) {
+        using std::max;
+        using std::min;
+        const T target = e.input < 0 ? e.setpoint : T(m.u[e.input]);
+        const T c = e.speed_loop ? e.kp * (target - rate) + integral : e.kp * (target - theta) - e.kd * rate + integral;
+        return e.limited ? min(max(c, e.lower), e.upper) : c;
     }
 };
 

@@ -4,11 +4,16 @@
 // turns at the setpoint. The reader builds it from the node NAME.reference, the speed
 // source NAME.setpoint that drives it, and the spring-damper NAME joining it to `node`,
 // whose torque is the controller's.
+//
+// With `sample_period` it is digital (a drive's speed loop): the sampled controller of
+// position_controller.hpp measuring speed, kp on the speed error (the backward difference
+// of its sampled angles), ki on its integral, with `delay`, `limits` and `angle_average`.
 
 #include <string>
 
 #include "tvid/model/element_reading.hpp"
 #include "tvid/model/element_source.hpp"
+#include "tvid/model/elements/position_controller.hpp"
 #include "tvid/model/network_spec.hpp"
 #include "tvid/util/text.hpp"
 
@@ -18,15 +23,23 @@ struct SpeedController {
     // ---- the experiment file: `{ type: speed_controller, node: NODE, setpoint: CHANNEL | RAD_PER_S, kp: KP, ki: KI }`
     static constexpr const char* type_name = "speed_controller";
     static constexpr const char* summary = "a PI speed controller on a node: T = kp*(w_set - w) + ki*integral(w_set - w)";
-    static constexpr const char* keys[] = {"node", "setpoint", "kp", "ki"};
+    static constexpr const char* keys[] = {"node", "setpoint", "kp", "ki", "limits", "sample_period", "delay",
+                                           "angle_average"};
     /// Its numbers, as `tvid models` lists them (the spring-damper it builds holds kp as c, ki as k).
     static constexpr FieldInfo fields[] = {
         {"setpoint", nullptr, SignRule::any, "rad/s"},
         {"kp", "a controller gain", SignRule::non_negative, "N m s/rad"},
         {"ki", "a controller gain", SignRule::non_negative, "N m/rad"},
+        {"limits.min", nullptr, SignRule::any, "N m"},
+        {"limits.max", nullptr, SignRule::any, "N m"},
     };
 
     static void build(ElementSource& src, const std::string& name, NetworkSpec& net) {
+        if (src.has("sample_period")) return build_sampled(src, name, net);
+        for (const char* key : {"limits", "delay", "angle_average"})
+            if (src.has(key))
+                src.fail(key, "belongs to a sampled speed controller: give its sample_period (a continuous one is a "
+                              "spring and damper from a reference node, which nothing limits or delays)");
         const int drive = src.node("node");
         NodeSpec reference;
         reference.name = name + ".reference";
@@ -51,6 +64,32 @@ struct SpeedController {
             setpoint.input = src.time_input("setpoint", "a speed");
         add_element<SpeedSource>(src, net, setpoint);
         add_element<SpringDamper>(src, net, SpringDamperSpec{name, setpoint.node, drive, src.field("ki"), src.field("kp")});
+    }
+
+    // A digital speed loop: one sampled controller element NAME measuring speed.
+    static void build_sampled(ElementSource& src, const std::string& name, NetworkSpec& net) {
+        PositionControllerSpec e;
+        e.name = name;
+        e.measures = ControlledQuantity::speed;
+        e.node = src.node("node");
+        if (!src.has("setpoint"))
+            src.fail_missing("setpoint", "(a speed channel, a constant speed in rad/s or a parameter)");
+        if (src.names_constant("setpoint"))
+            e.setpoint = src.field("setpoint");
+        else
+            e.input = src.time_input("setpoint", "a speed");
+        e.kp = src.field("kp");
+        e.ki = src.field("ki");
+        PositionController::read_sampling(src, e);
+        if (src.has("limits")) {
+            const auto limits = src.field_pair("limits");
+            e.limited = true;
+            e.lower = limits.first;
+            e.upper = limits.second;
+        }
+        check_field_signs<PositionController>(src, e);
+        PositionController::check(e, src);
+        add_element<PositionController>(src, net, e);
     }
 };
 
