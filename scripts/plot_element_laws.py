@@ -7,6 +7,8 @@ written out here (numpy and matplotlib with the Agg backend):
     law_road_load.png         road load against speed, its three terms, and its rounding at zero
     law_multistage_spring.png multi-stage spring torque against twist: odd, with free play, asymmetric
     law_gear_efficiency.png   a lossy gear's output factor f = eta^tanh(P/P_s) against the power
+    law_sampled_controller.png a position step under a continuous PD and under the same gains
+                              sampled every 5 ms with one period's delay: the held torque
 
     /usr/bin/python3 scripts/plot_element_laws.py [OUT_DIR]      (default docs/images)
 """
@@ -157,6 +159,53 @@ def draw_gear_efficiency(out):
     save(fig, out, "law_gear_efficiency.png")
 
 
+def draw_sampled_controller(out):
+    """One inertia (J = 0.002 kg m^2) under kp = 2 N m/rad, kd = 0.08 N m s/rad and a 0.5 rad
+    setpoint step at 10 ms; continuous, and sampled at Ts = 5 ms with one period's delay, the
+    speed the backward difference of the sampled angles. RK4 at 0.05 ms."""
+    j, kp, kd, ts, h, t_end = 0.002, 2.0, 0.08, 0.005, 5e-5, 0.2
+    n = int(round(t_end / h))
+    t = np.arange(n + 1) * h
+    ref = np.where(t >= 0.01, 0.5, 0.0)
+
+    def run(sampled):
+        th, w, held, angles, commands = 0.0, 0.0, 0.0, [0.0, 0.0], [0.0, 0.0]
+        every = int(round(ts / h))
+        theta, torque = np.empty(n + 1), np.empty(n + 1)
+        for i in range(n + 1):
+            if sampled and i > 0 and i % every == 0:
+                angles = [angles[1], th]
+                rate = (angles[1] - angles[0]) / ts
+                commands = [commands[1], kp * (ref[i] - th) - kd * rate]
+                held = commands[0]
+            u = held if sampled else kp * (ref[i] - th) - kd * w
+            theta[i], torque[i] = th, u
+
+            def f(a, b):
+                return b, ((held if sampled else kp * (ref[i] - a) - kd * b)) / j
+
+            k1 = f(th, w)
+            k2 = f(th + 0.5 * h * k1[0], w + 0.5 * h * k1[1])
+            k3 = f(th + 0.5 * h * k2[0], w + 0.5 * h * k2[1])
+            k4 = f(th + h * k3[0], w + h * k3[1])
+            th += h / 6 * (k1[0] + 2 * k2[0] + 2 * k3[0] + k4[0])
+            w += h / 6 * (k1[1] + 2 * k2[1] + 2 * k3[1] + k4[1])
+        return theta, torque
+
+    fig, (top, bottom) = plt.subplots(2, 1, figsize=(8.0, 5.6), sharex=True)
+    for sampled, label, style in ((False, "continuous PD", "-"), (True, "sampled, Ts = 5 ms, delay 1·Ts", "-")):
+        theta, torque = run(sampled)
+        top.plot(t * 1e3, theta, style, label=label)
+        bottom.step(t * 1e3, torque, style, where="post", label=label)
+    top.plot(t * 1e3, ref, "k--", lw=1.0, label="setpoint")
+    top.set_ylabel("angle θ [rad]")
+    top.legend(loc="lower right")
+    bottom.set_ylabel("torque T [N m]")
+    bottom.set_xlabel("time [ms]")
+    bottom.set_title("the sampled command is held between samples and applied one period late", fontsize=10)
+    save(fig, out, "law_sampled_controller.png")
+
+
 if __name__ == "__main__":
     out = sys.argv[1] if len(sys.argv) > 1 else os.path.join(os.path.dirname(__file__), "..", "docs", "images")
     os.makedirs(out, exist_ok=True)
@@ -164,3 +213,4 @@ if __name__ == "__main__":
     draw_road_load(out)
     draw_multistage_spring(out)
     draw_gear_efficiency(out)
+    draw_sampled_controller(out)

@@ -2,7 +2,7 @@
 // numpy scripts (scripts/generate_NAME_data.py, each with its own RK4): dry friction with
 // a Stribeck rise and each direction its own, a road load, a clutch damper of two spring
 // stages with friction hysteresis, a lossy gear, a positioning drive under its PD position
-// controller. The noise-free recordings give every
+// controller, and one under a digital PID (1 kHz, one sample's delay, limits). The noise-free recordings give every
 // parameter back; the noisy ones reach their noise floor with the truth within its errors.
 // The inverse-model set-up (a speed source at the measured speed) gives with dry friction
 // as an element the parameters an exact sign column gives.
@@ -37,7 +37,8 @@ std::map<std::string, json> parameters_of(const json& summary) {
 
 TEST_CASE("each new element's noise-free recording gives every parameter back", "[e2e][element_fits]") {
     const TempDir tmp;
-    for (const std::string recording : {"dry_friction", "road_load", "clutch_damper", "lossy_gear", "positioning_drive"}) {
+    for (const std::string recording : {"dry_friction", "road_load", "clutch_damper", "lossy_gear", "positioning_drive",
+                                      "digital_drive"}) {
         INFO(recording);
         const json s = fit_shipped(tmp, recording + "_clean");
         CHECK(s["optimizer"]["converged"] == true);
@@ -53,7 +54,8 @@ TEST_CASE("each new element's noise-free recording gives every parameter back", 
 
 TEST_CASE("each new element's noisy recording: the noise floor, the truth within its errors", "[e2e][element_fits]") {
     const TempDir tmp;
-    for (const std::string recording : {"dry_friction", "road_load", "clutch_damper", "lossy_gear", "positioning_drive"}) {
+    for (const std::string recording : {"dry_friction", "road_load", "clutch_damper", "lossy_gear", "positioning_drive",
+                                      "digital_drive"}) {
         INFO(recording);
         const json s = fit_shipped(tmp, recording);
         const json t = truth_of(recording);
@@ -126,6 +128,10 @@ TEST_CASE("a new element's bad entry is one line naming the file, line and key, 
         {"lossy_gear", "efficiency: eta", "efficiency: 1.5", "efficiency", "must be at most 1"},
         {"road_load", "smoothing_speed: 0.1", "smoothing_speed: -1", "smoothing_speed", "must be positive"},
         {"positioning_drive", "kp: kp, kd: kd", "kp: kp, ki: 5, kd: kd", "ki", "a continuous position controller is PD"},
+        {"digital_drive", "delay: 0.001", "delay: 0.0015", "delay", "expected a whole number of sample periods"},
+        {"digital_drive", "sample_period: 0.001, delay: 0.001", "sample_period: 0.0015, delay: 0.003", "sample_period",
+         "is not a whole number of sample intervals"},
+        {"digital_drive", "angle_average: 2", "angle_average: 0", "angle_average", "expected a whole number"},
     };
     for (const Case& c : cases) {
         const std::string data = "data/" + c.config;
@@ -139,4 +145,22 @@ TEST_CASE("a new element's bad entry is one line naming the file, line and key, 
         CHECK(r.err.find(c.says) != std::string::npos);
         CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
     }
+}
+
+TEST_CASE("a sampled controller whose clock misses every sample of the recording is refused at its key",
+          "[e2e][elements][sampled_controller]") {
+    const TempDir tmp;
+    // Samples at t = 0.0005 + k·0.001: none falls on the controller's 1 ms clock.
+    std::string csv = "t,theta_ref,theta,T_drive\n";
+    for (int k = 0; k < 50; ++k) csv += std::to_string(0.0005 + 0.001 * k) + ",0,0,0\n";
+    std::filesystem::create_directories(tmp.path() / "data" / "digital_drive");
+    std::filesystem::create_directories(tmp.path() / "configs");
+    tmp.write("data/digital_drive/digital_drive.csv", csv);
+    const auto config = tmp.write("configs/digital_drive.yaml", read_text(source_dir() / "configs/digital_drive.yaml"));
+    const RunResult r = run_tvid({"simulate", config.string(), "-o", (tmp.path() / "simulated.csv").string()});
+    INFO(r.err);
+    CHECK(r.exit_code == 2);
+    CHECK(r.err.find("digital_drive.yaml:20: model.elements[0].sample_period: no sample of") != std::string::npos);
+    CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+    CHECK_FALSE(std::filesystem::exists(tmp.path() / "simulated.csv"));
 }

@@ -11,6 +11,7 @@ import subprocess
 import sys
 
 RECORDINGS = ["dry_friction", "inverse_friction", "road_load", "clutch_damper", "lossy_gear", "positioning_drive",
+              "digital_drive",
               "free_line",
               "constant_load"]
 
