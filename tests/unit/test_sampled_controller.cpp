@@ -77,8 +77,11 @@ Trace firmware_reference(double theta0, double omega0, const InputChannels& in) 
     std::deque<double> angles, commands;
     for (int j = kAverage; j >= 0; --j) angles.push_back(theta0 - j * kPeriod * omega0);
     const auto clamp = [](double v) { return std::min(std::max(v, kLower), kUpper); };
-    double integral = 0.0;
-    const double first = clamp(kKp * (in.value(0, 0) - theta0) - kKd * omega0);
+    // It has held the line steady: nothing else acts on the node, so its integral makes the
+    // first command zero.
+    const double law0 = kKp * (in.value(0, 0) - theta0) - kKd * omega0;
+    double integral = clamp(-law0);
+    const double first = clamp(law0 + integral);
     commands.assign(kDelay + 1, first);
     double held = first, theta = theta0, omega = omega0;
     Trace out;
@@ -131,6 +134,7 @@ TEST_CASE("a sampled controller holds the command its firmware computes, on ever
           "[model][sampled_controller]") {
     const InputChannels in = setpoint_channel();
     const Trace truth = firmware_reference(0.2, 0.7, in);  // a moving start: its history turns at 0.7 rad/s
+    REQUIRE(truth.torque[0] == 0.0);
     const auto saturated = std::count_if(truth.torque.begin(), truth.torque.end(),
                                          [](double t) { return t == kLower || t == kUpper; });
     REQUIRE(saturated > 20);  // the limits and the anti-windup are exercised

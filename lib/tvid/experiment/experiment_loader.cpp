@@ -434,6 +434,7 @@ Experiment load_experiment(const std::filesystem::path& file, const std::vector<
     ex.warmup = windows.warmup;
     ex.warmup_cycles = windows.warmup_cycles;
     read_initial_state(top, data, recorded, ex);
+    refuse_sampled_warmup(top, ex);
     read_simulation_and_report(top, folder, recorded, ex);
     join_recordings(std::move(recorded), ex);
     if (ex.estimated_start.on) define_estimated_starts(ex);

@@ -123,7 +123,9 @@ public:
     /// and sample at each later sample of the recording.
     bool samples() const { return samples_; }
 
-    /// The sampled elements' memory set for a simulation starting at state x, inputs u.
+    /// The sampled elements' memory set for a simulation starting at state x, inputs u:
+    /// each restarts its memory holding nothing, then settles on the torque that holds its
+    /// node against the other elements' there (a controller that has held the start).
     void restart_sampling(const T* x, const double* u) {
         if (!samples_) return;
         const NodeMotion<T> motion{x, speeds_seen(x, u), u, angle_inputs_, true};
@@ -131,6 +133,13 @@ public:
             using Kind = decltype(kind);
             if constexpr (requires { Kind::restart(elements_of<Kind>()[0], motion); })
                 for (auto& e : elements_of<Kind>()) Kind::restart(e, motion);
+        });
+        accumulate_torques(motion, other_torques_.data(), nullptr);
+        for_each_element_kind([&](auto kind) {
+            using Kind = decltype(kind);
+            if constexpr (requires { Kind::settle(elements_of<Kind>()[0], motion, other_torques_[0]); })
+                for (auto& e : elements_of<Kind>())
+                    Kind::settle(e, motion, other_torques_[static_cast<std::size_t>(e.node)]);
         });
     }
 

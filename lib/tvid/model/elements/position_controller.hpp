@@ -23,6 +23,7 @@
 #include "tvid/model/element_traits.hpp"
 #include "tvid/model/elements/node_motion.hpp"
 #include "tvid/model/field.hpp"
+#include "tvid/simd/select.hpp"
 
 namespace tvid {
 
@@ -212,13 +213,12 @@ struct PositionController {
     template <class T>
     [[gnu::always_inline]] static T torque(const Bound<T>& e, const NodeMotion<T>& m) {
         if (e.holding && m.moving()) return e.held;
-        const T rate = m.twist_rate(e.node, kGround);
-        return command(e, m, e.speed_loop ? T(0) : T(m.theta[e.node]), rate, T(0));
+        return saturate(e, law(e, m, m.theta[e.node], m.twist_rate(e.node, kGround)));
     }
 
-    /// A simulation's start: the memory as if the node had turned at its present speed
-    /// through every earlier sample (so the backward difference gives that speed), the
-    /// integral empty, and every command in the delay line the one computed now.
+    /// A simulation's start, first step: the memory as if the node had turned at its present
+    /// speed through every earlier sample (so the backward difference gives that speed),
+    /// holding no torque while NetworkModel::restart_sampling sums the other elements'.
     template <class T>
     static void restart(Bound<T>& e, const NodeMotion<T>& m) {
         if (e.period <= 0.0) return;
@@ -227,10 +227,26 @@ struct PositionController {
         for (int j = 0; j <= e.average; ++j)  // angles[−j mod size] = θ(t − j·Ts)
             e.angles[static_cast<std::size_t>((kAngleRing - j) % kAngleRing)] = theta - T(j * e.period) * omega;
         e.integral = T(0);
-        e.command_at = 0;
-        e.held = command(e, m, e.speed_loop ? T(0) : theta, omega, T(0));
-        for (T& c : e.commands) c = e.held;
+        e.held = T(0);
         e.holding = true;
+    }
+
+    /// Second step, with `load` the other elements' torque on the node at the start: the
+    /// controller has been holding the node steady, so its integral (with ki > 0) is what
+    /// makes its command −load, within the limits; the delay line holds that command.
+    template <class T>
+    static void settle(Bound<T>& e, const NodeMotion<T>& m, const T& load) {
+        if (e.period <= 0.0) return;
+        using std::max;
+        using std::min;
+        const T theta = m.theta[e.node], omega = m.omega[e.node];
+        const T proportional = law(e, m, theta, omega);
+        T integral = select(e.ki > T(0), -load - proportional, T(0));
+        if (e.limited) integral = min(max(integral, e.lower), e.upper);
+        e.integral = integral;
+        e.held = saturate(e, proportional + integral);
+        e.command_at = 0;
+        for (T& c : e.commands) c = e.held;
     }
 
     /// At time t (a sample of the recording, the state there in m): if t is on the
@@ -251,7 +267,7 @@ struct PositionController {
         e.integral = e.integral + e.ki * T(e.period) * error;
         if (e.limited) e.integral = min(max(e.integral, e.lower), e.upper);  // anti-windup: clamped to the limits
         e.command_at = (e.command_at + 1) % kCommandRing;
-        e.commands[static_cast<std::size_t>(e.command_at)] = command(e, m, e.speed_loop ? T(0) : theta, rate, e.integral);
+        e.commands[static_cast<std::size_t>(e.command_at)] = saturate(e, law(e, m, theta, rate) + e.integral);
         e.held = e.commands[static_cast<std::size_t>((e.command_at - e.delay + kCommandRing) % kCommandRing)];
     }
 
@@ -275,16 +291,19 @@ struct PositionController {
 private:
     static constexpr int kAngleRing = kMaxAngleAverage + 1, kCommandRing = kMaxControllerDelay + 1;
 
-    /// The command for the angle `theta` and speed `rate` the controller sees, with the
-    /// integral term, saturated: position kp·(θ_set − θ) + I − kd·ω; speed kp·(ω_set − ω) + I.
+    /// The command before the integral and the limits, for the angle `theta` and speed
+    /// `rate` the controller sees: position kp·(θ_set − θ) − kd·ω; speed kp·(ω_set − ω).
     template <class T>
-    [[gnu::always_inline]] static T command(const Bound<T>& e, const NodeMotion<T>& m, const T& theta, const T& rate,
-                                            const T& integral) {
+    [[gnu::always_inline]] static T law(const Bound<T>& e, const NodeMotion<T>& m, const T& theta, const T& rate) {
+        const T target = e.input < 0 ? e.setpoint : T(m.u[e.input]);
+        return e.speed_loop ? e.kp * (target - rate) : e.kp * (target - theta) - e.kd * rate;
+    }
+
+    template <class T>
+    [[gnu::always_inline]] static T saturate(const Bound<T>& e, const T& command) {
         using std::max;
         using std::min;
-        const T target = e.input < 0 ? e.setpoint : T(m.u[e.input]);
-        const T c = e.speed_loop ? e.kp * (target - rate) + integral : e.kp * (target - theta) - e.kd * rate + integral;
-        return e.limited ? min(max(c, e.lower), e.upper) : c;
+        return e.limited ? min(max(command, e.lower), e.upper) : command;
     }
 };
 
