@@ -127,7 +127,7 @@ TEST_CASE("a new element's bad entry is one line naming the file, line and key, 
         {"clutch_damper", "stages: [", "stages_negative: 3, stages: [", "stages_negative", "expected a list"},
         {"lossy_gear", "efficiency: eta", "efficiency: 1.5", "efficiency", "must be at most 1"},
         {"road_load", "smoothing_speed: 0.1", "smoothing_speed: -1", "smoothing_speed", "must be positive"},
-        {"positioning_drive", "kp: kp, kd: kd", "kp: kp, ki: 5, kd: kd", "ki", "a continuous position controller is PD"},
+        {"positioning_drive", "kp: kp, kd: kd", "kp: kp, ki: -5, kd: kd", "ki", "cannot be negative"},
         {"digital_drive", "delay: 0.001", "delay: 0.0015", "delay", "expected a whole number of sample periods"},
         {"digital_drive", "sample_period: 0.001, delay: 0.001", "sample_period: 0.0015, delay: 0.003", "sample_period",
          "is not a whole number of sample intervals"},
@@ -163,4 +163,31 @@ TEST_CASE("a sampled controller whose clock misses every sample of the recording
     CHECK(r.err.find("digital_drive.yaml:20: model.elements[0].sample_period: no sample of") != std::string::npos);
     CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
     CHECK_FALSE(std::filesystem::exists(tmp.path() / "simulated.csv"));
+}
+
+TEST_CASE("a continuous PI position controller integrates in its own node and refuses an equilibrium start",
+          "[e2e][elements]") {
+    const TempDir tmp;
+    std::filesystem::create_directories(tmp.path() / "configs");
+    std::filesystem::create_directories(tmp.path() / "data");
+    std::filesystem::copy(source_dir() / "data" / "positioning_drive", tmp.path() / "data" / "positioning_drive");
+    std::string text = read_text(source_dir() / "configs" / "positioning_drive.yaml");
+    const auto swap = [&](const std::string& from, const std::string& to) {
+        REQUIRE(text.find(from) != std::string::npos);
+        text.replace(text.find(from), from.size(), to);
+    };
+    swap("kp: kp, kd: kd }", "kp: kp, ki: 3, kd: kd }");
+    const auto pi = tmp.write("configs/pi.yaml", text);
+    const RunResult ok = run_tvid({"simulate", pi.string(), "-o", (tmp.path() / "pi.csv").string()});
+    INFO(ok.err);
+    REQUIRE(ok.exit_code == 0);
+    CHECK(read_text(tmp.path() / "pi.csv").find("theta") != std::string::npos);
+    swap("initial_state: rest", "initial_state: equilibrium");
+    const auto at_equilibrium = tmp.write("configs/pi_equilibrium.yaml", text);
+    const RunResult r = run_tvid({"simulate", at_equilibrium.string(), "-o", (tmp.path() / "eq.csv").string()});
+    INFO(r.err);
+    CHECK(r.exit_code == 2);
+    CHECK(r.err.find("pi_equilibrium.yaml:") != std::string::npos);
+    CHECK(r.err.find("initial_state: node servo.integral holds a position controller's integral") != std::string::npos);
+    CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
 }

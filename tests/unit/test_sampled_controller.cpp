@@ -307,8 +307,9 @@ TEST_CASE("a sampled controller's reader", "[model][sampled_controller]") {
                                  {"angle_average", "2.5"}}),
                      position)
               .rfind("angle_average: expected a whole number", 0) == 0);
-    CHECK(read_error(TextSource({{"node", "a"}, {"setpoint", "0"}, {"kp", "10"}, {"ki", "1"}}), position)
-              .rfind("ki: a continuous position controller is PD: give it a sample_period", 0) == 0);
+    // A sampled controller keeps its integral with its samples: no hidden node.
+    CHECK(net.nodes.size() == 2);
+    CHECK(c.integral_node == -1);
     const auto speed = [](TextSource& s, NetworkSpec& n) { elements::SpeedController::build(s, "loop", n); };
     CHECK(read_error(TextSource({{"node", "a"}, {"setpoint", "0"}, {"kp", "1"}, {"ki", "1"}, {"limits", "-1,1"}}), speed)
               .rfind("limits: belongs to a sampled speed controller", 0) == 0);

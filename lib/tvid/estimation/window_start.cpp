@@ -85,6 +85,7 @@ bool WindowStarts::recipe_state(const Window& w, ProblemWorkspace& ws, std::stri
             const double angle = d_->crank_angle.empty() ? 0.0 : d_->crank_angle[start];
             const double angle_ratio = d_->angle_node >= 0 ? ratio(static_cast<std::size_t>(d_->angle_node)) : 1.0;
             for (std::size_t i = 0; i < n; ++i) {
+                if (d_->network.nodes[i].holds_state) continue;  // a controller's integral: empty
                 ws.x[i] = ratio(i) == angle_ratio ? angle : ratio(i) / angle_ratio * angle;
                 ws.x[n + i] = ratio(i) * speed;
             }

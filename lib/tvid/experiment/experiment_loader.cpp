@@ -330,6 +330,13 @@ void read_initial_state(const YamlMap& top, const YamlMap& data, const DataSecti
             top.fail("initial_state", "a model with cylinders turns: it starts from the measured crank angle and "
                                       "speed (initial_state: measured)");
     }
+    if (const auto held = state_nodes(ex.network); ex.initial_state == InitialStateKind::equilibrium && !held.empty()) {
+        const std::string why = "node " + held.front() + " holds a position controller's integral, which carries the "
+                                "load at an equilibrium, where every speed is zero: start from initial_state: rest, "
+                                "measured or estimated";
+        if (top.has("initial_state")) top.fail("initial_state", why);
+        top.fail_missing("initial_state", "(" + why + ")");
+    }
     if (ex.initial_state == InitialStateKind::equilibrium && prescribes_motion(ex.network)) {
         const std::string why = "a speed source turns its node: start from initial_state: { kind: steady, node: NAME, "
                                 "speed: COLUMN } or measured";

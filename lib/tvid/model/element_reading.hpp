@@ -53,6 +53,7 @@ void read_element(ElementSource& src, const std::string& name, NetworkSpec& net)
     typename K::Spec e = K::read(src, name);
     check_field_signs<K>(src, e);
     if constexpr (requires { K::check(e, src); }) K::check(e, src);
+    if constexpr (requires { K::add_parts(e, src, net); }) K::add_parts(e, src, net);  // hidden nodes it needs
     add_element<K>(src, net, std::move(e));
 }
 

@@ -87,6 +87,13 @@ bool has_sampled_elements(const NetworkSpec& n) {
     return sampled;
 }
 
+std::vector<std::string> state_nodes(const NetworkSpec& n) {
+    std::vector<std::string> names;
+    for (const NodeSpec& node : n.nodes)
+        if (node.holds_state) names.push_back(node.name);
+    return names;
+}
+
 const char* output_kind_key(OutputKind kind) {
     const char* key = "";
     for_each_output_kind([&](auto k) {

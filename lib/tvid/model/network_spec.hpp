@@ -30,6 +30,9 @@ struct NodeSpec {
     /// `motion: linear`: a translational node written as its rotational analogue (mass as J,
     /// force as torque, position as angle); only the units it reports change (m, m/s, kg, N).
     bool linear = false;
+    /// A hidden node whose speed is an element's state, not a motion (a continuous position
+    /// controller's integral): a measured start leaves it at zero.
+    bool holds_state = false;
 };
 
 /// The node an element's fields and torque are counted on: its `node`, or its first node
@@ -238,6 +241,10 @@ bool prescribes_motion(const NetworkSpec& n);
 /// Whether some element of n samples the line at instants and holds its output between
 /// them (a digital controller: its kind's `sampled(spec)` says so).
 bool has_sampled_elements(const NetworkSpec& n);
+
+/// The hidden nodes whose speed is an element's state rather than a motion
+/// (NodeSpec::holds_state: a continuous position controller's integral), by name.
+std::vector<std::string> state_nodes(const NetworkSpec& n);
 
 /// The start coordinate that parameter `parameter` of n is, or nullptr for a model parameter.
 inline const NetworkSpec::StartCoordinate* start_coordinate(const NetworkSpec& n, std::size_t parameter) {

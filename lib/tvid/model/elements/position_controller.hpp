@@ -1,7 +1,9 @@
 #pragma once
 // A PD position controller on a node, as a drive's position loop: proportional on the
 // angle error, derivative on the measured speed (not on the error, so a setpoint step
-// gives no derivative kick).
+// gives no derivative kick). With `ki` the continuous controller integrates its angle
+// error in a hidden node NAME.integral (J = 1, nothing else acting on it): the controller
+// loads that node with its error, so the node's speed is ∫(θ_set − θa) dt.
 //
 // With `sample_period` it is digital, as a drive's firmware runs it: at every multiple of
 // the period it samples its node's angle and its setpoint, takes the speed as the backward
@@ -50,7 +52,9 @@ struct PositionControllerSpec {
     int delay_periods = 0;         ///< the computation delay in sample periods
     int angle_average = 1;         ///< the speed: the difference of the averages of this many angles
     ControlledQuantity measures = ControlledQuantity::angle;
+    int integral_node = -1;        ///< a continuous controller with ki: the node whose speed is its integral
     bool sampled() const { return sample_period > 0.0; }
+    bool integrates() const { return ki.is_parameter() || ki.constant != 0.0; }
 };
 
 namespace elements {
@@ -59,7 +63,7 @@ struct PositionController {
     using Spec = PositionControllerSpec;
     template <class T>
     struct Bound {
-        int node = 0, input = -1;
+        int node = 0, input = -1, integral_node = -1;
         T setpoint, kp, kd, lower, upper, ki;
         bool limited = false;
         // A sampled controller: its clock and its memory, restarted by each simulation.
@@ -95,16 +99,9 @@ struct PositionController {
         e.kp = src.field("kp");
         e.kd = src.field_or("kd", Field::value(0.0));
         read_sampling(src, e);
-        // A continuous controller's integral of the angle error would be a state of its own,
-        // which the network's states (each node's angle and speed) do not hold; a sampled
-        // controller keeps it with its samples.
-        if (src.has("ki")) {
-            const Field ki = src.field("ki");
-            if (!e.sampled() && (ki.is_parameter() || ki.constant != 0))
-                src.fail("ki", "a continuous position controller is PD: give it a sample_period (a digital controller "
-                               "keeps the integral of its error with its samples), or leave ki out");
-            e.ki = ki;
-        }
+        // The integral of the angle error: a sampled controller keeps it with its samples, a
+        // continuous one in its hidden node (add_parts).
+        if (src.has("ki")) e.ki = src.field("ki");
         if (src.has("limits")) {
             const auto limits = src.field_pair("limits");
             e.limited = true;
@@ -112,6 +109,22 @@ struct PositionController {
             e.upper = limits.second;
         }
         return e;
+    }
+
+    /// A continuous controller with ki: its hidden node NAME.integral (J = 1), whose speed
+    /// holds the integral of the angle error.
+    /// (A template: NetworkSpec is complete only where the reader instantiates it.)
+    template <class Network>
+    static void add_parts(Spec& e, ElementSource& src, Network& net) {
+        if (e.sampled() || !e.integrates()) return;
+        typename decltype(net.nodes)::value_type integral;
+        integral.name = e.name + ".integral";
+        integral.inertia = Field::value(1.0);  // so that its acceleration is the error itself
+        integral.holds_state = true;
+        if (net.node_index(integral.name) >= 0)
+            src.fail("name", "a node named '" + integral.name + "' already exists (the controller's integral)");
+        e.integral_node = static_cast<int>(net.nodes.size());
+        net.nodes.push_back(integral);
     }
 
     /// `sample_period`, `delay` and `angle_average` of a controller (this one or a sampled
@@ -164,7 +177,8 @@ struct PositionController {
         f(FieldInfo{"kd", "a controller gain", SignRule::non_negative, "N m s/rad", !speed}, s.kd, e.kd...);
         f(FieldInfo{"limits.min", nullptr, SignRule::any, "N m", s.limited}, s.lower, e.lower...);
         f(FieldInfo{"limits.max", nullptr, SignRule::any, "N m", s.limited}, s.upper, e.upper...);
-        f(FieldInfo{"ki", "a controller gain", SignRule::non_negative, speed ? "N m/rad" : "N m/(rad s)", s.sampled()},
+        f(FieldInfo{"ki", "a controller gain", SignRule::non_negative, speed ? "N m/rad" : "N m/(rad s)",
+                    s.integrates()},
           s.ki, e.ki...);
     }
 
@@ -185,6 +199,10 @@ struct PositionController {
                         "; the hold, the delay and the speed's backward difference (together a lag of about (" +
                         linear_number(0.5 + s.delay_periods + 0.5 * (s.angle_average - 1)) + " × " +
                         linear_number(s.sample_period) + ") s) are left out"};
+        if (s.integral_node >= 0)
+            return {"operating_point", "kp a spring and kd a damper to ground, and the integral of the angle error a "
+                                       "state: node " + s.name + ".integral, whose speed it is (ki couples it back)" +
+                                           std::string(s.limited ? "; saturated, a constant torque" : "")};
         if (s.limited) return {"operating_point", "kp a spring and kd a damper to ground while inside its limits; "
                                                   "saturated, a constant torque"};
         return {"exact", "linear: kp a spring and kd a damper to ground, the setpoint an input"};
@@ -196,6 +214,7 @@ struct PositionController {
     static void bind(const Spec& s, Bound<T>& e) {
         e.node = s.node;
         e.input = s.input;
+        e.integral_node = s.integral_node;
         e.limited = s.limited;
         e.period = s.sample_period;
         e.delay = s.delay_periods;
@@ -213,7 +232,10 @@ struct PositionController {
     template <class T>
     [[gnu::always_inline]] static T torque(const Bound<T>& e, const NodeMotion<T>& m) {
         if (e.holding && m.moving()) return e.held;
-        return saturate(e, law(e, m, m.theta[e.node], m.twist_rate(e.node, kGround)));
+        const T c = law(e, m, m.theta[e.node], m.twist_rate(e.node, kGround));
+        // A continuous integral: its node's speed (zero at rest).
+        if (e.integral_node >= 0 && m.moving()) return saturate(e, c + e.ki * m.omega[e.integral_node]);
+        return saturate(e, c);
     }
 
     /// A simulation's start, first step: the memory as if the node had turned at its present
@@ -284,8 +306,12 @@ struct PositionController {
     }
 
     template <class T>
-    [[gnu::always_inline]] static void load(const Bound<T>& e, const T& t, const NodeMotion<T>&, T* node_torque) {
+    [[gnu::always_inline]] static void load(const Bound<T>& e, const T& t, const NodeMotion<T>& m, T* node_torque) {
         node_torque[e.node] += t;
+        if (e.integral_node >= 0) {  // d/dt of the integral node's speed (J = 1) is the angle error
+            const T target = e.input < 0 ? e.setpoint : T(m.u[e.input]);
+            node_torque[e.integral_node] += target - m.theta[e.node];
+        }
     }
 
 private:
