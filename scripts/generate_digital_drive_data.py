@@ -26,6 +26,8 @@ import sys
 
 import numpy as np
 
+from recording_rk4 import write_csv
+
 TRUTH = {"J": 0.002, "c": 0.01, "Fc": 0.15, "kp": 20.0, "ki": 60.0, "kd": 0.4}
 LIMITS = (-0.9, 0.9)     # N m
 SAMPLE_PERIOD = 0.001    # s: the controller's clock
@@ -111,23 +113,17 @@ def simulate(p, t, ref):
     return out_theta, out_torque
 
 
-def write(path, t, ref, theta, torque):
-    with open(path, "w") as f:
-        f.write("t,theta_ref,theta,T_drive\n")
-        for row in zip(t, ref, theta, torque):
-            f.write(",".join(f"{v:.12g}" for v in row) + "\n")
-
-
 def main():
     out = sys.argv[1] if len(sys.argv) > 1 else os.path.join(os.path.dirname(__file__), "..", "data", "digital_drive")
     os.makedirs(out, exist_ok=True)
     t = np.arange(int(round(DURATION * FS)) + 1) / FS
     ref = setpoint(t)
     theta, torque = simulate(TRUTH, t, ref)
-    write(os.path.join(out, "digital_drive_clean.csv"), t, ref, theta, torque)
+    header = ["t", "theta_ref", "theta", "T_drive"]
+    write_csv(os.path.join(out, "digital_drive_clean.csv"), header, [t, ref, theta, torque])
     rng = np.random.default_rng(SEED)
-    write(os.path.join(out, "digital_drive.csv"), t, ref, theta + rng.normal(0, NOISE["theta"], t.size),
-          torque + rng.normal(0, NOISE["T_drive"], t.size))
+    write_csv(os.path.join(out, "digital_drive.csv"), header,
+              [t, ref, theta + rng.normal(0, NOISE["theta"], t.size), torque + rng.normal(0, NOISE["T_drive"], t.size)])
     with open(os.path.join(out, "truth.json"), "w") as f:
         json.dump({"parameters": TRUTH, "limits": LIMITS, "sample_period": SAMPLE_PERIOD,
                    "delay_samples": DELAY_SAMPLES, "angle_average": ANGLE_AVERAGE, "noise_std": NOISE,

@@ -1,5 +1,5 @@
 """The fixed-step RK4 march and the CSV writer that the element recordings share
-(scripts/generate_{dry_friction,road_load,clutch_damper,lossy_gear}_data.py): numpy only,
+(scripts/generate_{dry_friction,road_load,clutch_damper,lossy_gear,digital_drive}_data.py): numpy only,
 written independently of tvid. Each script keeps its own equations of motion.
 """
 import numpy as np
