@@ -20,6 +20,7 @@
 
 #include "tvid/estimation/identification_problem.hpp"
 #include "tvid/model/network_model.hpp"
+#include "tvid/util/cache_line.hpp"
 #include "tvid/simd/pack.hpp"
 
 namespace tvid {
@@ -28,8 +29,8 @@ namespace tvid {
 inline constexpr int kBatchLanes = 16;
 using BatchScalar = Pack<kBatchLanes>;
 
-/// Per-thread scratch space of batch_costs, built once.
-struct BatchWorkspace {
+/// Per-thread scratch space of batch_costs, built once; on cache lines of its own.
+struct alignas(kCacheLine) BatchWorkspace {
     explicit BatchWorkspace(const IdentificationProblem& problem);
     std::unique_ptr<ProblemWorkspace> scalar;  ///< each lane's start (equilibrium, warm-up shooting)
     NetworkModel<BatchScalar> model;

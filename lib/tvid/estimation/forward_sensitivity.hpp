@@ -27,6 +27,7 @@
 #include "tvid/model/dual.hpp"
 #include "tvid/model/packed_dual.hpp"
 #include "tvid/sim/simulate.hpp"
+#include "tvid/util/cache_line.hpp"
 #include "tvid/util/function_ref.hpp"
 
 namespace tvid {
@@ -42,8 +43,8 @@ struct PackedSensitivityModel {
     std::vector<PackedDual<D>> params;
 };
 
-/// Per-thread scratch space of the sensitivity simulation, built once.
-struct SensitivityWorkspace {
+/// Per-thread scratch space of the sensitivity simulation, built once; on cache lines of its own.
+struct alignas(kCacheLine) SensitivityWorkspace {
     explicit SensitivityWorkspace(const IdentificationProblem& problem);
     template <int D>
     PackedSensitivityModel<D>& packed() {

@@ -11,6 +11,7 @@
 #include "tvid/model/network_model.hpp"
 #include "tvid/model/packed_dual.hpp"
 #include "tvid/model/state_jacobian.hpp"
+#include "tvid/util/cache_line.hpp"
 #include "tvid/sim/simulate.hpp"
 
 namespace tvid {
@@ -26,7 +27,8 @@ struct ShootingGuess {
     MissJacobian miss_jacobian{};  ///< at that solution
 };
 
-struct ProblemWorkspace {
+/// On cache lines of its own (kCacheLine): each thread writes to its workspace only.
+struct alignas(kCacheLine) ProblemWorkspace {
     explicit ProblemWorkspace(const NetworkSpec& spec) : model(spec), tangent_model(spec) {}
     NetworkModel<double> model;
     /// The model with the warm-up shooting's two directions (angle offset, speed) carried

@@ -290,24 +290,12 @@ private:
         for_each_element_kind([&](auto kind) __attribute__((always_inline)) {
             using Kind = decltype(kind);
             if (!Kind::acts_at_rest && !motion.moving()) return;
-            if (elements_of<Kind>().empty()) return;
-            kept = accumulate_kind<Kind>(motion, torque, kept);
+            for (const auto& e : elements_of<Kind>()) {
+                const T t = Kind::torque(e, motion);
+                if (kept) *kept++ = t;
+                Kind::load(e, t, motion, torque);
+            }
         });
-    }
-
-    // One kind's elements, compiled as a function of its own: a kind's code (a sampled
-    // controller's branches, a cylinder's tables) then leaves the registers and stack of
-    // the other kinds' loops as they were. Inlined into one fold, adding a kind the
-    // paper's model does not use moved the swarm's time by 3-4 % (docs/performance.md).
-    // Returns `kept` moved past the kind's torques.
-    template <class Kind>
-    [[gnu::noinline]] T* accumulate_kind(const NodeMotion<T>& motion, T* torque, T* kept) const {
-        for (const auto& e : elements_of<Kind>()) {
-            const T t = Kind::torque(e, motion);
-            if (kept) *kept++ = t;
-            Kind::load(e, t, motion, torque);
-        }
-        return kept;
     }
 
     const NetworkSpec* spec_;

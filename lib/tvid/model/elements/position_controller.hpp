@@ -229,8 +229,11 @@ struct PositionController {
 
     /// The controller's torque on its node: a sampled one's held command once a simulation
     /// has restarted it; else (and at rest) the continuous law on the node's angle and speed.
+    /// Out of line: inlined into the network's torque sum, its branches changed the registers
+    /// of the other kinds' loops there (the paper swarm, which has no controller, took 3 %
+    /// longer; docs/performance.md). One call per controller is nothing beside a simulation step.
     template <class T>
-    [[gnu::always_inline]] static T torque(const Bound<T>& e, const NodeMotion<T>& m) {
+    [[gnu::noinline]] static T torque(const Bound<T>& e, const NodeMotion<T>& m) {
         if (e.holding && m.moving()) return e.held;
         const T c = law(e, m, m.theta[e.node], m.twist_rate(e.node, kGround));
         // A continuous integral: its node's speed (zero at rest).
