@@ -20,8 +20,8 @@
 
 #include "tvid/estimation/identification_problem.hpp"
 #include "tvid/model/network_model.hpp"
-#include "tvid/util/cache_line.hpp"
 #include "tvid/simd/pack.hpp"
+#include "tvid/util/cache_line.hpp"
 
 namespace tvid {
 

@@ -11,8 +11,8 @@
 #include "tvid/model/network_model.hpp"
 #include "tvid/model/packed_dual.hpp"
 #include "tvid/model/state_jacobian.hpp"
-#include "tvid/util/cache_line.hpp"
 #include "tvid/sim/simulate.hpp"
+#include "tvid/util/cache_line.hpp"
 
 namespace tvid {
 

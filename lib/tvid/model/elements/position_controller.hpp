@@ -230,7 +230,7 @@ struct PositionController {
     /// The controller's torque on its node: a sampled one's held command once a simulation
     /// has restarted it; else (and at rest) the continuous law on the node's angle and speed.
     /// Out of line: inlined into the network's torque sum, its branches changed the registers
-    /// of the other kinds' loops there (the paper swarm, which has no controller, took 3 %
+    /// of the other kinds' loops there (the paper swarm, which has no controller, took 2.5–3 %
     /// longer; docs/performance.md). One call per controller is nothing beside a simulation step.
     template <class T>
     [[gnu::noinline]] static T torque(const Bound<T>& e, const NodeMotion<T>& m) {
