@@ -97,7 +97,7 @@ TEST_CASE("tvid batch over recordings: a broken one is bad input, the others are
     CHECK(s["parameters"]["k_plus"]["std"].get<double>() == 0.0);  // the same recording twice
 }
 
-TEST_CASE("tvid batch --cycles fits each engine cycle and validates on the next", "[e2e][batch]") {
+TEST_CASE("tvid batch --cycles fits each engine cycle and validates on the next", "[e2e][batch][fits]") {
     TempDir tmp;
     const fs::path out = tmp.path() / "cycles";
     const RunResult r = run_tvid({"batch", (source_dir() / "configs/engine_idle_clean.yaml").string(), "--cycles",

@@ -39,7 +39,7 @@ RunResult engine_cross_batch(const fs::path& out, const std::string& threads) {
 }  // namespace
 
 TEST_CASE("tvid batch --cross: one row per cycle, batch.csv's fit on the diagonal, the same on any thread count",
-          "[e2e][batch][cross]") {
+          "[e2e][batch][cross][fits]") {
     TempDir tmp;
     const RunResult one = engine_cross_batch(tmp.path() / "t1", "1");
     INFO(one.err);

@@ -33,7 +33,7 @@ std::string coordinate(const json& entry) {
 }  // namespace
 
 TEST_CASE("an estimated start on a noisy free line: every parameter and start within 3 standard errors",
-          "[e2e][estimated_start]") {
+          "[e2e][estimated_start][fits]") {
     const TempDir tmp;
     const json s = fit_shipped(tmp, "free_line");
     CHECK(s["verdict"]["summary"] == "clean");
@@ -76,7 +76,7 @@ TEST_CASE("an estimated start on a noisy free line: every parameter and start wi
 }
 
 TEST_CASE("an estimated start on the noise-free free line gives every parameter and the start back",
-          "[e2e][estimated_start]") {
+          "[e2e][estimated_start][fits]") {
     const TempDir tmp;
     const json s = fit_shipped(tmp, "free_line_clean");
     for (const json& p : s["parameters"]) {

@@ -25,12 +25,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// How many times longer a run takes here than in an optimized build (set under the sanitizers).
-#ifdef TVID_TEST_TIME_SCALE
-constexpr double kTimeScale = TVID_TEST_TIME_SCALE;
-#else
-constexpr double kTimeScale = 1.0;
-#endif
+// How many times longer a run takes here than in an optimized build (4 under the sanitizers).
+const double kTimeScale = test_time_scale();
 
 const std::string kCleanConfig = (source_dir() / "configs/cvt_tipin_clean.yaml").string();
 const std::string kCleanData = (source_dir() / "data/cvt/tipin_clean.csv").string();

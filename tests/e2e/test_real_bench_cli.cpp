@@ -46,7 +46,7 @@ json validate(const std::string& experiment, const std::string& params) {
 }  // namespace
 
 TEST_CASE("the measured bench's fit converges inside its bounds and beats the nominal model on every run",
-          "[e2e][bench]") {
+          "[e2e][bench][fits]") {
     TempDir tmp;
     const auto out = tmp.path() / "bench";
     const RunResult r = run_tvid({"fit", config("aalto_bench.yaml"), "-o", out.string(), "--quiet"});
@@ -86,7 +86,7 @@ TEST_CASE("the measured bench's fit converges inside its bounds and beats the no
     }
 }
 
-TEST_CASE("the steady start's sensitivity Jacobian reaches the cost of finite differences", "[e2e][bench]") {
+TEST_CASE("the steady start's sensitivity Jacobian reaches the cost of finite differences", "[e2e][bench][fits]") {
     TempDir tmp;
     json cost;
     // The shipped experiment on its first 3000 samples.
@@ -151,7 +151,7 @@ TEST_CASE("a simulation whose speeds leave the measured range fails naming the n
     }
 }
 
-TEST_CASE("the load-motor torque's logger delay is identified as a parameter, in seconds", "[e2e][bench][delay]") {
+TEST_CASE("the load-motor torque's logger delay is identified as a parameter, in seconds", "[e2e][bench][delay][fits]") {
     // prop_torque was logged in a separate file on the same clock and interpolated onto the
     // sensor stamps: over the shipped estimation window its fitted delay is below one
     // sample and well determined, and the cost hardly moves. (On the
@@ -188,7 +188,7 @@ TEST_CASE("the load-motor torque's logger delay is identified as a parameter, in
     CHECK(found);
 }
 
-TEST_CASE("a transducer delay that buys the interpolation's smoothing is flagged, not trusted", "[e2e][bench][delay]") {
+TEST_CASE("a transducer delay that buys the interpolation's smoothing is flagged, not trusted", "[e2e][bench][delay][fits]") {
     // The two torques read d_T late: the fit ends half way between samples with a third
     // less cost, and one sample on the gain is there again, as smoothing does (the
     // transducers carry content near the Nyquist frequency that the model cannot make).

@@ -274,7 +274,7 @@ std::vector<std::vector<double>> order_rows(const std::filesystem::path& report,
     return rows;
 }
 
-TEST_CASE("an engine recording cut in two: cycles count on each recording's own crank angle", "[e2e][recordings]") {
+TEST_CASE("an engine recording cut in two: cycles count on each recording's own crank angle", "[e2e][recordings][fits]") {
     const TempDir tmp;
     write_cut_engine(tmp);
     const std::string short_fit = "estimation.lm.max_iterations=2";
@@ -317,7 +317,7 @@ TEST_CASE("an engine recording cut in two: cycles count on each recording's own 
             CHECK(cut_orders[i][c] == Approx(whole_orders[i][c]).epsilon(1e-6).margin(1e-6));
 }
 
-TEST_CASE("the Aalto bench's three runs in one experiment give the three configs' figures", "[e2e][recordings][bench]") {
+TEST_CASE("the Aalto bench's three runs in one experiment give the three configs' figures", "[e2e][recordings][bench][fits]") {
     const TempDir tmp;
     const auto config = [](const std::string& name) { return source_dir() / "configs" / name; };
     const json runs = fit(config("aalto_bench_runs.yaml"), tmp.path() / "runs");

@@ -39,7 +39,7 @@ void run_and_kill(const std::vector<std::string>& args, std::chrono::microsecond
     const pid_t pid = ::fork();
     if (pid == 0) {
         std::vector<std::string> copy = args;
-        std::string binary = TVID_BINARY;
+        std::string binary = tvid_binary();
         std::vector<char*> argv{binary.data()};
         for (auto& a : copy) argv.push_back(a.data());
         argv.push_back(nullptr);
@@ -223,7 +223,7 @@ TEST_CASE("a fit killed with SIGKILL leaves each report file complete or absent"
 }
 
 TEST_CASE("a batch killed with SIGKILL leaves batch files complete or absent, and --resume finishes it",
-          "[e2e][report][batch]") {
+          "[e2e][report][batch][fits]") {
     TempDir tmp;
     const fs::path recordings = tmp.path() / "recordings";
     fs::create_directories(recordings);

@@ -60,7 +60,7 @@ std::size_t trace_column(const Table& t, const std::string& prefix) {
 }  // namespace
 
 TEST_CASE("a fit report's spectra.csv holds densities in unit squared per Hz that integrate to the variance",
-          "[e2e][spectra]") {
+          "[e2e][spectra][fits]") {
     TempDir tmp;
     const auto out = tmp.path() / "bench";
     const RunResult r = run_tvid({"fit", (source_dir() / "configs/aalto_bench.yaml").string(), "-o", out.string()});

@@ -42,7 +42,7 @@ bool has_code(const json& findings, const std::string& code, const std::string& 
 
 }  // namespace
 
-TEST_CASE("strict mode exits 1 on a poor fit and 0 on a good one, the report written either way", "[e2e][verdict]") {
+TEST_CASE("strict mode exits 1 on a poor fit and 0 on a good one, the report written either way", "[e2e][verdict][fits]") {
     TempDir tmp;
     SECTION("a good fit") {
         const RunResult r = run_tvid(cvt_lm("fit", tmp.path() / "good", {"--strict"}));

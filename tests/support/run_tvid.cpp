@@ -18,6 +18,25 @@
 
 namespace tvid::test {
 
+const std::string& tvid_binary() {
+    static const std::string binary = [] {
+        const char* from_environment = std::getenv("TVID_BINARY");
+        return std::string(from_environment != nullptr && *from_environment != '\0' ? from_environment : TVID_BINARY);
+    }();
+    return binary;
+}
+
+double test_time_scale() {
+    static const double scale = [] {
+        const char* from_environment = std::getenv("TVID_TEST_TIME_SCALE");
+        if (from_environment == nullptr || *from_environment == '\0') return 1.0;
+        char* end = nullptr;
+        const double value = std::strtod(from_environment, &end);
+        return end != from_environment && *end == '\0' && value >= 1.0 ? value : 1.0;
+    }();
+    return scale;
+}
+
 namespace {
 std::string slurp(const std::filesystem::path& p) {
     std::ifstream in(p, std::ios::binary);
@@ -31,7 +50,7 @@ int status_to_exit_code(int status) { return WIFEXITED(status) ? WEXITSTATUS(sta
 // In the child: exec tvid with `args`, or exit 127.
 [[noreturn]] void exec_tvid(const std::vector<std::string>& args) {
     std::vector<char*> argv;
-    std::string binary = TVID_BINARY;
+    std::string binary = tvid_binary();
     argv.push_back(binary.data());
     std::vector<std::string> copy = args;
     for (auto& a : copy) argv.push_back(a.data());

@@ -12,6 +12,15 @@ struct RunResult {
     std::string err;  ///< stderr
 };
 
+/// The tvid binary the tests run: $TVID_BINARY when set (the sanitizer stage runs the release
+/// tree's test driver on its own instrumented tvid), else the one built beside the tests.
+const std::string& tvid_binary();
+
+/// How many times longer a run of that binary takes than in an optimized build:
+/// $TVID_TEST_TIME_SCALE when set (4 under the sanitizers), else 1. Tests that signal a run
+/// after some seconds of work, or bound how long it may take, scale those seconds by it.
+double test_time_scale();
+
 /// Runs `tvid args...` in folder `cwd` (empty: the current one), no shell involved.
 RunResult run_tvid(const std::vector<std::string>& args, const std::string& cwd = "");
 
