@@ -131,7 +131,7 @@ TEST_CASE("tvid batch --cycles fits each engine cycle and validates on the next"
     }
 }
 
-TEST_CASE("tvid batch --resume after an interruption gives the uninterrupted table", "[e2e][batch]") {
+TEST_CASE("tvid batch --resume after an interruption gives the uninterrupted table", "[e2e][batch][fits]") {
     TempDir tmp;
     copy_cvt_recordings(tmp.path() / "rec");
     fs::copy_file(source_dir() / "data/cvt/tipin_clean.csv", tmp.path() / "rec" / "third.csv");
@@ -165,7 +165,7 @@ TEST_CASE("tvid batch --resume after an interruption gives the uninterrupted tab
     CHECK(without_wall_time(read_table(out / "batch.csv")) == without_wall_time(full));
 }
 
-TEST_CASE("tvid batch gives the same rows on 1 and 2 threads", "[e2e][batch]") {
+TEST_CASE("tvid batch gives the same rows on 1 and 2 threads", "[e2e][batch][fits]") {
     TempDir tmp;
     copy_cvt_recordings(tmp.path() / "rec");
     const std::string glob = (tmp.path() / "rec" / "*.csv").string();

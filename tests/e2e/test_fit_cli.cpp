@@ -182,7 +182,7 @@ TEST_CASE("tvid fit writes a complete report directory", "[e2e][fit]") {
     CHECK(lines_of(sim.out).size() == 1 + 1500 + 1000);
 }
 
-TEST_CASE("the swarm in tvid fit stops each candidate at its particle's personal best", "[e2e][fit][pso]") {
+TEST_CASE("the swarm in tvid fit stops each candidate at its particle's personal best", "[e2e][fit][pso][fits]") {
     // The paper's swarm, 20 iterations: from the second iteration on, a candidate whose
     // partial cost passes its particle's best is not simulated to the end of the window.
     TempDir tmp;

@@ -25,7 +25,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// How many times longer a run takes here than in an optimized build (4 under the sanitizers).
+// How many times longer a run takes here than in an optimized build (8 under the sanitizers, whose library is compiled at -O1).
 const double kTimeScale = test_time_scale();
 
 const std::string kCleanConfig = (source_dir() / "configs/cvt_tipin_clean.yaml").string();

@@ -185,7 +185,7 @@ TEST_CASE("tvid frf --resolution and --segment choose Welch's segment and say so
     CHECK(frf({"--resolution", "1", "--segment", "512"}).exit_code == 2);  // one or the other
 }
 
-TEST_CASE("tvid fit writes the modes at the fitted parameters into summary.json", "[modes][e2e]") {
+TEST_CASE("tvid fit writes the modes at the fitted parameters into summary.json", "[modes][e2e][fits]") {
     const TempDir tmp;
     const std::string dir = (tmp.path() / "fit").string();
     const RunResult r = run_tvid({"fit", (source_dir() / "configs/cvt_tipin_clean.yaml").string(), "-o", dir, "--json",

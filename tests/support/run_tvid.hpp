@@ -17,7 +17,7 @@ struct RunResult {
 const std::string& tvid_binary();
 
 /// How many times longer a run of that binary takes than in an optimized build:
-/// $TVID_TEST_TIME_SCALE when set (4 under the sanitizers), else 1. Tests that signal a run
+/// $TVID_TEST_TIME_SCALE when set (8 under the sanitizers, whose library is compiled at -O1), else 1. Tests that signal a run
 /// after some seconds of work, or bound how long it may take, scale those seconds by it.
 double test_time_scale();
 
