@@ -206,6 +206,7 @@ std::unique_ptr<PreparedBatch> prepare_batch(const BatchCommand& cmd, const Batc
         const auto files = read_recording_list(cmd.data_list);
         request.recordings.insert(request.recordings.end(), files.begin(), files.end());
     }
+    request.recordings_option = cmd.data_globs.empty() ? "--data-list" : cmd.data_list.empty() ? "--data" : "--data, --data-list";
     if (!cmd.cycles.empty()) request.cycles = parse_cycle_list(cmd.cycles);
     request.validation = !cmd.no_validation;
     std::vector<BatchJob> jobs = plan_batch_jobs(request);
@@ -235,10 +236,20 @@ std::unique_ptr<PreparedBatch> prepare_batch(const BatchCommand& cmd, const Batc
     // the files this run reads, which no batch file may replace.
     std::vector<std::string> digests = request.recordings.empty() ? std::vector<std::string>{ex.data.content_sha256()}
                                                                   : recording_digests(request.recordings);
-    OutputDirectoryLock lock = prepare_output_directory(
-        dir, "batch directory",
-        {"batch.csv", "batch_summary.json", "matrix.csv", "matrix_long.csv", "parameter_stability.csv",
-         batch_identity_file(dir).filename().string()});
+    const std::vector<std::string> batch_files = {"batch.csv", "batch_summary.json", "matrix.csv", "matrix_long.csv",
+                                                  "parameter_stability.csv"};
+    std::vector<std::string> checked = batch_files;
+    checked.push_back(batch_identity_file(dir).filename().string());
+    OutputDirectoryLock lock = prepare_output_directory(dir, "batch directory", checked);
+    // A batch's files are replaced or removed only when a batch of tvid's wrote them: its
+    // record (.tvid-batch.json) is beside them. Else they are a user's (or another
+    // program's), kept unless --force. prepare_output_directory has refused a FIFO first.
+    if (!cmd.force && !has_written_file_mark(batch_identity_file(dir), {WrittenFileMark::Form::json_member, "tvid_batch", ""}))
+        for (const std::string& name : batch_files)
+            if (std::error_code ec; std::filesystem::exists(dir / name, ec))
+                throw InputError((dir / name).string(), 0, "",
+                                 "exists, and no record of a batch of tvid's (" + batch_identity_file(dir).filename().string() +
+                                     ") is beside it: tvid did not write it; use --force to replace it, or -o for another directory");
     // --resume continues only the batch that began here (same experiment, --set, --seed,
     // --no-validation, recordings and their content).
     const BatchIdentity identity =

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <sstream>
 
@@ -12,6 +13,7 @@
 #include "tvid/io/atomic_file.hpp"
 #include "tvid/check/reference_check.hpp"
 #include "tvid/util/input_error.hpp"
+#include "tvid/util/text.hpp"
 #include "tvid/io/json_file.hpp"
 #include "tvid/io/json_text.hpp"
 
@@ -120,12 +122,35 @@ std::string table_text(const CheckResult& result) {
     return out.str();
 }
 
+// Whether every number in `j` is finite (nlohmann would write an infinite one as null).
+bool all_finite(const nlohmann::ordered_json& j) {
+    if (j.is_number_float()) return std::isfinite(j.get<double>());
+    if (j.is_structured())
+        for (const auto& item : j)
+            if (!all_finite(item)) return false;
+    return true;
+}
+
 int write_reference(const CheckCommand& cmd) {
     const FitReportFiles report = read_fit_report(cmd.report_dir);
+    // An interrupted fit's numbers are where the optimizer stood, not its result: the same
+    // fit run to the end would fail a reference made from them.
+    if (report.summary.value("interrupted", false))
+        throw InputError((std::filesystem::path(cmd.report_dir) / "summary.json").string(), 0, "interrupted",
+                         "the report is of an interrupted fit: a reference from it would fail the fit run to the end; "
+                         "fit again to the end, then write the reference");
     // A reference file tvid did not write (a hand-kept one) is replaced only with --force;
     // after the report is read, so that a target among its files is named as such.
-    check_replaceable(cmd.write_reference, cmd.force, "written by tvid check --write-reference", "a reference");
+    check_replaceable(cmd.write_reference, cmd.force,
+                      {WrittenFileMark::Form::json_string, "description", "written by tvid check --write-reference"},
+                      "a reference");
     const nlohmann::ordered_json reference = reference_from_report(report, cmd.rel, cmd.sigmas);
+    // A tolerance beyond a double (--sigmas 1e308 times a standard error) is the option's
+    // fault, not the reference file's, which is never written.
+    if (!all_finite(reference))
+        throw InputError("", 0, "--sigmas",
+                         "--sigmas " + number_text(cmd.sigmas) + " and --rel " + number_text(cmd.rel) +
+                             " make a tolerance beyond the largest number (about 1.8e308): give smaller ones");
     // Checked before it is written: only a valid reference that this report passes reaches
     // the disk (its text parsed back, as a later tvid check reads it).
     const std::string text = json_text(reference) + "\n";
@@ -150,6 +175,11 @@ int write_reference(const CheckCommand& cmd) {
                   << " error(s) (" << kinds << "): its standard errors understate how far a refit on a new "
                   << "recording moves; widen the tolerances (--sigmas, or from a batch's spread) or fix the fit first\n";
     }
+    if (const nlohmann::json& optimizer = report.summary.value("optimizer", nlohmann::json::object());
+        optimizer.is_object() && !optimizer.value("converged", true))
+        std::cerr << "tvid check: warning: the fit of " << cmd.report_dir << " did not converge ("
+                  << optimizer.value("termination", std::string("no reason given"))
+                  << "): a converged refit may move beyond the reference's tolerances; fit to convergence first\n";
     if (!cmd.quiet)
         std::cout << "tvid check: wrote " << cmd.write_reference << " with " << result.rows.size() << " checks from "
                   << cmd.report_dir << "\n  " << reference["description"].get<std::string>() << '\n';

@@ -11,6 +11,7 @@
 #include "tvid/experiment/experiment.hpp"
 #include "tvid/experiment/window_recording.hpp"
 #include "tvid/io/atomic_file.hpp"
+#include "tvid/io/output_directory.hpp"
 #include "tvid/report/parameter_file.hpp"
 #include "tvid/report/report_writer.hpp"
 #include "tvid/io/json_text.hpp"
@@ -21,8 +22,14 @@ namespace tvid::cli {
 
 namespace {
 
-std::vector<double> chosen_parameters(const EvaluateCommand& cmd, const Experiment& ex) {
-    return cmd.params_file.empty() ? initial_parameters(ex) : read_parameter_file(cmd.params_file, ex);
+// --params, or the experiment's own values. An estimated start is read as stored, against
+// this experiment's seeds; a start it cannot use is said on stderr.
+std::vector<double> chosen_parameters(const EvaluateCommand& cmd, const Experiment& ex, const IdentificationProblem& problem) {
+    if (cmd.params_file.empty()) return initial_parameters(ex);
+    std::vector<std::string> notes;
+    std::vector<double> p = read_parameter_file(cmd.params_file, ex, &problem.definition().estimated.seed, &notes);
+    for (const std::string& note : notes) std::cerr << "tvid: note: " << note << '\n';
+    return p;
 }
 
 // Exit status 1 with one line on stderr naming the first window whose simulation failed
@@ -70,19 +77,26 @@ std::filesystem::path output_file(const EvaluateCommand& cmd, const char* defaul
     return cmd.output;
 }
 
+// --output-dir DIR: created, checked and claimed before the work, as a report directory is.
+OutputDirectoryLock prepare_named_output_dir(const EvaluateCommand& cmd, const std::string& default_name) {
+    if (cmd.output_dir.empty()) return {};
+    return prepare_output_directory(cmd.output_dir, "output directory", {default_name});
+}
+
 // What every file of the kind holds (atomic_file.hpp's check_replaceable).
-constexpr const char* kSimulationCsvMark = "t [s],window,";
-constexpr const char* kValidationJsonMark = "\"written_by\": \"tvid validate\"";
+constexpr WrittenFileMark kSimulationCsvMark{WrittenFileMark::Form::csv_heading, "t [s],window,", ""};
+constexpr WrittenFileMark kValidationJsonMark{WrittenFileMark::Form::json_string, "written_by", "tvid validate"};
 
 }  // namespace
 
 int run_simulate_command(const EvaluateCommand& cmd) {
     const Experiment ex = load_experiment(cmd.common.experiment, parse_overrides(cmd.common.overrides));
     const IdentificationProblem problem(ex);
-    const std::vector<double> params = chosen_parameters(cmd, ex);
+    const std::vector<double> params = chosen_parameters(cmd, ex, problem);
     // Before the work: the file must be a place for a new file or one tvid wrote, not a
     // FIFO, a file this run reads or a user's file (without --force).
     const std::filesystem::path target = output_file(cmd, "simulation.csv");
+    const OutputDirectoryLock lock = prepare_named_output_dir(cmd, "simulation.csv");
     if (!target.empty()) check_replaceable(target, cmd.force, kSimulationCsvMark, "a simulation CSV");
     const Evaluation ev = evaluate_parameters(problem, params, resolve_thread_count(cmd.common.threads));
     std::string csv = trace_csv(ex, ev.estimation);
@@ -108,8 +122,9 @@ int run_simulate_command(const EvaluateCommand& cmd) {
 int run_validate_command(const EvaluateCommand& cmd) {
     const Experiment ex = load_experiment(cmd.common.experiment, parse_overrides(cmd.common.overrides));
     const IdentificationProblem problem(ex);
-    const std::vector<double> params = chosen_parameters(cmd, ex);
+    const std::vector<double> params = chosen_parameters(cmd, ex, problem);
     const std::filesystem::path target = output_file(cmd, "validation.json");
+    const OutputDirectoryLock lock = prepare_named_output_dir(cmd, "validation.json");
     if (!target.empty()) check_replaceable(target, cmd.force, kValidationJsonMark, "a validation JSON");
     const Evaluation ev = evaluate_parameters(problem, params, resolve_thread_count(cmd.common.threads));
     nlohmann::json j = evaluation_json(ex, ev);

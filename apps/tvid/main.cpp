@@ -3,10 +3,12 @@
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <optional>
 #include <iostream>
 #include <iterator>
+#include <vector>
 
 #include "commands.hpp"
 #include "tvid/estimation/parallel_evaluator.hpp"
@@ -68,14 +70,26 @@ std::string exit_status_help() {
     return s;
 }
 
-// The first word when it names no command: one line with the nearest command, or null.
-// "; did you mean 'fit'?" for the command nearest `word` when one is near, else "".
+// "; did you mean 'simulate'?" for the command `word` most likely meant, else "": the one
+// command it begins (sim), the command it spells in other case (FIT), else the nearest by
+// edit distance when that is near.
 std::string nearest_command_hint(const CLI::App& app, const std::string& word) {
+    const auto lower = [](std::string text) {
+        for (char& c : text) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+        return text;
+    };
+    const std::string folded = lower(word);
+    std::vector<std::string> begun;
+    for (const CLI::App* sub : app.get_subcommands({})) {
+        const std::string name = sub->get_name();
+        if (lower(name) == folded) return "; did you mean '" + name + "'?";
+        if (!folded.empty() && name.rfind(folded, 0) == 0) begun.push_back(name);
+    }
+    if (begun.size() == 1) return "; did you mean '" + begun.front() + "'?";
     std::string nearest;
     std::size_t best = word.size();
     for (const CLI::App* sub : app.get_subcommands({})) {
-        if (sub->get_name() == "help") continue;
-        const std::size_t d = tvid::edit_distance(word, sub->get_name());
+        const std::size_t d = tvid::edit_distance(folded, sub->get_name());
         if (d < best) best = d, nearest = sub->get_name();
     }
     if (nearest.empty() || best > std::max<std::size_t>(2, word.size() / 3)) return "";
@@ -269,7 +283,7 @@ int main(int argc, char** argv) {
             return kExitDone;
         }
         for (const CLI::App* sub : app.get_subcommands({}))
-            if (sub->get_name() == help_topic && sub != help_cmd) {
+            if (sub->get_name() == help_topic) {
                 std::cout << sub->help();
                 return kExitDone;
             }

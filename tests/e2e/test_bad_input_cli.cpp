@@ -350,3 +350,41 @@ TEST_CASE("a CSV file with a UTF-8 byte-order mark is read", "[e2e]") {
     const std::string est = read_text(r.out / "estimation.csv");
     CHECK(est.rfind("t [s],window,", 0) == 0);
 }
+
+namespace {
+
+// A shipped experiment with one line replaced, written beside its data's absolute path.
+std::filesystem::path shipped_variant(const TempDir& tmp, const std::string& config, const std::string& from,
+                                      const std::string& to) {
+    std::string text = read_text(source_dir() / "configs" / (config + ".yaml"));
+    const std::string data = "../data/";
+    REQUIRE(text.find(data) != std::string::npos);
+    text.replace(text.find(data), data.size(), (source_dir() / "data").string() + "/");
+    REQUIRE(text.find(from) != std::string::npos);
+    text.replace(text.find(from), from.size(), to);
+    return tmp.write(config + "-variant.yaml", text);
+}
+
+}  // namespace
+
+TEST_CASE("starts a controller makes impossible are refused at load, naming the controller", "[e2e][errors]") {
+    const TempDir tmp;
+    // A position controller holds its node to an angle: no steady rotation, as a spring to ground.
+    const auto steady = shipped_variant(tmp, "positioning_drive", "initial_state: rest",
+                                        "initial_state: { kind: steady, node: motor, speed: 1.0 }");
+    const RunResult held = run_tvid({"fit", steady.string(), "-o", (tmp.path() / "a").string()});
+    CHECK(held.exit_code == 2);
+    CHECK(std::count(held.err.begin(), held.err.end(), '\n') == 1);
+    CHECK(held.err.find(steady.string() + ":") == 0);
+    CHECK(held.err.find("initial_state.kind: steady on a line held to ground by the position controller 'servo' "
+                        "(node motor to its setpoint angle)") != std::string::npos);
+    CHECK_FALSE(std::filesystem::exists(tmp.path() / "a"));
+    // An estimated start does not estimate a sampled controller's memory.
+    const auto estimated = shipped_variant(tmp, "digital_drive", "initial_state: rest",
+                                           "initial_state: { kind: estimated, from: rest }");
+    const RunResult sampled = run_tvid({"fit", estimated.string(), "-o", (tmp.path() / "b").string()});
+    CHECK(sampled.exit_code == 2);
+    CHECK(std::count(sampled.err.begin(), sampled.err.end(), '\n') == 1);
+    CHECK(sampled.err.find("initial_state.kind: an estimated start estimates angles and speeds, not a sampled "
+                           "controller's memory") != std::string::npos);
+}

@@ -103,3 +103,44 @@ TEST_CASE("tvid check: a missing or incomplete report and a malformed reference 
     const RunResult rel_alone = run_tvid({"check", tmp.path().string(), "--reference", ref.string(), "--rel", "0.1"});
     CHECK(rel_alone.exit_code == 2);
 }
+
+TEST_CASE("check --write-reference refuses an interrupted fit's report and warns for one that did not converge",
+          "[e2e][check]") {
+    TempDir tmp;
+    const auto report = (tmp.path() / "fit").string();
+    // Three LM iterations: stopped by the iteration limit, not converged.
+    const RunResult fit = run_tvid({"fit", (source_dir() / "configs/cvt_tipin_clean.yaml").string(), "-o", report,
+                                    "--optimizer", "lm", "--set", "estimation.cost=l2", "--set",
+                                    "estimation.lm.max_iterations=3", "--threads", "1", "--quiet"});
+    INFO(fit.err);
+    REQUIRE(fit.exit_code == 0);
+    json summary = json::parse(read_text(tmp.path() / "fit" / "summary.json"));
+    REQUIRE(summary["optimizer"]["converged"] == false);
+
+    const auto ref = (tmp.path() / "ref.json").string();
+    const RunResult unconverged = run_tvid({"check", report, "--write-reference", ref, "--quiet"});
+    CHECK(unconverged.exit_code == 0);
+    CHECK(unconverged.err.find("tvid check: warning: the fit of " + report + " did not converge (" +
+                               summary["optimizer"]["termination"].get<std::string>() +
+                               "): a converged refit may move beyond the reference's tolerances; fit to convergence "
+                               "first\n") != std::string::npos);
+
+    // Tolerances beyond a double: the option is named, not a reference that was never written.
+    const auto huge = (tmp.path() / "huge.json").string();
+    const RunResult sigmas = run_tvid({"check", report, "--write-reference", huge, "--sigmas", "1e308", "--quiet"});
+    CHECK(sigmas.exit_code == 2);
+    CHECK(count_lines(sigmas.err) == 1);
+    CHECK(sigmas.err.find("--sigmas: --sigmas 1e+308 and --rel ") != std::string::npos);
+    CHECK(sigmas.err.find("huge.json") == std::string::npos);
+    CHECK_FALSE(std::filesystem::exists(huge));
+
+    // The same report marked interrupted, as a Ctrl-C'd fit writes it.
+    summary["interrupted"] = true;
+    tmp.write("fit/summary.json", summary.dump(2));
+    const auto ref2 = (tmp.path() / "ref2.json").string();
+    const RunResult interrupted = run_tvid({"check", report, "--write-reference", ref2});
+    CHECK(interrupted.exit_code == 2);
+    CHECK(count_lines(interrupted.err) == 1);
+    CHECK(interrupted.err.rfind(report + "/summary.json: interrupted: the report is of an interrupted fit", 0) == 0);
+    CHECK_FALSE(std::filesystem::exists(ref2));
+}

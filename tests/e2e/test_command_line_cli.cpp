@@ -25,6 +25,16 @@ TEST_CASE("tvid help COMMAND prints that command's options", "[e2e][cli]") {
     const RunResult unknown = run_tvid({"help", "fitt"});
     CHECK(unknown.exit_code == 2);
     CHECK_THAT(unknown.err, Catch::Contains("'fitt' is not a tvid command; did you mean 'fit'?"));
+    // `help help` is help's own; a command's first letters or its name in capitals get it.
+    const RunResult help = run_tvid({"help", "help"});
+    CHECK(help.exit_code == 0);
+    CHECK_THAT(help.out, Catch::Contains("tvid help COMMAND"));
+    const RunResult sim = run_tvid({"help", "sim"});
+    CHECK(sim.exit_code == 2);
+    CHECK(sim.err == "tvid help: 'sim' is not a tvid command; did you mean 'simulate'? (tvid --help lists them)\n");
+    const RunResult capitals = run_tvid({"help", "FIT"});
+    CHECK(capitals.exit_code == 2);
+    CHECK_THAT(capitals.err, Catch::Contains("did you mean 'fit'?"));
     // `tvid help` alone lists the commands, as `tvid --help` does.
     const RunResult all = run_tvid({"help"});
     CHECK(all.exit_code == 0);
@@ -85,6 +95,33 @@ TEST_CASE("simulate and validate write to -o FILE or into --output-dir DIR", "[e
     CHECK(run_tvid({"validate", experiment, "--params", (dir.path() / "p.json").string(), "--output-dir", sub.string(),
                     "-q"}).exit_code == 0);
     CHECK_THAT(read_text(sub / "validation.json"), Catch::Contains("\"written_by\": \"tvid validate\""));
+}
+
+TEST_CASE("simulate and validate create --output-dir NEWDIR, and refuse -o into a missing folder before the work",
+          "[e2e][cli]") {
+    TempDir dir;
+    const std::string experiment = std::string(TVID_SOURCE_DIR) + "/configs/cvt_custom_network.yaml";
+    const std::filesystem::path params = dir.write("p.json", "{\"k_minus\": 3000}");
+    const std::filesystem::path fresh = dir.path() / "new" / "deeper";
+    CHECK(run_tvid({"simulate", experiment, "--output-dir", fresh.string(), "-q"}).exit_code == 0);
+    CHECK(std::filesystem::is_regular_file(fresh / "simulation.csv"));
+    CHECK(run_tvid({"validate", experiment, "--params", params.string(), "--output-dir", (dir.path() / "v").string(),
+                    "-q"}).exit_code == 0);
+    CHECK(std::filesystem::is_regular_file(dir.path() / "v" / "validation.json"));
+
+    // -o FILE in a folder that is not there: one line, exit 2, and nothing computed (no
+    // summary on stdout, which --quiet would hide, so without it).
+    const std::filesystem::path missing = dir.path() / "missing" / "x.csv";
+    const RunResult simulate = run_tvid({"simulate", experiment, "-o", missing.string()});
+    CHECK(simulate.exit_code == 2);
+    CHECK(simulate.err == missing.string() + ": its folder " + (dir.path() / "missing").string() +
+                              " does not exist: create it first, or give another name\n");
+    CHECK(simulate.out.empty());
+    const RunResult validate =
+        run_tvid({"validate", experiment, "--params", params.string(), "-o", (dir.path() / "missing" / "v.json").string()});
+    CHECK(validate.exit_code == 2);
+    CHECK(validate.out.empty());
+    CHECK_FALSE(std::filesystem::exists(dir.path() / "missing"));
 }
 
 TEST_CASE("a file tvid did not write is replaced only with --force", "[e2e][cli]") {

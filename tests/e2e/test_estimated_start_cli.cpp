@@ -97,3 +97,75 @@ TEST_CASE("an estimated start without its recipe is one line naming the key, exi
     CHECK(r.err.find("initial_state.from") != std::string::npos);
     CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
 }
+
+TEST_CASE("validation worse with an estimated start whose validation windows start from the recipe names "
+          "validation: estimated",
+          "[e2e][estimated_start][fits]") {
+    const TempDir tmp;
+    const RunResult r = run_tvid({"fit", (source_dir() / "configs/free_line.yaml").string(), "-o",
+                                  (tmp.path() / "from").string(), "--threads", "2", "--json", "--set",
+                                  "initial_state.validation=from"});
+    INFO(r.err);
+    REQUIRE(r.exit_code == 0);
+    const json s = json::parse(r.out);
+    bool found = false;
+    for (const json& f : s["verdict"]["findings"]) {
+        if (f["code"] != "validation_worse") continue;
+        found = true;
+        INFO(f.dump());
+        CHECK(f["advice"].get<std::string>().find("initial_state.validation: estimated") != std::string::npos);
+    }
+    CHECK(found);
+}
+
+TEST_CASE("validate --params takes an estimated start as stored, whatever the experiment's init, and says which it "
+          "leaves out",
+          "[e2e][estimated_start][fits]") {
+    const TempDir tmp;
+    // The free line with its start seeded by the steady recipe, whose twist depends on the
+    // stiffnesses' init values.
+    std::string text = read_text(source_dir() / "configs/free_line.yaml");
+    const auto replace = [&](const std::string& from, const std::string& to) {
+        REQUIRE(text.find(from) != std::string::npos);
+        text.replace(text.find(from), from.size(), to);
+    };
+    replace("../data/", (source_dir() / "data").string() + "/");
+    replace("initial_state: { kind: estimated, from: measured, validation: estimated }",
+            "initial_state: { kind: estimated, from: steady, node: engine, speed: w_engine, validation: estimated }");
+    const std::filesystem::path config = tmp.write("steady_seed.yaml", text);
+    const RunResult fit = run_tvid({"fit", config.string(), "-o", (tmp.path() / "fit").string(), "--quiet", "--set",
+                                    "estimation.lm.max_iterations=2"});
+    INFO(fit.err);
+    REQUIRE(fit.exit_code == 0);
+    const std::string params = (tmp.path() / "fit/params.json").string();
+    const auto validate = [&](const std::vector<std::string>& extra) {
+        std::vector<std::string> args{"validate", config.string(), "--params", params, "--json"};
+        args.insert(args.end(), extra.begin(), extra.end());
+        const RunResult r = run_tvid(args);
+        INFO(r.err);
+        REQUIRE(r.exit_code == 0);
+        return json::parse(r.out)["estimation"]["pooled"]["T_shaft"]["rmse"].get<double>();
+    };
+    const double as_fitted = validate({});
+    // Another init moves the steady seed; the stored start is the same start.
+    for (const std::string moved : {"parameters.k_ds.init=5000", "parameters.k_cl.init=400", "parameters.c_v.init=2"}) {
+        INFO(moved);
+        CHECK(validate({"--set", moved}) == Approx(as_fitted).epsilon(1e-9));
+    }
+
+    // A start estimated for another window is left out, and said.
+    json p = json::parse(read_text(params));
+    REQUIRE_FALSE(p["initial_states"].empty());
+    for (json& e : p["initial_states"]) e["window"] = "time 0 to 4";
+    const std::filesystem::path other = tmp.write("other_window.json", p.dump(1));
+    const RunResult moved = run_tvid({"validate", config.string(), "--params", other.string(), "--quiet"});
+    CHECK(moved.exit_code == 0);
+    CHECK(moved.err.find("tvid: note: the start " + p["initial_states"][0]["parameter"].get<std::string>() + " of " +
+                         other.string() + " was estimated for the window 'time 0 to 4', not 'time 0 to 8'") == 0);
+    // initial_states that is not a list: refused, naming the key.
+    p["initial_states"] = 5;
+    const std::filesystem::path five = tmp.write("five.json", p.dump(1));
+    const RunResult bad = run_tvid({"validate", config.string(), "--params", five.string(), "--quiet"});
+    CHECK(bad.exit_code == 2);
+    CHECK(bad.err == five.string() + ": initial_states: expected a list of start coordinates, as tvid fit writes it\n");
+}

@@ -388,3 +388,100 @@ TEST_CASE("a JSON number beyond a double is one line naming the file, the line a
     CHECK(p.exit_code == 2);
     CHECK(p.err == params.string() + ":1: c: '-1e999' is too large for a number (at most about 1.8e308)\n");
 }
+
+TEST_CASE("a batch never replaces or removes files of a batch that tvid did not write, without --force",
+          "[e2e][files][batch]") {
+    TempDir tmp;
+    const fs::path rec = tmp.write("rec.csv", recording());
+    const fs::path exp = tmp.write("exp.yaml", one_node(rec.string()));
+    const fs::path out = tmp.path() / "out";
+    // The user's own files under the names a batch writes, and no batch.csv.
+    const std::vector<std::string> names{"matrix.csv", "matrix_long.csv", "parameter_stability.csv", "batch_summary.json"};
+    for (const std::string& name : names) tmp.write("out/" + name, "the user's " + name + "\n");
+    const auto batch = [&](const std::vector<std::string>& extra) {
+        std::vector<std::string> args{"batch", exp.string(), "--data", rec.string(), "-o", out.string(), "--quiet",
+                                      "--threads", "1"};
+        args.insert(args.end(), extra.begin(), extra.end());
+        return run_tvid(args);
+    };
+    const RunResult refused = batch({});
+    CHECK(refused.exit_code == 2);
+    CHECK(refused.err == (out / "batch_summary.json").string() +
+                             ": exists, and no record of a batch of tvid's (.tvid-batch.json) is beside it: tvid did "
+                             "not write it; use --force to replace it, or -o for another directory\n");
+    for (const std::string& name : names) {
+        INFO(name);
+        CHECK(read_text(out / name) == "the user's " + name + "\n");
+    }
+    CHECK_FALSE(fs::exists(out / "batch.csv"));
+
+    // One of them alone is enough to refuse.
+    for (const std::string& name : names) fs::remove(out / name);
+    tmp.write("out/parameter_stability.csv", "mine\n");
+    const RunResult one = batch({});
+    CHECK(one.exit_code == 2);
+    CHECK(one.err.rfind((out / "parameter_stability.csv").string() + ": exists, and no record", 0) == 0);
+    CHECK(read_text(out / "parameter_stability.csv") == "mine\n");
+
+    // --force replaces them; then the batch's own files are its to replace with --force again.
+    REQUIRE(batch({"--force"}).exit_code == 0);
+    CHECK(fs::exists(out / "batch.csv"));
+    CHECK(fs::exists(out / ".tvid-batch.json"));
+    const RunResult again = batch({"--force"});
+    INFO(again.err);
+    CHECK(again.exit_code == 0);
+}
+
+TEST_CASE("simulate -o and check --write-reference know their own files by structure, not by a text in them",
+          "[e2e][files]") {
+    TempDir tmp;
+    const fs::path rec = tmp.write("rec.csv", recording());
+    const fs::path exp = tmp.write("one.yaml", one_node(rec.string()));
+    const fs::path params = tmp.write("P.json", "{ \"c\": 0.1 }\n");
+
+    // Notes that quote a simulation CSV's heading and a reference's description.
+    const std::string notes = "# How to simulate\n\nThe CSV begins `t [s],window,` and then the outputs.\n";
+    const fs::path notes_md = tmp.write("notes.md", notes);
+    const std::string howto = "This reference was \"written by tvid check --write-reference\" from the nightly fit.\n";
+    const fs::path howto_txt = tmp.write("HOWTO.txt", howto);
+    const std::string json_notes = "{ \"note\": \"\\\"written_by\\\": \\\"tvid validate\\\"\" }\n";
+    const fs::path json_notes_file = tmp.write("notes.json", json_notes);
+
+    const RunResult simulate = run_tvid({"simulate", exp.string(), "--params", params.string(), "-o", notes_md.string(), "--quiet"});
+    CHECK(simulate.exit_code == 2);
+    CHECK(simulate.err == notes_md.string() +
+                              ": exists and is not a simulation CSV that tvid wrote: give --force to replace it, or "
+                              "another name\n");
+    CHECK(read_text(notes_md) == notes);
+    const RunResult validate =
+        run_tvid({"validate", exp.string(), "--params", params.string(), "-o", json_notes_file.string(), "--quiet"});
+    CHECK(validate.exit_code == 2);
+    CHECK(read_text(json_notes_file) == json_notes);
+
+    const fs::path report = tmp.path() / "report";
+    REQUIRE(run_tvid({"fit", exp.string(), "-o", report.string(), "--quiet", "--threads", "1"}).exit_code == 0);
+    const RunResult reference = run_tvid({"check", report.string(), "--write-reference", howto_txt.string(), "--quiet"});
+    CHECK(reference.exit_code == 2);
+    CHECK(reference.err == howto_txt.string() +
+                               ": exists and is not a reference that tvid wrote: give --force to replace it, or another "
+                               "name\n");
+    CHECK(read_text(howto_txt) == howto);
+    const fs::path missing = tmp.path() / "missing" / "ref.json";
+    const RunResult no_folder = run_tvid({"check", report.string(), "--write-reference", missing.string()});
+    CHECK(no_folder.exit_code == 2);
+    CHECK(no_folder.err == missing.string() + ": its folder " + (tmp.path() / "missing").string() +
+                               " does not exist: create it first, or give another name\n");
+    CHECK(no_folder.out.empty());
+
+    // tvid's own files are replaced without --force.
+    const fs::path sim = tmp.path() / "sim.csv", val = tmp.path() / "val.json", ref = tmp.path() / "ref.json";
+    for (int round = 0; round < 2; ++round) {
+        INFO("round " << round);
+        CHECK(run_tvid({"simulate", exp.string(), "--params", params.string(), "-o", sim.string(), "--quiet"}).exit_code == 0);
+        CHECK(run_tvid({"validate", exp.string(), "--params", params.string(), "-o", val.string(), "--quiet"}).exit_code == 0);
+        const RunResult written = run_tvid({"check", report.string(), "--write-reference", ref.string(), "--quiet"});
+        INFO(written.err);
+        CHECK(written.exit_code == 0);
+    }
+    CHECK(read_text(sim).rfind("t [s],window,", 0) == 0);
+}

@@ -2,6 +2,7 @@
 // out NaN. Through the binary, a ratio of 0, or a ratio parameter whose bounds reach 0, is
 // refused at load: exit status 2 and one line "FILE:LINE: key: what is wrong".
 #include <catch2/catch.hpp>
+#include <cmath>
 #include <string>
 
 #include "support/run_tvid.hpp"
@@ -94,4 +95,47 @@ TEST_CASE("a gear ratio parameter's bounds may not reach 0", "[e2e][network]") {
         INFO("stderr: " << r.err);
         CHECK(r.exit_code == 0);
     }
+}
+
+TEST_CASE("a node behind a 160:1 gear may turn 160 times faster than the measured one: the divergence guard "
+          "goes through the ratio",
+          "[e2e][network]") {
+    TempDir tmp;
+    // A motor (J 1e-3) drives a load (J 0.5, viscous 2) through 160:1; a constant 0.05 N m
+    // takes the load towards 160·0.05/2 = 4 rad/s with the time constant of the inertia
+    // seen at the load, (0.5 + 160²·1e-3)/2 = 13.05 s. Only the load's speed is recorded:
+    // in 2 s it reaches 0.57 rad/s while the motor turns at 91 rad/s, beyond 100 times the
+    // load's largest speed but well within 100 times it through the ratio.
+    std::string csv = "t,T,w_load\n";
+    for (int i = 0; i <= 2000; ++i) {
+        const double t = i * 1e-3;
+        csv += std::to_string(t) + ",0.05," + std::to_string(4.0 * (1.0 - std::exp(-t / 13.05))) + "\n";
+    }
+    const auto data = tmp.write("geared.csv", csv);
+    const auto exp = tmp.write("geared.yaml",
+                               "tvid: 1\n"
+                               "name: geared\n"
+                               "data: { file: '" + data.string() + "', time: t }\n"
+                               "model:\n"
+                               "  nodes:\n"
+                               "    - { name: motor, J: 1.0e-3 }\n"
+                               "    - { name: load, J: 0.5 }\n"
+                               "  elements:\n"
+                               "    - { type: torque, name: drive, node: motor, input: T }\n"
+                               "    - { type: gear_mesh, name: head, between: [motor, load], ratio: 160, k: 1000, c: 5 }\n"
+                               "    - { type: friction, name: loss, node: load, c: c }\n"
+                               "inputs: { T: T }\n"
+                               "outputs: { w_load: { column: w_load, speed: load } }\n"
+                               "parameters: { c: { init: 2, min: 0.1, max: 10 } }\n"
+                               "windows: { estimation: [ { time: [0, 2] } ] }\n"
+                               "initial_state: rest\n"
+                               "simulation: { method: rk4, step: 1.0e-4 }\n");
+    const RunResult r = run_tvid({"simulate", exp.string(), "--json"});
+    INFO(r.err);
+    CHECK(r.exit_code == 0);
+    CHECK(r.err.find("diverged") == std::string::npos);
+    // The load's speed follows the recording (to the gear's compliance).
+    const auto rmse_at = r.out.find("\"rmse\"");
+    REQUIRE(rmse_at != std::string::npos);
+    CHECK(std::stod(r.out.substr(r.out.find(':', rmse_at) + 1)) < 0.05);
 }

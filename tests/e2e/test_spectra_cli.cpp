@@ -209,3 +209,87 @@ TEST_CASE("a report without a crank angle has spectra and no orders", "[e2e][spe
     CHECK(summary["residual_spectrum"]["estimation"]["Tds"]["order"].is_null());
     CHECK(summary["residual_spectrum"]["estimation"]["Tds"]["frequency"]["share"].get<double>() > 0.0);
 }
+
+namespace {
+
+// A one-node line 0.01·w' = T − c·w (c = 0.1), T = sin(2π·3t), recorded at `rate` Hz for
+// `seconds`, its speed carrying a line at `line_hz` (0.05 rad/s): what the model misses.
+std::string recording_at(double rate, double seconds, double line_hz) {
+    const double pi = std::numbers::pi;
+    const auto torque = [&](double t) { return std::sin(2 * pi * 3 * t); };
+    const auto slope = [&](double t, double w) { return (torque(t) - 0.1 * w) / 0.01; };
+    const auto n = static_cast<std::size_t>(std::lround(seconds * rate));
+    std::ostringstream out;
+    out.precision(12);
+    out << "t,T,w\n";
+    double w = 0.0;
+    const double h = 1.0 / rate / 20;
+    for (std::size_t i = 0; i <= n; ++i) {
+        const double t = static_cast<double>(i) / rate;
+        out << t << ',' << torque(t) << ',' << w + 0.05 * std::sin(2 * pi * line_hz * t) << '\n';
+        for (int s = 0; s < 20; ++s) {
+            const double ts = t + s * h;
+            const double k1 = slope(ts, w), k2 = slope(ts + h / 2, w + h / 2 * k1), k3 = slope(ts + h / 2, w + h / 2 * k2),
+                         k4 = slope(ts + h, w + h * k3);
+            w += h / 6 * (k1 + 2 * k2 + 2 * k3 + k4);
+        }
+    }
+    return out.str();
+}
+
+}  // namespace
+
+TEST_CASE("recordings at two sample rates: the spectrum keeps one rate, puts its line where it is, and says what it "
+          "left out",
+          "[e2e][spectra][recordings]") {
+    const TempDir tmp;
+    const auto fast = tmp.write("fast.csv", recording_at(1000.0, 2.0, 100.0));  // 2001 samples, a 100 Hz line
+    const auto slow = tmp.write("slow.csv", recording_at(250.0, 4.0, 20.0));    // 1001 samples, a 20 Hz line
+    const auto config = tmp.write("two_rates.yaml",
+                                  "tvid: 1\n"
+                                  "name: two-rates\n"
+                                  "data:\n"
+                                  "  recordings:\n"
+                                  "    - { name: fast, file: " + fast.string() + ", time: t }\n"
+                                  "    - { name: slow, file: " + slow.string() + ", time: t }\n"
+                                  "model:\n"
+                                  "  nodes:\n"
+                                  "    - { name: a, J: 0.01 }\n"
+                                  "  elements:\n"
+                                  "    - { type: torque, name: drive, node: a, input: T }\n"
+                                  "    - { type: friction, name: loss, node: a, c: c }\n"
+                                  "inputs: { T: T }\n"
+                                  "outputs:\n"
+                                  "  w: { column: w, speed: a }\n"
+                                  "parameters:\n"
+                                  "  c: { init: 0.12, min: 0.01, max: 1 }\n"
+                                  "windows:\n"
+                                  "  estimation: [ { recording: fast }, { recording: slow } ]\n"
+                                  "initial_state: rest\n"
+                                  "estimation: { cost: l2, optimizer: lm }\n");
+    const RunResult r = run_tvid({"fit", config.string(), "-o", (tmp.path() / "out").string(), "--threads", "1", "--json"});
+    INFO(r.err);
+    REQUIRE(r.exit_code == 0);
+    const json s = json::parse(r.out);
+    const json& band = s["residual_spectrum"]["estimation"]["w"]["frequency"];
+    INFO(band.dump());
+    // The 1 kHz recording holds most samples: its 100 Hz line, at 100 Hz.
+    CHECK(std::abs(band["peak_hz"].get<double>() - 100.0) <= band["resolution_hz"].get<double>());
+    CHECK(band["sample_rate_hz"].get<double>() == Approx(1000.0).epsilon(1e-6));
+    CHECK(band["other_rate_samples"].get<std::size_t>() > 900);
+    CHECK(band["gaps"] == 0);  // neither recording's own steps are gaps
+    // The terminal says so.
+    const RunResult text = run_tvid({"fit", config.string(), "-o", (tmp.path() / "out").string(), "--threads", "1"});
+    CHECK(text.out.find("samples at 250 Hz left out") != std::string::npos);
+    // The FRF likewise: H1 at the first window's rate, the other window named, no false gaps.
+    const RunResult frf = run_tvid({"frf", config.string(), "-o", (tmp.path() / "frf").string(), "--input", "T",
+                                    "--output", "w"});
+    INFO(frf.out << frf.err);
+    REQUIRE(frf.exit_code == 0);
+    CHECK(frf.out.find("left out at another sample rate than its 1000 Hz: slow: whole recording (250 Hz)") !=
+          std::string::npos);
+    CHECK(frf.out.find("gap(s)") == std::string::npos);
+    const json f = json::parse(read_text(tmp.path() / "frf" / "frf.json"));
+    CHECK(f["measured"]["sample_rate_hz"].get<double>() == Approx(1000.0).epsilon(1e-6));
+    CHECK(f["measured"]["left_out_windows"].size() == 1);
+}

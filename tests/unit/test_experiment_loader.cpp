@@ -13,6 +13,7 @@
 
 #include "support/test_files.hpp"
 #include "tvid/estimation/problem_definition.hpp"
+#include "tvid/experiment/channel_reader.hpp"
 #include "tvid/experiment/experiment.hpp"
 #include "tvid/model/dual.hpp"
 #include "tvid/model/network_model.hpp"
@@ -759,25 +760,36 @@ TEST_CASE("window errors name the line and the key", "[experiment][windows]") {
 
 TEST_CASE("channels carry a unit or a scale", "[experiment][channels]") {
     Scratch s;
-    SECTION("rpm") {
-        const Experiment ex = s.load(with(kPreset, 5, "inputs: { Ttm: { column: Ttm, unit: rpm } }"));
+    SECTION("a unit of the channel's quantity") {
+        const Experiment ex = s.load(with(kPreset, 5, "inputs: { Ttm: { column: Ttm, unit: kN m } }"));
         CHECK(ex.inputs[0].column == "Ttm");
-        CHECK(ex.inputs[0].scale == Approx(2 * std::numbers::pi / 60).epsilon(1e-15));
-    }
-    SECTION("other units") {
-        CHECK(s.load(with(kPreset, 5, "inputs: { Ttm: { column: Ttm, unit: bar } }")).inputs[0].scale == 1e5);
-        CHECK(s.load(with(kPreset, 5, "inputs: { Ttm: { column: Ttm, unit: deg } }")).inputs[0].scale ==
-              Approx(std::numbers::pi / 180).epsilon(1e-15));
+        CHECK(ex.inputs[0].scale == 1e3);
         CHECK(s.load(with(kPreset, 6, "outputs: { Tds: { column: Tds, unit: kN m } }")).outputs[0].scale == 1e3);
         CHECK(s.load(with(kPreset, 6, "outputs: { Tds: { column: Tds, unit: N m } }")).outputs[0].scale == 1.0);
+    }
+    SECTION("the factors") {
+        CHECK(tvid::unit_to_si("rpm") == Approx(2 * std::numbers::pi / 60).epsilon(1e-15));
+        CHECK(tvid::unit_to_si("bar") == 1e5);
+        CHECK(tvid::unit_to_si("deg") == Approx(std::numbers::pi / 180).epsilon(1e-15));
+        CHECK(tvid::unit_to_si("mm/s") == 1e-3);
+        CHECK(tvid::unit_to_si("furlong") == 0.0);
+    }
+    SECTION("a unit of another quantity is refused, naming both") {
+        expect_error(with(kPreset, 5, "inputs: { Ttm: { column: Ttm, unit: rpm } }"), 5, "inputs.Ttm.unit",
+                     "'rpm' is a unit of angular speed, and Ttm is a torque [N m] (read on a rotational node): give "
+                     "N m, Nm, kN m or kNm, or scale: for another factor");
+        expect_error(with(kPreset, 5, "inputs: { Ttm: { column: Ttm, unit: bar } }"), 5, "inputs.Ttm.unit",
+                     "'bar' is a unit of pressure");
+        expect_error(with(kPreset, 6, "outputs: { Tds: { column: Tds, unit: N } }"), 6, "outputs.Tds.unit",
+                     "'N' is a unit of force, and Tds is a torque [N m]");
     }
     SECTION("a scale") {
         const Experiment ex = s.load(with(kPreset, 5, "inputs: { Ttm: { column: Ttm, scale: -2.5 } }"));
         CHECK(ex.inputs[0].scale == -2.5);
     }
     SECTION("block style") {
-        const Experiment ex = s.load(with(kPreset, 5, "inputs:\n  Ttm:\n    column: Ttm\n    unit: rpm"));
-        CHECK(ex.inputs[0].scale == Approx(2 * std::numbers::pi / 60));
+        const Experiment ex = s.load(with(kPreset, 5, "inputs:\n  Ttm:\n    column: Ttm\n    unit: kN m"));
+        CHECK(ex.inputs[0].scale == 1e3);
     }
 }
 

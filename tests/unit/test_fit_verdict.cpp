@@ -173,6 +173,22 @@ TEST_CASE("a stiff mode close to RK4's stability limit is flagged", "[verdict]")
     CHECK_FALSE(has(fit(noisy_bench().load(kFree)).verdict, "near_instability"));
 }
 
+TEST_CASE("a window in substeps near their limit is information on time, not a warning of instability", "[verdict]") {
+    // k = 1.54e6: ωh at the experiment's step of 1 ms is 170 % of RK4's limit, so the window
+    // takes two substeps, each at 85 %: past the 80 % that warns for one step, yet no
+    // candidate can blow up, since a stiffer one takes more substeps.
+    const Experiment ex = noisy_bench().load("  k_s: { init: 1.54e6, min: 1e5, max: 1.6e6 }\n  c_s: { value: 0.5 }",
+                                             {parse_override("estimation.lm.max_iterations=0")});
+    const IdentificationProblem problem(ex);
+    const StepStability s = assess_step_stability(problem, problem.full_parameters(problem.initial()));
+    REQUIRE(s.assessed);
+    CHECK(s.substeps == 2);
+    CHECK(s.margin > kStepMarginWarning);
+    const FitResult r = fit(ex);
+    CHECK_FALSE(has(r.verdict, "near_instability"));
+    CHECK(has(r.verdict, "substeps", Severity::info));
+}
+
 TEST_CASE("a stiff mode past RK4's stability limit takes substeps and is simulated within it", "[verdict]") {
     // k = 4.6e5: ωh = 2.63, 93 % of the limit at the experiment's step of 1 ms. The window
     // takes two substeps (stable_step.hpp), so its simulation sits at 46 %.

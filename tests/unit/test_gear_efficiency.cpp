@@ -87,6 +87,9 @@ TEST_CASE("a lossless mesh is unchanged to the bit, and the efficiency's rules",
     const auto read = [](TextSource& s, NetworkSpec& n) { read_element<elements::GearMesh>(s, "stage", n); };
     CHECK(read_error(TextSource({{"between", ""}, {"ratio", "3"}, {"k", "1"}, {"efficiency", "1.2"}}), read) ==
           "efficiency: must be at most 1 (got 1.2)");
+    // Just above 1: the value as given, not rounded to the limit it breaks.
+    CHECK(read_error(TextSource({{"between", ""}, {"ratio", "3"}, {"k", "1"}, {"efficiency", "1.0000001"}}), read) ==
+          "efficiency: must be at most 1 (got 1.0000001)");
     CHECK(read_error(TextSource({{"between", ""}, {"ratio", "3"}, {"k", "1"}, {"efficiency", "0"}}), read) ==
           "efficiency: must be positive: an efficiency (got 0)");
     CHECK(read_error(TextSource({{"between", ""}, {"ratio", "3"}, {"k", "1"}, {"smoothing_power", "3"}}), read) ==

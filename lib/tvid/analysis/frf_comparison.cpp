@@ -32,36 +32,40 @@ FrfComparison compare_frf(const IdentificationProblem& problem, const std::vecto
     if (measured_index == d.output_indices.size())
         throw std::runtime_error("output " + r.output + " is not measured: there is no H1 to compare with");
 
-    // Every estimation window on one frequency grid, each cut at the recording's gaps (a
-    // step above kGapStepFactor times the median step): no segment crosses a window's end
-    // or a gap, and the sample rate leaves the gaps out.
+    // Every estimation window on one frequency grid, each cut at its recording's gaps (a
+    // step above kGapStepFactor times the window's own median step): no segment crosses a
+    // window's end or a gap, and the sample rate leaves the gaps out. A window at another
+    // sample rate than the first (a recording of another logger) would put its lines at
+    // the wrong frequencies: it is left out, and named.
     const std::vector<double>& time = d.inputs.time();
-    const double median_step = median_time_step(time);
     std::vector<std::pair<std::size_t, std::size_t>> records;  // [first, last + 1) sample ranges
     std::size_t shortest = 0, longest = 0;
+    constexpr double kSameRate = 1e-3;  // relative: a logger's clock jitters
     for (const Window& w : d.estimation) {
         const std::size_t n = w.last + 1 - w.first;
+        const std::span<const double> span(time.data() + w.first, n);
+        const auto pieces = gap_free_records(span, median_time_step(span));
+        double steps = 0.0, seconds = 0.0;
+        for (const auto& [from, to] : pieces) {
+            steps += static_cast<double>(to - from - 1);
+            seconds += time[w.first + to - 1] - time[w.first + from];
+        }
+        const double rate = seconds > 0 ? steps / seconds : 0.0;
+        if (records.empty() && r.windows.empty()) r.sample_rate_hz = rate;
+        if (!(std::abs(rate - r.sample_rate_hz) <= kSameRate * r.sample_rate_hz)) {
+            char text[64];
+            std::snprintf(text, sizeof text, " (%.4g Hz)", rate);
+            r.left_out.push_back(w.label + text);
+            continue;
+        }
         shortest = shortest == 0 ? n : std::min(shortest, n);
         r.windows.push_back(w.label);
-        const std::span<const double> span(time.data() + w.first, n);
-        const auto pieces = gap_free_records(span, median_step);
         r.gaps += pieces.size() - 1;
         for (const auto& [from, to] : pieces) {
             records.emplace_back(w.first + from, w.first + to);
             longest = std::max(longest, to - from);
         }
     }
-    // The sample rate of the first window's gap-free records.
-    double steps = 0.0, span = 0.0;
-    for (const auto& [from, to] : gap_free_records(
-             std::span<const double>(time.data() + d.estimation.front().first,
-                                     d.estimation.front().last + 1 - d.estimation.front().first),
-             median_step)) {
-        const std::size_t at = d.estimation.front().first;
-        steps += static_cast<double>(to - from - 1);
-        span += time[at + to - 1] - time[at + from];
-    }
-    r.sample_rate_hz = steps / span;
     if (asked.segment > 0 || asked.resolution_hz > 0) {
         r.segment_length = asked.segment > 0 ? asked.segment
                                              : static_cast<std::size_t>(std::ceil(r.sample_rate_hz / asked.resolution_hz));

@@ -26,6 +26,8 @@ struct FrfComparison {
     std::size_t gaps = 0;                 ///< gaps in the recording the windows were cut at
     bool measured = false;                ///< whether the measured H1 is there
     std::vector<std::string> windows;     ///< the estimation windows' labels
+    /// Estimation windows at another sample rate than the first, left out: "LABEL (250 Hz)".
+    std::vector<std::string> left_out;
     std::vector<double> frequency_hz;     ///< k·fs/segment_length, k ≥ 1
     std::vector<std::complex<double>> model;
     std::vector<std::complex<double>> measured_h1;  ///< empty when !measured

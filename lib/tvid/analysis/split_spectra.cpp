@@ -20,28 +20,25 @@ struct SpectrumStretch {
     std::size_t size() const { return end - begin; }
 };
 
-// The median time step over every window's scored samples: a longer step than
-// kGapStepFactor times it is a gap in the recording.
-double split_median_step(const SplitEvaluation& split) {
-    std::vector<double> time;
-    for (const WindowEvaluation& w : split.windows) {
-        const std::vector<double>& t = w.trace.time;
-        for (std::size_t i = 0; i + 1 < t.size(); ++i) time.push_back(t[i + 1] - t[i]);
-    }
-    if (time.empty()) return 0.0;
-    const auto middle = time.begin() + static_cast<std::ptrdiff_t>(time.size() / 2);
-    std::nth_element(time.begin(), middle, time.end());
+// The median time step of one window's scored samples: a longer step than kGapStepFactor
+// times it is a gap in the recording. Each window by its own: recordings of several rates
+// may be read in one experiment.
+double median_step(const std::vector<double>& t) {
+    std::vector<double> steps;
+    for (std::size_t i = 0; i + 1 < t.size(); ++i) steps.push_back(t[i + 1] - t[i]);
+    if (steps.empty()) return 0.0;
+    const auto middle = steps.begin() + static_cast<std::ptrdiff_t>(steps.size() / 2);
+    std::nth_element(steps.begin(), middle, steps.end());
     return *middle;
 }
 
 std::vector<SpectrumStretch> finite_stretches(const SplitEvaluation& split, std::size_t outputs, std::size_t& gaps) {
     std::vector<SpectrumStretch> stretches;
-    const double step = split_median_step(split);
     gaps = 0;
     for (const WindowEvaluation& w : split.windows) {
         const WindowTrace& tr = w.trace;
         if (tr.status != SimulationStatus::ok || tr.measured.size() < outputs || tr.simulated.size() < outputs) continue;
-        const auto records = gap_free_records(tr.time, step);
+        const auto records = gap_free_records(tr.time, median_step(tr.time));
         gaps += records.size() - 1;
         for (const auto& [from, to] : records) {
             std::size_t begin = from;
@@ -58,6 +55,40 @@ std::vector<SpectrumStretch> finite_stretches(const SplitEvaluation& split, std:
     return stretches;
 }
 
+// A stretch's sample rate [Hz]: its (samples − 1) over its span.
+double stretch_rate(const SpectrumStretch& s) {
+    const double span = s.trace->time[s.end - 1] - s.trace->time[s.begin];
+    return span > 0 ? static_cast<double>(s.size() - 1) / span : 0.0;
+}
+
+// The stretches at one sample rate, that of most samples: a spectrum averages segments on
+// one frequency grid, and a stretch at another rate would put its lines at the wrong
+// frequencies. The others are counted in `left_out` (samples) at `left_out_hz`.
+std::vector<SpectrumStretch> one_rate(const std::vector<SpectrumStretch>& stretches, std::size_t& left_out,
+                                      double& left_out_hz) {
+    constexpr double kSameRate = 1e-3;  // relative: a logger's clock jitters
+    const auto same = [&](double a, double b) { return std::abs(a - b) <= kSameRate * std::max(a, b); };
+    double best_rate = 0.0;
+    std::size_t best = 0;
+    for (const SpectrumStretch& s : stretches) {
+        std::size_t samples = 0;
+        for (const SpectrumStretch& o : stretches)
+            if (same(stretch_rate(o), stretch_rate(s))) samples += o.size();
+        if (samples > best) best = samples, best_rate = stretch_rate(s);
+    }
+    std::vector<SpectrumStretch> kept;
+    left_out = 0;
+    for (const SpectrumStretch& s : stretches) {
+        if (same(stretch_rate(s), best_rate)) {
+            kept.push_back(s);
+        } else {
+            left_out += s.size();
+            left_out_hz = stretch_rate(s);
+        }
+    }
+    return kept;
+}
+
 void accumulate(std::vector<double>& sum, const Spectrum& s) {
     if (sum.empty()) sum.assign(s.density.size(), 0.0);
     for (std::size_t k = 0; k < sum.size(); ++k) sum[k] += s.density[k] * static_cast<double>(s.segments);
@@ -68,7 +99,8 @@ void accumulate(std::vector<double>& sum, const Spectrum& s) {
 SplitSpectra split_spectra(const SplitEvaluation& split, std::size_t outputs) {
     SplitSpectra out;
     out.split = split.split;
-    const std::vector<SpectrumStretch> stretches = finite_stretches(split, outputs, out.gaps);
+    const std::vector<SpectrumStretch> stretches =
+        one_rate(finite_stretches(split, outputs, out.gaps), out.other_rate_samples, out.other_rate_hz);
     std::size_t total = 0, longest = 0;
     double span = 0.0;
     for (const SpectrumStretch& s : stretches) {

@@ -9,8 +9,11 @@
 // is the Welch default for the split's samples (the largest power of two ≤ N/8, at least
 // 64), halved until the longest stretch holds one segment; a stretch shorter than a
 // segment contributes nothing. A gap in the recording (a time step above kGapStepFactor
-// times the median step: rows missing) ends a stretch too, so no segment runs across it
-// and the sample rate, the stretches' mean (samples − 1)/span, leaves it out.
+// times the window's median step: rows missing) ends a stretch too, so no segment runs
+// across it and the sample rate, the stretches' mean (samples − 1)/span, leaves it out.
+// Windows of recordings at other rates (data.recordings of a 1 kHz and a 250 Hz logger)
+// are not mixed: the spectra hold the stretches at the rate of most samples, and say how
+// many samples at another rate they left out.
 
 #include <cstddef>
 #include <string>
@@ -33,6 +36,8 @@ struct SplitSpectra {
     std::size_t segments = 0;           ///< 0: no stretch long enough, no spectra
     std::size_t samples = 0;            ///< in the stretches that contributed
     std::size_t gaps = 0;               ///< gaps in the recording the stretches were split at
+    std::size_t other_rate_samples = 0; ///< samples of windows at another sample rate, left out
+    double other_rate_hz = 0.0;         ///< that rate (the last one seen, when there are several)
     double resolution_hz = 0.0;         ///< sample_rate_hz / segment_length
     std::vector<double> frequency_hz;
     std::vector<OutputSpectra> outputs;  ///< per compared output

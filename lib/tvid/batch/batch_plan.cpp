@@ -174,11 +174,14 @@ void check_batch_of_one_recording(const Experiment& experiment, const BatchReque
     if (!lists_recordings(experiment)) return;
     std::string names;
     for (const ExperimentRecording& r : experiment.recordings) names += (names.empty() ? "" : ", ") + r.name;
-    const std::string reads = experiment.file.string() + " reads several recordings end to end (data.recordings: " +
+    const std::size_t count = experiment.recordings.size();
+    const std::string reads = experiment.file.string() +
+                              (count == 1 ? " reads its recording through data.recordings ("
+                                          : " reads " + std::to_string(count) + " recordings end to end (data.recordings: ") +
                               names + "): ";
     const std::string instead = "; fit it with tvid fit, or batch an experiment that reads one data.file";
     if (!request.recordings.empty())
-        throw InputError("--data", 0, "", reads + "a batch fits each recording given with --data or --data-list on its "
+        throw InputError(request.recordings_option, 0, "", reads + "a batch fits each recording given with --data or --data-list on its "
                                                  "own, in place of data.file" + instead);
     if (!request.cycles.empty())
         throw InputError("--cycles", 0, "", reads + "a batch of --cycles fits the cycles of one recording" + instead);
@@ -191,7 +194,7 @@ std::vector<BatchJob> plan_batch_jobs(const BatchRequest& request) {
     for (const auto& r : request.recordings) {
         const std::filesystem::path p = std::filesystem::absolute(r).lexically_normal();
         if (std::find(recordings.begin(), recordings.end(), p) != recordings.end())
-            throw InputError("--data", 0, "", r.string() + " is listed twice");
+            throw InputError(request.recordings_option, 0, "", r.string() + " is listed twice");
         recordings.push_back(p);
     }
     const std::vector<std::string> ids = recordings.empty() ? std::vector<std::string>{""} : recording_ids(recordings);

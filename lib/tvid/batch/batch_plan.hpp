@@ -18,6 +18,7 @@ struct BatchJob {
 
 struct BatchRequest {
     std::vector<std::filesystem::path> recordings;  ///< empty: the experiment's own data.file
+    std::string recordings_option = "--data";        ///< the option(s) they came from, for messages
     std::vector<int> cycles;                        ///< empty: the experiment's own windows
     bool validation = true;                         ///< cycles: validate on the next cycle (false: no validation)
 };

@@ -344,13 +344,15 @@ private:
             score(a, x, ws.u.data(), false);
         }
         // A speed beyond the measured range fails the lane, as it fails the scalar simulation.
-        const bool speed_limited = std::isfinite(d_.speed_limit);
-        const P speed_limit(d_.speed_limit);
+        const bool speed_limited = d_.speed_limited();
+        std::array<P, N / 2> speed_limit;  // per node; infinite where nothing ties it to a measured speed
+        for (std::size_t j = 0; j < N / 2; ++j)
+            speed_limit[j] = P(j < d_.speed_limits.size() ? d_.speed_limits[j] : std::numeric_limits<double>::infinity());
         const auto observe = [&](std::size_t i, const std::array<P, N>& xs, const std::vector<double>& u,
                                  const Lanes& sane) {
             Lanes physical = sane;
             if (speed_limited)
-                for (std::size_t j = N / 2; j < N; ++j) physical = physical & (abs(xs[j]) <= speed_limit);
+                for (std::size_t j = N / 2; j < N; ++j) physical = physical & (abs(xs[j]) <= speed_limit[j - N / 2]);
             for (int l = 0; l < W; ++l)
                 if (live[l] && !physical[l]) lane_finish(l, inf);  // diverged, not finite, or too fast
             if (i >= w.first && live.any()) score(i, xs, u.data(), true);

@@ -186,11 +186,11 @@ SimulationStatus IdentificationProblem::simulate_window(const Window& w, Problem
     }
     std::size_t reached = from;  // the last sample the simulation reached sane
     const std::size_t n = definition_.network.nodes.size();
-    const double limit = definition_.speed_limit;
+    const std::vector<double>& limit = definition_.speed_limits;
     int beyond = -1;  // a node whose speed left the physical range
     const auto scored = [&](std::size_t i, const std::vector<double>& x, const std::vector<double>& u) {
-        for (std::size_t j = 0; j < n; ++j)
-            if (std::abs(x[n + j]) > limit) {
+        for (std::size_t j = 0; j < n && j < limit.size(); ++j)
+            if (std::abs(x[n + j]) > limit[j]) {
                 beyond = static_cast<int>(j);
                 return false;
             }
@@ -213,10 +213,13 @@ std::string IdentificationProblem::speed_account(std::size_t node, std::size_t r
                                                  const std::vector<double>& x) const {
     const std::vector<double>& time = inputs().time();
     const std::size_t n = definition_.network.nodes.size();
-    std::string text = "simulation diverged: node " + definition_.network.nodes[node].name + "'s speed reached " +
-                       number_text(x[n + node]) + " rad/s, beyond " + number_text(kSpeedLimitFactor) +
-                       " times the largest measured speed (" + number_text(definition_.speed_limit) +
-                       " rad/s allowed), after t = " + number_text(time[reached]) + " s";
+    const NodeSpec& spec = definition_.network.nodes[node];
+    const std::string unit = spec.linear ? " m/s" : " rad/s";
+    std::string text = "simulation diverged: node " + spec.name + "'s speed reached " + number_text(x[n + node]) + unit +
+                       ", beyond " + number_text(kSpeedLimitFactor) +
+                       " times the largest measured speed it is tied to, through the gear ratios (" +
+                       number_text(definition_.speed_limits[node]) + unit + " allowed), after t = " +
+                       number_text(time[reached]) + " s";
     if (reached + 1 < time.size()) text += " (by t = " + number_text(time[reached + 1]) + " s)";
     return text + "; check the start (initial_state) and the gear ratios, or a stiff candidate's step";
 }

@@ -174,7 +174,7 @@ private:
     // the value, the sample interval and what to try; x the state the march stopped at,
     // `reached` the last sample it passed.
     std::string failure_account(SimulationStatus status, std::size_t reached, const std::vector<double>& x) const;
-    // The same for a speed beyond ProblemDefinition::speed_limit at `node`.
+    // The same for a speed beyond ProblemDefinition::speed_limits[node].
     std::string speed_account(std::size_t node, std::size_t reached, const std::vector<double>& x) const;
     // Sets the free parameters in ws's model; false if one is not finite.
     bool set_free_parameters(const double* free, ProblemWorkspace& ws) const;

@@ -3,6 +3,7 @@
 #include "tvid/channels/channel_delay.hpp"
 #include "tvid/experiment/window_recording.hpp"
 #include "tvid/model/parameter_units.hpp"
+#include "tvid/model/steady_motion.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -46,30 +47,45 @@ struct Unshifted {
 };
 }  // namespace
 
-// kSpeedLimitFactor times the largest speed the recording measures, or infinity.
-double speed_limit(const ProblemDefinition& d, const Experiment& experiment, const Unshifted& u) {
-    double largest = 0.0;
-    bool measured = false;
-    const auto take = [&](const std::vector<double>& v) {
-        for (double x : v) largest = std::max(largest, std::abs(x));
-        measured = true;
+// Each node's limit: kSpeedLimitFactor times the largest speed the recording measures of
+// a node it is tied to, through the gear ratios between them (a ball screw's 1250 rad/m
+// turns a linear speed in m/s into the motor's in rad/s; a gearhead multiplies by its
+// ratio); infinity for a node tied to no measured speed, or when nothing measures one.
+std::vector<double> node_speed_limits(const ProblemDefinition& d, const Experiment& experiment, const Unshifted& u) {
+    const std::size_t n = d.network.nodes.size();
+    std::vector<double> largest(n, 0.0);
+    const auto take = [&](int node, const std::vector<double>& v) {
+        if (node < 0 || static_cast<std::size_t>(node) >= n) return;
+        for (double x : v) largest[static_cast<std::size_t>(node)] = std::max(largest[static_cast<std::size_t>(node)], std::abs(x));
     };
     for (std::size_t k = 0; k < d.measured.size(); ++k)
-        if (d.network.outputs[static_cast<std::size_t>(d.output_indices[k])].kind == OutputKind::speed)
-            take(u.outputs[k]);
+        if (const OutputSpec& o = d.network.outputs[static_cast<std::size_t>(d.output_indices[k])]; o.kind == OutputKind::speed)
+            take(o.node, u.outputs[k]);
     // The measured speeds the model reads (a speed source's channel).
-    for (std::size_t k = 0; k < d.network.input_names.size() && k < u.inputs.size(); ++k)
-        if (const std::string unit = input_unit(d.network, k);
-            unit == outputs::Speed::unit || unit == translational_unit(outputs::Speed::unit))
-            take(u.inputs[k]);
+    for (const auto& source : d.network.speed_sources)
+        if (source.input >= 0 && static_cast<std::size_t>(source.input) < u.inputs.size())
+            take(source.node, u.inputs[static_cast<std::size_t>(source.input)]);
     if (experiment.initial_state == InitialStateKind::steady) {
-        if (d.steady_speed_input >= 0) take(u.inputs[static_cast<std::size_t>(d.steady_speed_input)]);
-        else if (d.steady_speed_output >= 0) take(u.outputs[static_cast<std::size_t>(d.steady_speed_output)]);
-        else if (!d.steady_speed.empty()) take(d.steady_speed);
-        else take({experiment.steady.speed});
+        const int node = experiment.steady.node;
+        if (d.steady_speed_input >= 0) take(node, u.inputs[static_cast<std::size_t>(d.steady_speed_input)]);
+        else if (d.steady_speed_output >= 0) take(node, u.outputs[static_cast<std::size_t>(d.steady_speed_output)]);
+        else if (!d.steady_speed.empty()) take(node, d.steady_speed);
+        else take(node, {experiment.steady.speed});
     }
-    if (!measured || !(largest > 0)) return std::numeric_limits<double>::infinity();
-    return kSpeedLimitFactor * largest;
+    std::vector<double> p;
+    for (const ParameterSetting& s : d.parameters) p.push_back(s.init);
+    std::vector<double> scale(n, 0.0);  // the largest speed each node turns at, by the measured ones
+    for (std::size_t m = 0; m < n; ++m) {
+        if (!(largest[m] > 0)) continue;
+        const RigidMotion rigid = rigid_motion(d.network, p, static_cast<int>(m));
+        if (!rigid.problem.empty()) continue;
+        for (std::size_t j = 0; j < n; ++j)
+            if (rigid.tied[j]) scale[j] = std::max(scale[j], largest[m] * std::abs(rigid.ratio[j]));
+    }
+    std::vector<double> limits(n, std::numeric_limits<double>::infinity());
+    for (std::size_t j = 0; j < n; ++j)
+        if (scale[j] > 0 && std::isfinite(scale[j])) limits[j] = kSpeedLimitFactor * scale[j];
+    return limits;
 }
 
 // The spread (standard deviation about the mean) of v over the scored samples of `windows`.
@@ -199,7 +215,7 @@ ProblemDefinition problem_definition(const Experiment& experiment) {
     d.crank_angle = experiment.crank_angle;
     d.angle_node = experiment.angle_node;
     d.simulation = experiment.simulation;
-    d.speed_limit = speed_limit(d, experiment, unshifted);
+    d.speed_limits = node_speed_limits(d, experiment, unshifted);
     d.cost = experiment.estimation_settings.cost;
     set_output_scales(d, experiment, unshifted);
     d.jacobian = experiment.estimation_settings.jacobian;

@@ -5,6 +5,7 @@
 // Built from an Experiment by problem_definition(); IdentificationProblem and the
 // estimation code around it (batch costs, sensitivities, least squares) compute from it.
 
+#include <cmath>
 #include <limits>
 #include <vector>
 
@@ -54,10 +55,17 @@ struct ProblemDefinition {
     std::vector<double> crank_angle;             ///< measured crank angle per sample [rad], or empty
     int angle_node = -1;                         ///< the node whose angle crank_angle measures
     SimulationSettings simulation;
-    /// A simulated speed beyond this is not physical (kSpeedLimitFactor times the largest
-    /// measured speed: speed outputs, speed-source channels, a steady start's speed);
-    /// infinite when nothing measures a speed.
-    double speed_limit = std::numeric_limits<double>::infinity();
+    /// Per node: a simulated speed beyond it is not physical (kSpeedLimitFactor times the
+    /// largest speed measured of a node it is tied to, through the gear ratios, in the
+    /// node's own unit: rad/s, or m/s on a linear node); infinite for a node tied to no
+    /// measured speed.
+    std::vector<double> speed_limits;
+    /// Whether some node has a finite speed limit.
+    bool speed_limited() const {
+        for (double l : speed_limits)
+            if (std::isfinite(l)) return true;
+        return false;
+    }
     CostKind cost = CostKind::l1;
     /// Each measured output's residual is multiplied by output_scale[k] in the cost: its
     /// weight, divided by its spread when `normalized`.

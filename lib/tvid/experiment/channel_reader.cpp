@@ -8,6 +8,7 @@
 #include <numbers>
 
 #include "tvid/experiment/model_reader.hpp"
+#include "tvid/model/parameter_units.hpp"
 #include "tvid/util/input_error.hpp"
 
 namespace tvid {
@@ -19,18 +20,60 @@ constexpr double kSmallestWeight = 1e-8, kLargestWeight = 1e8;  // an output's w
 struct UnitFactor {
     const char* unit;
     double factor;
+    const char* si;  ///< the SI unit it converts to: the quantity it measures
 };
 
 constexpr double kPi = std::numbers::pi;
 const UnitFactor kUnits[] = {
-    {"Pa", 1.0},        {"kPa", 1e3},         {"MPa", 1e6},          {"bar", 1e5},
-    {"N m", 1.0},       {"Nm", 1.0},          {"kN m", 1e3},         {"kNm", 1e3},
-    {"rad", 1.0},       {"deg", kPi / 180.0}, {"rad/s", 1.0},        {"rpm", 2.0 * kPi / 60.0},
-    {"deg/s", kPi / 180.0}, {"1", 1.0},
+    {"Pa", 1.0, "Pa"},        {"kPa", 1e3, "Pa"},          {"MPa", 1e6, "Pa"},           {"bar", 1e5, "Pa"},
+    {"N m", 1.0, "N m"},      {"Nm", 1.0, "N m"},          {"kN m", 1e3, "N m"},         {"kNm", 1e3, "N m"},
+    {"rad", 1.0, "rad"},      {"deg", kPi / 180.0, "rad"}, {"rad/s", 1.0, "rad/s"},      {"rpm", 2.0 * kPi / 60.0, "rad/s"},
+    {"deg/s", kPi / 180.0, "rad/s"}, {"1", 1.0, "1"},
     // a translational node's channels (motion: linear)
-    {"N", 1.0},         {"kN", 1e3},          {"m", 1.0},            {"mm", 1e-3},
-    {"m/s", 1.0},       {"mm/s", 1e-3},
+    {"N", 1.0, "N"},          {"kN", 1e3, "N"},            {"m", 1.0, "m"},              {"mm", 1e-3, "m"},
+    {"m/s", 1.0, "m/s"},      {"mm/s", 1e-3, "m/s"},
 };
+
+// What an SI unit measures, in words.
+std::string quantity_of(const std::string& si) {
+    if (si == "Pa") return "a pressure";
+    if (si == "N m") return "a torque";
+    if (si == "N") return "a force";
+    if (si == "rad") return "an angle";
+    if (si == "m") return "a position";
+    if (si == "rad/s") return "an angular speed";
+    if (si == "m/s") return "a linear speed";
+    return "a pure number";
+}
+
+// The units that convert to `si`, for a message: "rpm, rad/s or deg/s".
+std::string units_of(const std::string& si) {
+    std::vector<std::string> units;
+    for (const UnitFactor& u : kUnits)
+        if (si == u.si) units.emplace_back(u.unit);
+    std::string text;
+    for (std::size_t i = 0; i < units.size(); ++i)
+        text += (i == 0 ? "" : i + 1 == units.size() ? " or " : ", ") + units[i];
+    return text;
+}
+
+// A channel's `unit:` must measure what the model reads from it (`expected`, its SI unit:
+// an input's from the element that reads it, an output's from its kind and node): rpm on
+// a torque, or mm/s on a rotational node, would be a silent factor. `linear_note` says a
+// linear node's motion where the quantity depends on it.
+void check_unit_quantity(const YamlMap& section, const std::string& name, const std::string& expected,
+                         const std::string& linear_note) {
+    const YAML::Node value = section.get(name);
+    if (!value.IsMap() || expected.empty()) return;
+    const YamlMap m(section.source(), value, section.key_path(name));
+    if (!m.has("unit")) return;
+    const std::string unit = m.text("unit");
+    for (const UnitFactor& u : kUnits)
+        if (unit == u.unit && expected != u.si)
+            m.fail("unit", "'" + unit + "' is a unit of " + quantity_of(u.si).substr(quantity_of(u.si).find(' ') + 1) +
+                               ", and " + name + " is " + quantity_of(expected) + " [" + expected + "]" + linear_note +
+                               ": give " + units_of(expected) + ", or scale: for another factor");
+}
 
 std::string unit_list() {
     std::string out;
@@ -238,6 +281,16 @@ std::vector<ChannelBinding> read_inputs(const YamlMap& inputs, NetworkSpec& netw
         if (!inputs.has(name)) inputs.fail_missing(name, "(the CSV column of model input " + name + ")");
         out.push_back(read_binding(inputs, name, recordings, network, declared, {}));
         out.back().by_angle = i >= network.input_names.size();
+        if (out.back().by_angle) {
+            check_unit_quantity(inputs, name, "Pa", "");
+        } else {
+            const std::string unit = input_unit(network, i);
+            const bool linear = unit == "N" || unit == "m" || unit == "m/s";
+            const bool rotational = unit == "N m" || unit == "rad" || unit == "rad/s";
+            check_unit_quantity(inputs, name, unit,
+                                linear ? " (read on a node with motion: linear)"
+                                       : rotational ? " (read on a rotational node)" : "");
+        }
         if (out.back().by_angle && out.back().delay.is_parameter())
             YamlMap(inputs.source(), inputs.get(name), inputs.key_path(name))
                 .fail("delay", "a cylinder pressure is read by crank angle: its delay must be a number");
@@ -305,6 +358,18 @@ OutputBindings read_outputs(const YamlMap& outputs, NetworkSpec& network, const 
             }
         }
         out.indices.push_back(network.output_index(name));
+        if (out.indices.back() >= 0) {
+            const OutputSpec& o = network.outputs[static_cast<std::size_t>(out.indices.back())];
+            const bool on_node = o.kind == OutputKind::speed || o.kind == OutputKind::angle;
+            const NodeSpec* node =
+                on_node && o.node >= 0 && static_cast<std::size_t>(o.node) < network.nodes.size()
+                    ? &network.nodes[static_cast<std::size_t>(o.node)]
+                    : nullptr;
+            check_unit_quantity(outputs, name, output_unit(network, o),
+                                node ? (node->linear ? " (node " + node->name + " has motion: linear)"
+                                                     : " (node " + node->name + " turns: rotational)")
+                                     : std::string());
+        }
         for (const RecordingRead& r : recordings) check_output_magnitude(out.channels.back(), r.table);
     }
     if (out.channels.empty())

@@ -309,6 +309,14 @@ void read_initial_state(const YamlMap& top, const YamlMap& data, const DataSecti
             if (!ex.angle_column.empty())
                 start.fail("kind", "an estimated start is for a line driven by time channels; with a crank-angle "
                                    "channel the start is shot on the encoder (initial_state: measured)");
+            // A sampled controller's memory (its integral, its held command, its past
+            // angles) is part of the start and is not among the coordinates estimated: it
+            // would restart as if the line had been at rest there, which it was not.
+            if (has_sampled_elements(ex.network))
+                start.fail("kind", "an estimated start estimates angles and speeds, not a sampled controller's memory "
+                                   "(its integral, held command and past angles), which would restart as if the line "
+                                   "had been steady there: start from initial_state: rest, measured or steady, where "
+                                   "the controller's start is known");
         }
         ex.initial_state = kind == "rest"       ? InitialStateKind::rest
                            : kind == "measured" ? InitialStateKind::measured
@@ -410,7 +418,7 @@ Experiment load_experiment(const std::filesystem::path& file, const std::vector<
     // The model, its channels and parameters.
     const YamlMap parameters = top.map("parameters");
     ex.network = read_model(top.map("model"), parameters.keys(), ex.model_constants);
-    check_controller_clocks(top.map("model"), recorded);
+    check_controller_clocks(top.map("model"), recorded, ex.network);
     ex.inputs = read_inputs(top.map("inputs"), ex.network, recorded.recordings, parameters.keys());
     if (data.has("angle_node")) {
         if (ex.angle_column.empty()) data.fail("angle_node", "names the node of the crank-angle channel: give data.angle too");

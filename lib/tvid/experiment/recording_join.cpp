@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "tvid/experiment/controller_clock.hpp"
 #include "tvid/util/input_error.hpp"
 #include "tvid/util/text.hpp"
 
@@ -20,13 +21,16 @@ void require_finite_end(double end, const RecordingRead& r, const std::string& w
 
 // Where each recording's clock starts on the joined one: its own time stamps when they
 // start after the previous recording's last, else one sample interval (the previous
-// recording's last) after it.
-std::vector<double> joined_time_offsets(const DataSection& data) {
+// recording's last) after it; with sampled controllers, moved on to a whole number of
+// their common period (`period`), so that their instants on the joined clock are the
+// instants of the recording's own.
+std::vector<double> joined_time_offsets(const DataSection& data, double period) {
     std::vector<double> offsets;
     double end = 0.0, last_interval = 0.0;  // the previous recording's on the joined clock
     for (const RecordingRead& r : data.recordings) {
         const std::vector<double>& t = r.table.column(r.time_column);
-        const double offset = !offsets.empty() && !(t.front() > end) ? end + last_interval - t.front() : 0.0;
+        double offset = !offsets.empty() && !(t.front() > end) ? end + last_interval - t.front() : 0.0;
+        if (offset > 0.0 && period > 0.0) offset = std::ceil(offset / period - 1e-9) * period;
         offsets.push_back(offset);
         end = t.back() + offset;  // offsets are never negative: every moved time stamp is finite when the last is
         require_finite_end(end, r, "time column (" + r.time_column + ")");
@@ -105,7 +109,8 @@ CsvTable joined_table(const DataSection& data, const std::vector<double>& time_o
 void join_recordings(DataSection data, Experiment& ex) {
     const std::vector<RowSpan> rows = recording_rows(data);
     const std::vector<double> time_offsets =
-        data.listed ? joined_time_offsets(data) : std::vector<double>(data.recordings.size(), 0.0);
+        data.listed ? joined_time_offsets(data, common_controller_period(ex.network))
+                    : std::vector<double>(data.recordings.size(), 0.0);
     const std::vector<double> angle_offsets = data.listed && !data.angle_column.empty()
                                                   ? joined_angle_offsets(data)
                                                   : std::vector<double>(data.recordings.size(), 0.0);

@@ -3,7 +3,9 @@
 // simulation and the scoring see one table as for a single file, and each window the span
 // of its own recording (its rows: recording_rows). A recording keeps its own time stamps
 // when they start after the previous recording's last sample (files cut from one log);
-// otherwise its clock is moved to start one sample interval after it. Its crank angle
+// otherwise its clock is moved to start one sample interval after it, or on to the next
+// whole number of the sampled controllers' common period, so that a controller samples at
+// multiples of its period on each recording's own clock. Its crank angle
 // likewise, by whole cycles, at least a cycle after the previous one's last sample (the
 // cylinders and order torques repeat every cycle). No window spans two recordings, and the
 // channels are read within their own (channels/recording_spans.hpp).

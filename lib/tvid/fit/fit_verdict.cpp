@@ -289,6 +289,17 @@ void judge_correlations(const Experiment& ex, const FitResult& fit, Verdict& v) 
     }
 }
 
+// What to try when validation is worse. An estimated start whose validation windows start
+// from the recipe: their start is the one thing the fit did not estimate for them.
+std::string validation_worse_hint(const Experiment& ex) {
+    if (ex.estimated_start.on && !ex.estimated_start.validation)
+        return "the estimation windows' starts were estimated and the validation windows' were not: give "
+               "initial_state.validation: estimated, so that each validation window's start is estimated too with the "
+               "model held; else estimate on more windows or fix weakly determined parameters";
+    return "estimate on more windows or cycles, or fix weakly determined parameters; and check that each "
+           "validation window starts as the recording does (initial_state, warm-up)";
+}
+
 void judge_residuals(const Experiment& ex, const FitResult& fit, Verdict& v) {
     for (std::size_t k = 0; k < ex.outputs.size() && k < fit.whiteness_estimation.size(); ++k) {
         const ResidualWhiteness& w = fit.whiteness_estimation[k];
@@ -320,8 +331,7 @@ void judge_residuals(const Experiment& ex, const FitResult& fit, Verdict& v) {
         v.add({"validation_worse", ratio > kValidationWorseError ? Severity::error : Severity::warning, name,
                name + ": validation RMSE " + num(val.rms) + " against " + num(e.rms) + " in estimation (" +
                    num(ratio) + " times worse" + (noise ? ", each over its noise)" : ")"),
-               "estimate on more windows or cycles, or fix weakly determined parameters; and check that each "
-               "validation window starts as the recording does (initial_state, warm-up)"});
+               validation_worse_hint(ex)});
     }
 }
 
@@ -427,6 +437,17 @@ void judge_search_boxes(const Experiment& ex, Verdict& v) {
 
 void judge_stability(const StepStability& s, Verdict& v) {
     if (!s.assessed || s.margin < kStepMarginWarning) return;
+    // Divided into substeps, the window is simulated within RK4's limit whatever the
+    // candidate's stiffness (estimation/stable_step.hpp): no candidate blows up for it, it
+    // only costs time.
+    if (s.substeps > 1) {
+        v.add({"substeps", Severity::info, s.window,
+               "window " + s.window + ": a mode of " + num(s.frequency_hz) + " Hz (|lambda| " + num(s.rate) +
+                   " 1/s) needs " + std::to_string(s.substeps) + " substeps of the experiment's step, each " +
+                   num(s.step) + " s: each simulation takes " + std::to_string(s.substeps) + " times as long",
+               "a smaller simulation.step saves nothing; integrator rosenbrock4 takes such a mode in long steps"});
+        return;
+    }
     v.add({"near_instability", Severity::warning, s.window,
            "window " + s.window + ": a mode of " + num(s.frequency_hz) + " Hz (damping ratio " + num(s.damping_ratio) +
                ", |lambda| " + num(s.rate) + " 1/s) is at " + pct(s.margin) + " of RK4's stability limit for the step " +

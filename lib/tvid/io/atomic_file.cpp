@@ -10,6 +10,8 @@
 #include <fstream>
 #include <string>
 
+#include <nlohmann/json.hpp>
+
 #include "tvid/io/input_file.hpp"
 #include "tvid/util/input_error.hpp"
 
@@ -50,14 +52,39 @@ void check_output_target(const std::filesystem::path& target) {
                          "is " + input + " that this run reads: tvid never replaces a file it reads; write elsewhere (-o)");
 }
 
-void check_replaceable(const std::filesystem::path& target, bool force, std::string_view mark, const std::string& what) {
+bool has_written_file_mark(const std::filesystem::path& path, const WrittenFileMark& mark) {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path, ec)) return false;  // a FIFO would block the reading
+    std::ifstream in(path, std::ios::binary);
+    if (!in) return false;
+    if (mark.form == WrittenFileMark::Form::csv_heading) {
+        std::string head(mark.text.size(), '\0');
+        in.read(head.data(), static_cast<std::streamsize>(head.size()));
+        return in.gcount() == static_cast<std::streamsize>(head.size()) && head == mark.text;
+    }
+    // A JSON object: read whole, up to the size of the largest report of the kind.
+    constexpr std::uintmax_t kLargestMarkedJson = 256u << 20;
+    const std::uintmax_t size = std::filesystem::file_size(path, ec);
+    if (ec || size > kLargestMarkedJson) return false;
+    const nlohmann::json j = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
+    if (j.is_discarded() || !j.is_object()) return false;
+    const auto it = j.find(std::string(mark.text));
+    if (mark.form == WrittenFileMark::Form::json_member) return it != j.end();
+    return it != j.end() && it->is_string() && it->get_ref<const std::string&>().rfind(mark.value, 0) == 0;
+}
+
+void check_replaceable(const std::filesystem::path& target, bool force, const WrittenFileMark& mark,
+                       const std::string& what) {
     check_output_target(target);
+    // The folder it goes into must be there before the work, not found missing after it.
+    const std::filesystem::path folder = target.parent_path();
+    if (std::error_code ec; !folder.empty() && !std::filesystem::is_directory(folder, ec))
+        throw InputError(target.string(), 0, "",
+                         "its folder " + folder.string() +
+                             (std::filesystem::exists(folder, ec) ? " is not a folder" : " does not exist") +
+                             ": create it first, or give another name");
     if (force || not_a_file_reason(target) == "does not exist") return;
-    std::ifstream in(target, std::ios::binary);
-    std::string head(1 << 20, '\0');
-    in.read(head.data(), static_cast<std::streamsize>(head.size()));
-    head.resize(static_cast<std::size_t>(std::max<std::streamsize>(in.gcount(), 0)));
-    if (head.find(mark) == std::string::npos)
+    if (!has_written_file_mark(target, mark))
         throw InputError(target.string(), 0, "",
                          "exists and is not " + what + " that tvid wrote: give --force to replace it, or another name");
 }

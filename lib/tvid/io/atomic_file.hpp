@@ -42,12 +42,29 @@ void remove_output_file(const std::filesystem::path& dir, const std::string& nam
 /// their work, so that a refusal comes first.
 void check_output_target(const std::filesystem::path& target);
 
-/// Unless `force`, throws InputError naming `target` when it is an existing file that does
-/// not hold `mark` (the text every file of its kind that tvid writes holds: a CSV's first
-/// heading, a JSON key) in its first megabyte: a file tvid did not write is replaced only
-/// when asked (--force). `what` names the kind for the message ("a simulation CSV").
-/// A target that does not exist passes.
-void check_replaceable(const std::filesystem::path& target, bool force, std::string_view mark, const std::string& what);
+/// How a file of one kind that tvid writes is known by its own structure, never by a text
+/// found anywhere in it (a user's notes may quote a heading or a JSON key):
+/// - `csv_heading`: its first line begins with `text` (a CSV's first headings);
+/// - `json_string`: it is one JSON object whose member `text` is a string that begins with
+///   `value` ("written_by": "tvid validate");
+/// - `json_member`: it is one JSON object with a member `text` ("tvid_batch").
+struct WrittenFileMark {
+    enum class Form { csv_heading, json_string, json_member };
+    Form form = Form::csv_heading;
+    std::string_view text;
+    std::string_view value;
+};
+
+/// Whether the file at `path` has `mark`'s structure (false when it is not a regular file
+/// or cannot be read).
+bool has_written_file_mark(const std::filesystem::path& path, const WrittenFileMark& mark);
+
+/// Unless `force`, throws InputError naming `target` when it is an existing file without
+/// `mark` (has_written_file_mark): a file tvid did not write is replaced only when asked
+/// (--force). `what` names the kind for the message ("a simulation CSV"). A target that
+/// does not exist passes, when its folder exists (else refused, before the work).
+void check_replaceable(const std::filesystem::path& target, bool force, const WrittenFileMark& mark,
+                       const std::string& what);
 
 /// Why `name` (of a parameter, output, node or element, as the user chose it) cannot be
 /// part of a file or folder name: empty, "." or "..", or holding '/' or '\\'; "" when it

@@ -5,6 +5,7 @@
 // compile time that each kind of the table declares them.
 
 #include <cstdio>
+#include <cstdlib>
 #include <string>
 #include <vector>
 
@@ -67,6 +68,18 @@ struct LinearisationPoint {
 inline std::string linear_number(double v) {
     char text[32];
     std::snprintf(text, sizeof text, "%.6g", v);
+    return text;
+}
+
+/// A number a user gave, as it reads back exactly: the fewest significant digits (6 at
+/// least) that round-trip, so that a refusal of 1.0000001 against a limit of 1 does not
+/// print "got 1".
+inline std::string given_number(double v) {
+    char text[32];
+    for (int digits = 6; digits <= 17; ++digits) {
+        std::snprintf(text, sizeof text, "%.*g", digits, v);
+        if (std::strtod(text, nullptr) == v) break;
+    }
     return text;
 }
 

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <type_traits>
 
 #include "tvid/model/damped_newton.hpp"
 #include "tvid/model/equilibrium.hpp"
@@ -146,6 +147,12 @@ std::string held_to_ground(const NetworkSpec& spec) {
         if constexpr (requires { e.a; e.b; } && decltype(kind)::acts_at_rest) {  // friction holds nothing at rest
             if (held.empty() && e.b == kGround)
                 held = "'" + e.name + "' (node " + spec.nodes[static_cast<std::size_t>(e.a)].name + " to ground)";
+        }
+        // A position controller pulls its node to an angle: a spring to ground of stiffness kp.
+        if constexpr (std::is_same_v<std::decay_t<decltype(e)>, PositionControllerSpec>) {
+            if (held.empty() && e.measures == ControlledQuantity::angle)
+                held = "the position controller '" + e.name + "' (node " +
+                       spec.nodes[static_cast<std::size_t>(e.node)].name + " to its setpoint angle)";
         }
     });
     return held;

@@ -19,8 +19,9 @@ struct RigidMotion {
     std::string problem;        ///< not empty: the ratios around a loop disagree
 };
 
-/// The first element that holds a node to ground ("'mount' (node motor to ground)"), or
-/// "": a line so held cannot turn steadily, and at rest its start is the equilibrium.
+/// The first element that holds a node to ground ("'mount' (node motor to ground)"), or to
+/// an angle (a position controller), or "": a line so held cannot turn steadily, and at
+/// rest its start is the equilibrium.
 std::string held_to_ground(const NetworkSpec& spec);
 
 /// The ratios of `spec`'s nodes for the parameter vector p (gear ratios may be parameters).

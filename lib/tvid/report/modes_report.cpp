@@ -229,6 +229,7 @@ json frf_json(const FrfComparison& f, const ModesRunInfo& run) {
               {"segments", f.segments},
               {"resolution_hz", json_number(f.resolution_hz)},
               {"gaps", f.gaps},
+              {"left_out_windows", f.left_out},
               {"coherence_defined", f.segments >= 2}}},
             {"undamped_resonances_hz", f.undamped_hz},
             {"rows", rows},
@@ -259,6 +260,14 @@ void write_frf_report(const std::filesystem::path& dir, const FrfComparison& frf
     write_output_file(dir, "frf.json", json_text(frf_json(frf, run)) + "\n");
 }
 
+// The windows the measured H1 left out, at another sample rate than its own.
+static std::string left_out_text(const FrfComparison& f) {
+    if (f.left_out.empty()) return "";
+    std::string text = "; left out at another sample rate than its " + csv_cell(f.sample_rate_hz, "%.4g") + " Hz: ";
+    for (std::size_t i = 0; i < f.left_out.size(); ++i) text += (i ? ", " : "") + f.left_out[i];
+    return text;
+}
+
 std::string frf_summary_text(const FrfComparison& f) {
     std::ostringstream out;
     out << "FRF " << f.input << " -> " << f.output << " [" << f.output_unit << " per " << f.input_unit
@@ -267,7 +276,7 @@ std::string frf_summary_text(const FrfComparison& f) {
         out << "measured H1 over " << f.windows.size() << " estimation window(s): " << f.segments << " segments of "
             << f.segment_length << " samples, " << csv_cell(f.sample_rate_hz / static_cast<double>(f.segment_length), "%.4g")
             << " Hz resolution" << (f.gaps > 0 ? ", cut at " + std::to_string(f.gaps) + " gap(s) in the recording" : "")
-            << (f.segments < 2 ? "; one segment: no coherence" : "") << "\n";
+            << (f.segments < 2 ? "; one segment: no coherence" : "") << left_out_text(f) << "\n";
     else
         out << "no measured H1\n";
     // The model's resonance peaks (local maxima of |H| on the fine curve), the largest

@@ -15,7 +15,8 @@ std::vector<double> initial_parameters(const Experiment& experiment) {
     return p;
 }
 
-std::vector<double> read_parameter_file(const std::filesystem::path& file, const Experiment& experiment) {
+std::vector<double> read_parameter_file(const std::filesystem::path& file, const Experiment& experiment,
+                                        const std::vector<std::vector<double>>* seeds, std::vector<std::string>* notes) {
     const std::string name = file.string();
     const nlohmann::json j = read_json_file(file, "parameter file");
     std::vector<double> p = initial_parameters(experiment);
@@ -36,15 +37,38 @@ std::vector<double> read_parameter_file(const std::filesystem::path& file, const
                 throw InputError(name, 0, "parameters", "each entry needs a name and a value");
             set(entry["name"].get<std::string>(), entry["value"]);
         }
-        // An estimated start's corrections, where this experiment estimates the same ones
-        // (another experiment starts its windows from its own recipe).
-        if (j.contains("initial_states") && j["initial_states"].is_array())
+        // An estimated start, where this experiment estimates the same coordinate of the same
+        // window; else that window starts from its recipe, and the notes say so.
+        if (j.contains("initial_states") && !j["initial_states"].is_array())
+            throw InputError(name, 0, "initial_states", "expected a list of start coordinates, as tvid fit writes it");
+        if (j.contains("initial_states"))
             for (const auto& entry : j["initial_states"]) {
                 if (!entry.is_object() || !entry.contains("parameter") || !entry["parameter"].is_string() ||
                     !entry.contains("correction"))
                     throw InputError(name, 0, "initial_states", "each entry needs its parameter and correction");
                 const std::string key = entry["parameter"].get<std::string>();
-                if (experiment.network.parameter_index(key) >= 0) set(key, entry["correction"]);
+                const int index = experiment.network.parameter_index(key);
+                const NetworkSpec::StartCoordinate* coordinate = nullptr;
+                for (const NetworkSpec::StartCoordinate& c : experiment.network.start_coordinates)
+                    if (c.parameter == index && index >= 0) coordinate = &c;
+                if (coordinate == nullptr) {
+                    if (notes) notes->push_back("the start coordinate " + key + " of " + name +
+                                                " is not one this experiment estimates: left out");
+                    continue;
+                }
+                const std::string window = experiment.estimation[coordinate->window].label;
+                if (entry.contains("window") && entry["window"].is_string() && entry["window"].get<std::string>() != window) {
+                    if (notes) notes->push_back("the start " + key + " of " + name + " was estimated for the window '" +
+                                                entry["window"].get<std::string>() + "', not '" + window +
+                                                "': left out, that window starts from its recipe");
+                    continue;
+                }
+                // The start as stored: its value less this experiment's seed now.
+                if (seeds && entry.contains("value") && entry["value"].is_number() && coordinate->window < seeds->size() &&
+                    coordinate->state < (*seeds)[coordinate->window].size())
+                    set(key, entry["value"].get<double>() - (*seeds)[coordinate->window][coordinate->state]);
+                else
+                    set(key, entry["correction"]);
             }
     } else if (j.is_object()) {
         for (const auto& [key, value] : j.items()) set(key, value);

@@ -101,6 +101,8 @@ std::vector<ResidualSpectrumSummary> residual_spectrum_summary(const Experiment&
         s.segment_length = spectra.segment_length;
         s.gaps = spectra.gaps;
         s.resolution_hz = spectra.resolution_hz;
+        s.other_rate_samples = spectra.other_rate_samples;
+        s.other_rate_hz = spectra.other_rate_hz;
         s.order = dominant_order(orders, k);
         s.engine = engine;
         out.push_back(std::move(s));
@@ -123,7 +125,9 @@ nlohmann::json split_residual_spectrum_json(const Experiment& ex, const SplitEva
                     {"segments", s.segments},
                     {"segment_length", s.segment_length},
                     {"resolution_hz", json_number(s.resolution_hz)},
-                    {"gaps", s.gaps}};
+                    {"gaps", s.gaps},
+                    {"sample_rate_hz", json_number(s.resolution_hz * static_cast<double>(s.segment_length))},
+                    {"other_rate_samples", s.other_rate_samples}};
         if (s.order.available)
             order = {{"order", json_number(s.order.order)},
                      {"amplitude", json_number(s.order.amplitude)},
@@ -177,6 +181,11 @@ std::string residual_spectrum_line(const ResidualSpectrumSummary& s, const Resid
                   percent(s.band.share).c_str(), s.band.band_low_hz, s.band.band_high_hz, s.band.peak_hz);
     std::string text = line;
     if (white > 0 && white < 1) text += "; white noise would put " + percent(white) + " there";
+    if (s.other_rate_samples > 0) {
+        std::snprintf(line, sizeof line, " (at %.4g Hz; %zu samples at %.4g Hz left out)",
+                      s.resolution_hz * static_cast<double>(s.segment_length), s.other_rate_samples, s.other_rate_hz);
+        text += line;
+    }
     return text;
 }
 

@@ -44,6 +44,10 @@ struct ResidualSpectrumSummary {
     /// the recording's gaps no segment crosses (split_spectra.hpp).
     std::size_t segments = 0, segment_length = 0, gaps = 0;
     double resolution_hz = 0.0;
+    /// Samples of windows at another sample rate than the spectrum's (recordings of
+    /// several rates), left out of it, and that rate.
+    std::size_t other_rate_samples = 0;
+    double other_rate_hz = 0.0;
     OrderPeak order;     ///< the dominant order (experiments with a crank angle)
     bool engine = false; ///< an input is read by crank angle (cylinder pressures): the order is the view
 };

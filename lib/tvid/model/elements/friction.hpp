@@ -99,8 +99,8 @@ struct Friction {
     static void check(const Spec& e, const ElementSource& src) {
         if (e.stribeck && !e.breakaway.is_parameter() && !e.coulomb.is_parameter() &&
             e.breakaway.constant < e.coulomb.constant)
-            src.fail("breakaway", "must be at least coulomb (" + linear_number(e.coulomb.constant) + " N m), got " +
-                                      linear_number(e.breakaway.constant));
+            src.fail("breakaway", "must be at least coulomb (" + given_number(e.coulomb.constant) + " N m), got " +
+                                      given_number(e.breakaway.constant));
     }
 
     /// f(info, field...) for each numeric field, of each of s, e... (a spec first, then bound elements) in step.

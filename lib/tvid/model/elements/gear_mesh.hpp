@@ -84,7 +84,7 @@ struct GearMesh {
     /// After the sign rules: an efficiency is at most 1 (a parameter is held by its bounds).
     static void check(const Spec& e, const ElementSource& src) {
         if (e.lossy && !e.efficiency.is_parameter() && e.efficiency.constant > 1.0)
-            src.fail("efficiency", "must be at most 1 (got " + linear_number(e.efficiency.constant) + ")");
+            src.fail("efficiency", "must be at most 1 (got " + given_number(e.efficiency.constant) + ")");
     }
 
     /// f(info, field...) for each numeric field, of each of s, e... (a spec first, then bound elements) in step.

@@ -178,18 +178,18 @@ private:
             angle[i] = stage.field("angle");
             k[i] = stage.field("k");
             if (!k[i].is_parameter() && k[i].constant < 0)
-                stage.fail("k", "cannot be negative: a stage stiffness (got " + linear_number(k[i].constant) + ")");
+                stage.fail("k", "cannot be negative: a stage stiffness (got " + given_number(k[i].constant) + ")");
             if (angle[i].is_parameter()) {
                 last = -1.0;
                 continue;
             }
             if (angle[i].constant < 0)
                 stage.fail("angle", "is the twist where the stage begins, counted from zero outwards, and cannot be "
-                                    "negative (got " + linear_number(angle[i].constant) +
+                                    "negative (got " + given_number(angle[i].constant) +
                                     "); give the negative side under stages_negative");
             if (angle[i].constant <= last)
-                stage.fail("angle", "must lie beyond the previous stage's " + linear_number(last) + " rad (got " +
-                                        linear_number(angle[i].constant) + ")");
+                stage.fail("angle", "must lie beyond the previous stage's " + given_number(last) + " rad (got " +
+                                        given_number(angle[i].constant) + ")");
             last = angle[i].constant;
         }
         return static_cast<int>(list.size());

@@ -1,5 +1,5 @@
 #pragma once
-// A PD position controller on a node, as a drive's position loop: proportional on the
+// A PID position controller on a node, as a drive's position loop: proportional on the
 // angle error, derivative on the measured speed (not on the error, so a setpoint step
 // gives no derivative kick). With `ki` the continuous controller integrates its angle
 // error in a hidden node NAME.integral (J = 1, nothing else acting on it): the controller
@@ -49,6 +49,10 @@ struct PositionControllerSpec {
     Field lower = Field::value(0.0), upper = Field::value(0.0);  ///< the torque limits [N m], when limited
     Field ki = Field::value(0.0);  ///< the integral gain (sampled controllers)
     double sample_period = 0.0;    ///< [s]; 0: continuous
+    /// [s] how far a recording's sample may lie from one of the controller's instants and
+    /// still be that instant (a logger's clock jitters): 1e-3 of the recording's sample
+    /// interval, set by the experiment reader; 0: 1e-6 of the period.
+    double clock_tolerance = 0.0;
     int delay_periods = 0;         ///< the computation delay in sample periods
     int angle_average = 1;         ///< the speed: the difference of the averages of this many angles
     ControlledQuantity measures = ControlledQuantity::angle;
@@ -67,7 +71,7 @@ struct PositionController {
         T setpoint, kp, kd, lower, upper, ki;
         bool limited = false;
         // A sampled controller: its clock and its memory, restarted by each simulation.
-        double period = 0.0;
+        double period = 0.0, clock_tolerance = 0.0;
         int delay = 0, average = 1;
         bool speed_loop = false;
         bool holding = false;  ///< restarted: the torque is `held` (else the continuous law)
@@ -82,7 +86,8 @@ struct PositionController {
     //      limits: [MIN, MAX] }`
     static constexpr const char* type_name = "position_controller";
     static constexpr const char* summary =
-        "a PD position controller on a node: T = kp*(theta_set - theta) - kd*omega (derivative on the measured speed)";
+        "a PID position controller on a node: T = kp*(theta_set - theta) + ki*integral(theta_set - theta) dt - kd*omega "
+        "(derivative on the measured speed; ki optional), saturated at limits; sampled with sample_period";
     static constexpr const char* keys[] = {"node", "setpoint", "kp", "ki", "kd", "limits", "sample_period", "delay",
                                            "angle_average"};
 
@@ -139,7 +144,7 @@ struct PositionController {
         e.sample_period = plain_number(src, "sample_period", "a number of seconds (a controller's clock is known, not "
                                                              "estimated)");
         if (!(e.sample_period > 0.0) || !std::isfinite(e.sample_period))
-            src.fail("sample_period", "expected a positive number of seconds, got " + linear_number(e.sample_period));
+            src.fail("sample_period", "expected a positive number of seconds, got " + given_number(e.sample_period));
         if (src.has("delay")) {
             const double delay = plain_number(src, "delay", "a number of seconds, not a parameter");
             const double periods = delay / e.sample_period;
@@ -147,14 +152,14 @@ struct PositionController {
                 std::round(periods) > kMaxControllerDelay)
                 src.fail("delay", "expected a whole number of sample periods (0 to " +
                                       std::to_string(kMaxControllerDelay) + " times " +
-                                      linear_number(e.sample_period) + " s), got " + linear_number(delay) + " s");
+                                      given_number(e.sample_period) + " s), got " + given_number(delay) + " s");
             e.delay_periods = static_cast<int>(std::round(periods));
         }
         if (src.has("angle_average")) {
             const double n = plain_number(src, "angle_average", "a whole number of sampled angles, not a parameter");
             if (!(n >= 1 && n <= kMaxAngleAverage) || n != std::floor(n))
                 src.fail("angle_average", "expected a whole number of sampled angles from 1 to " +
-                                              std::to_string(kMaxAngleAverage) + ", got " + linear_number(n));
+                                              std::to_string(kMaxAngleAverage) + ", got " + given_number(n));
             e.angle_average = static_cast<int>(n);
         }
     }
@@ -164,7 +169,7 @@ struct PositionController {
         if (!e.limited || e.lower.is_parameter() || e.upper.is_parameter()) return;
         if (!(e.lower.constant <= 0.0 && 0.0 <= e.upper.constant && e.lower.constant < e.upper.constant))
             src.fail("limits", "expected [min, max] with min <= 0 <= max and min < max, got [" +
-                                   linear_number(e.lower.constant) + ", " + linear_number(e.upper.constant) + "]");
+                                   given_number(e.lower.constant) + ", " + given_number(e.upper.constant) + "]");
     }
 
     /// f(info, field...) for each numeric field, of each of s, e... (a spec first, then bound elements) in step.
@@ -217,6 +222,7 @@ struct PositionController {
         e.integral_node = s.integral_node;
         e.limited = s.limited;
         e.period = s.sample_period;
+        e.clock_tolerance = s.clock_tolerance > 0.0 ? s.clock_tolerance : 1e-6 * s.sample_period;
         e.delay = s.delay_periods;
         e.average = s.angle_average;
         e.speed_loop = s.measures == ControlledQuantity::speed;
@@ -278,7 +284,7 @@ struct PositionController {
     /// controller's clock, it samples, computes its command and applies the one `delay` old.
     template <class T>
     static void sample(Bound<T>& e, double t, const NodeMotion<T>& m) {
-        if (e.period <= 0.0 || !on_clock(t, e.period)) return;
+        if (e.period <= 0.0 || !on_clock(t, e.period, e.clock_tolerance)) return;
         using std::max;
         using std::min;
         e.angle_at = (e.angle_at + 1) % kAngleRing;
@@ -303,9 +309,10 @@ struct PositionController {
     }
 
     /// Whether t is a multiple of the period (to a millionth of it).
-    static bool on_clock(double t, double period) {
+    /// Whether the sample at time t is one of the instants k·period, within `tolerance` [s].
+    static bool on_clock(double t, double period, double tolerance) {
         const double k = std::round(t / period);
-        return std::abs(t - k * period) <= 1e-6 * period;
+        return std::abs(t - k * period) <= tolerance;
     }
 
     template <class T>
