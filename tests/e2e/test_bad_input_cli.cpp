@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "support/run_tvid.hpp"
+#include "support/shipped_fit.hpp"
 #include "support/test_files.hpp"
 
 using namespace tvid::test;
@@ -356,12 +357,8 @@ namespace {
 // A shipped experiment with one line replaced, written beside its data's absolute path.
 std::filesystem::path shipped_variant(const TempDir& tmp, const std::string& config, const std::string& from,
                                       const std::string& to) {
-    std::string text = read_text(source_dir() / "configs" / (config + ".yaml"));
-    const std::string data = "../data/";
-    REQUIRE(text.find(data) != std::string::npos);
-    text.replace(text.find(data), data.size(), (source_dir() / "data").string() + "/");
-    REQUIRE(text.find(from) != std::string::npos);
-    text.replace(text.find(from), from.size(), to);
+    std::string text = shipped_config_text(config);
+    replace_once(text, from, to);
     return tmp.write(config + "-variant.yaml", text);
 }
 

@@ -124,14 +124,9 @@ TEST_CASE("validate --params takes an estimated start as stored, whatever the ex
     const TempDir tmp;
     // The free line with its start seeded by the steady recipe, whose twist depends on the
     // stiffnesses' init values.
-    std::string text = read_text(source_dir() / "configs/free_line.yaml");
-    const auto replace = [&](const std::string& from, const std::string& to) {
-        REQUIRE(text.find(from) != std::string::npos);
-        text.replace(text.find(from), from.size(), to);
-    };
-    replace("../data/", (source_dir() / "data").string() + "/");
-    replace("initial_state: { kind: estimated, from: measured, validation: estimated }",
-            "initial_state: { kind: estimated, from: steady, node: engine, speed: w_engine, validation: estimated }");
+    std::string text = shipped_config_text("free_line");
+    replace_once(text, "initial_state: { kind: estimated, from: measured, validation: estimated }",
+                 "initial_state: { kind: estimated, from: steady, node: engine, speed: w_engine, validation: estimated }");
     const std::filesystem::path config = tmp.write("steady_seed.yaml", text);
     const RunResult fit = run_tvid({"fit", config.string(), "-o", (tmp.path() / "fit").string(), "--quiet", "--set",
                                     "estimation.lm.max_iterations=2"});

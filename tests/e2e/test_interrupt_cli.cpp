@@ -104,7 +104,7 @@ TEST_CASE("Ctrl-C during the paper's swarm writes the best so far, marked interr
 }
 
 TEST_CASE("SIGTERM during a Levenberg-Marquardt fit writes the best so far, marked interrupted, exit 130",
-          "[e2e][interrupt]") {
+          "[e2e][interrupt][fits]") {
     TempDir tmp;
     const auto out = tmp.path() / "report";
     const std::string config = (source_dir() / "configs/engine_idle.yaml").string();

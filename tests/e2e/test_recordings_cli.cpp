@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "support/run_tvid.hpp"
+#include "support/shipped_fit.hpp"
 #include "support/test_files.hpp"
 #include "tvid/io/sha256.hpp"
 
@@ -422,9 +423,7 @@ std::filesystem::path digital_drive_on_clock(const TempDir& tmp, const std::stri
     for (std::size_t i = 0; std::getline(in, line); ++i) out << clock(i) << line.substr(line.find(',')) << '\n';
     const std::filesystem::path csv = tmp.write(name + ".csv", out.str());
     std::string text = read_text(source_dir() / "configs/digital_drive_clean.yaml");
-    const std::string from = "../data/digital_drive/digital_drive_clean.csv";
-    REQUIRE(text.find(from) != std::string::npos);
-    text.replace(text.find(from), from.size(), csv.string());
+    replace_once(text, "../data/digital_drive/digital_drive_clean.csv", csv.string());
     return tmp.write(name + ".yaml", text);
 }
 
@@ -462,20 +461,15 @@ TEST_CASE("a sampled controller samples on each recording's own clock when recor
     const TempDir tmp;
     // The digital drive's controller at half the recording's rate (every 2 ms), read twice:
     // alone, and as the second of two recordings whose clocks both start at 0.
-    std::string text = read_text(source_dir() / "configs/digital_drive_clean.yaml");
-    const auto replace = [&](const std::string& from, const std::string& to) {
-        REQUIRE(text.find(from) != std::string::npos);
-        text.replace(text.find(from), from.size(), to);
-    };
+    std::string text = shipped_config_text("digital_drive_clean");
     const std::string csv = (source_dir() / "data/digital_drive/digital_drive_clean.csv").string();
-    replace("sample_period: 0.001, delay: 0.001", "sample_period: 0.002, delay: 0.002");
-    replace("../data/digital_drive/digital_drive_clean.csv", csv);
+    replace_once(text, "sample_period: 0.001, delay: 0.001", "sample_period: 0.002, delay: 0.002");
     const std::filesystem::path alone = tmp.write("alone.yaml", text);
-    replace("data:\n  file: " + csv + "\n  time: t\n",
-            "data:\n  recordings:\n    - { name: a, file: " + csv + ", time: t }\n    - { name: b, file: " + csv +
-                ", time: t }\n");
-    replace("  estimation: [ { time: [0, 2.5] } ]\n  validation: [ { time: [0, 4] } ]\n",
-            "  estimation: [ { recording: a, time: [0, 2.5] } ]\n  validation: [ { recording: b, time: [0, 4] } ]\n");
+    replace_once(text, "data:\n  file: " + csv + "\n  time: t\n",
+                 "data:\n  recordings:\n    - { name: a, file: " + csv + ", time: t }\n    - { name: b, file: " + csv +
+                     ", time: t }\n");
+    replace_once(text, "  estimation: [ { time: [0, 2.5] } ]\n  validation: [ { time: [0, 4] } ]\n",
+                 "  estimation: [ { recording: a, time: [0, 2.5] } ]\n  validation: [ { recording: b, time: [0, 4] } ]\n");
     const std::filesystem::path second = tmp.write("second.yaml", text);
     const std::filesystem::path params =
         tmp.write("truth.json", json::parse(read_text(source_dir() / "data/digital_drive/truth.json"))["parameters"].dump());
