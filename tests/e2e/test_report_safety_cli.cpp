@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <random>
 #include <thread>
@@ -34,8 +35,12 @@ std::vector<std::string> quick_fit(const fs::path& out) {
             "--force"};
 }
 
-// Starts tvid, kills it with SIGKILL after `delay`, and waits for it.
-void run_and_kill(const std::vector<std::string>& args, std::chrono::microseconds delay) {
+// Starts tvid and kills it with SIGKILL: after `delay` or, when `written` is given, `delay`
+// after the moment `written()` first holds (polled every 0.1 ms; a run that ends first is
+// not killed). The second form lands kills while the files are being written however fast
+// or slow the machine is (a busy sanitizer run is many times slower than the timed run).
+void run_and_kill(const std::vector<std::string>& args, std::chrono::microseconds delay,
+                  const std::function<bool()>& written = {}) {
     const pid_t pid = ::fork();
     if (pid == 0) {
         std::vector<std::string> copy = args;
@@ -49,9 +54,15 @@ void run_and_kill(const std::vector<std::string>& args, std::chrono::microsecond
         ::execv(binary.c_str(), argv.data());
         ::_exit(127);
     }
+    int status = 0;
+    if (written) {
+        while (!written()) {
+            if (::waitpid(pid, &status, WNOHANG) == pid) return;  // ended before writing
+            std::this_thread::sleep_for(std::chrono::microseconds(100));
+        }
+    }
     std::this_thread::sleep_for(delay);
     ::kill(pid, SIGKILL);
-    int status = 0;
     ::waitpid(pid, &status, 0);
 }
 
@@ -200,7 +211,16 @@ TEST_CASE("a fit killed with SIGKILL leaves each report file complete or absent"
         // Even runs write over a complete report, odd ones into an empty directory.
         const fs::path out = tmp.path() / (k % 2 == 0 ? "over" : "fresh-" + std::to_string(k));
         if (k % 2 == 0 && !fs::exists(out / "summary.json")) fs::copy(reference, out, fs::copy_options::overwrite_existing);
-        run_and_kill(quick_fit(out), std::chrono::microseconds(moment(random)));
+        if (k % 4 == 3) {
+            // Every fourth run is killed 0-2 ms after its first report file appears.
+            const auto written = [&] {
+                return std::any_of(std::begin(kReportFiles), std::end(kReportFiles),
+                                   [&](const char* name) { return fs::exists(out / name); });
+            };
+            run_and_kill(quick_fit(out), std::chrono::microseconds(moment(random) % 2000), written);
+        } else {
+            run_and_kill(quick_fit(out), std::chrono::microseconds(moment(random)));
+        }
         INFO("run " << k);
         bool any = false;
         for (const char* name : kReportFiles) {
@@ -250,7 +270,14 @@ TEST_CASE("a batch killed with SIGKILL leaves batch files complete or absent, an
         const fs::path out = tmp.path() / (k % 2 == 0 ? "over" : "fresh-" + std::to_string(k));
         if (k % 2 == 0 && !fs::exists(out / "batch_summary.json"))
             fs::copy(reference, out, fs::copy_options::overwrite_existing);
-        run_and_kill(quick_batch(recordings, out, "--force"), std::chrono::microseconds(moment(random)));
+        if (k % 4 == 3) {
+            // Every fourth run is killed 0-5 ms after its batch.csv appears (its first row).
+            const auto written = [&] { return fs::exists(out / "batch.csv"); };
+            run_and_kill(quick_batch(recordings, out, "--force"), std::chrono::microseconds(moment(random) % 5000),
+                         written);
+        } else {
+            run_and_kill(quick_batch(recordings, out, "--force"), std::chrono::microseconds(moment(random)));
+        }
         INFO("run " << k);
         std::size_t rows = 0;
         if (fs::exists(out / "batch.csv")) {
