@@ -13,6 +13,8 @@
 #include <filesystem>
 #include <map>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "support/run_tvid.hpp"
 #include "support/shipped_fit.hpp"
@@ -142,6 +144,63 @@ TEST_CASE("a new element's bad entry is one line naming the file, line and key, 
         CHECK(r.exit_code == 2);
         CHECK(r.err.find("variant.yaml:") != std::string::npos);
         CHECK(r.err.find(c.key + ":") != std::string::npos);
+        CHECK(r.err.find(c.says) != std::string::npos);
+        CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+    }
+}
+
+TEST_CASE("a rule between an element's fields holds for its parameters' bounds", "[e2e][elements]") {
+    // The rules a constant keeps (limits that hold zero, stages in order, an efficiency of at
+    // most 1, a breakaway torque at least the Coulomb one) are kept by a parameter's bounds:
+    // a rule on one field for every value of them, an order for some.
+    const TempDir tmp;
+    std::filesystem::create_directories(tmp.path() / "data");
+    const auto variant = [&](const std::string& config, const std::vector<std::pair<std::string, std::string>>& edits) {
+        const std::string data = "data/" + config;
+        if (!std::filesystem::exists(tmp.path() / data)) std::filesystem::copy(source_dir() / data, tmp.path() / data);
+        std::string text = read_text(source_dir() / "configs" / (config + ".yaml"));
+        for (const auto& [from, to] : edits) {
+            REQUIRE(text.find(from) != std::string::npos);
+            text.replace(text.find(from), from.size(), to);
+        }
+        const auto file = tmp.write("configs/variant.yaml", text);
+        return run_tvid({"simulate", file.string(), "-o", (tmp.path() / "simulated.csv").string()});
+    };
+    struct Case {
+        std::string config;
+        std::vector<std::pair<std::string, std::string>> edits;
+        std::string key, says;  ///< key empty: accepted
+    };
+    const std::string fc = "  Fc: { init: 0.105,  min: 0,      max: 2 }";
+    const Case cases[] = {
+        {"digital_drive", {{"limits: [-0.9, 0.9]", "limits: [L, 0.6]"}, {fc, fc + "\n  L: { init: 0.2, min: 0.1, max: 2 }"}},
+         "parameters.L", "element 'drive': limits: expected [min, max] with min <= 0 <= max and min < max, got [L (bounds [0.1, 2]), 0.6]"},
+        {"digital_drive", {{"limits: [-0.9, 0.9]", "limits: [L, L]"}, {fc, fc + "\n  L: { init: -0.5, min: -1, max: 0 }"}},
+         "parameters.L", "limits: expected [min, max]"},
+        {"digital_drive", {{"limits: [-0.9, 0.9]", "limits: [L, 0.6]"}, {fc, fc + "\n  L: { init: -0.5, min: -2, max: 0 }"}},
+         "", ""},
+        {"clutch_damper",
+         {{"{ angle: theta1, k: k2 } ]", "{ angle: theta1, k: k2 }, { angle: theta0, k: k2 } ]"},
+          {"  theta1: { init: 0.039, min: 0.001, max: 0.5 }",
+           "  theta1: { init: 0.039, min: 0.001, max: 0.5 }\n  theta0: { init: 0.0005, min: 0.0001, max: 0.001 }"}},
+         "parameters.theta0", "stages: the stage angles must rise from zero outwards: stage 3's theta0 (bounds [0.0001, 0.001]) rad cannot lie beyond stage 2's theta1"},
+        {"lossy_gear", {{"eta: { init: 0.63,  min: 0.5,    max: 1.0 }", "eta: { init: 0.63,  min: 0.5,    max: 1.2 }"}},
+         "parameters.eta", "efficiency: must be at most 1 (got eta (bounds [0.5, 1.2]))"},
+        {"dry_friction",
+         {{"coulomb:          { init: 1.4,   min: 0,    max: 10 }", "coulomb:          { init: 3,   min: 2,    max: 10 }"},
+          {"breakaway:        { init: 5.2,   min: 0,    max: 10 }", "breakaway:        { init: 1,   min: 0,    max: 1.5 }"}},
+         "parameters.breakaway", "breakaway: must be at least coulomb (coulomb (bounds [2, 10]) N m)"},
+    };
+    for (const Case& c : cases) {
+        const RunResult r = variant(c.config, c.edits);
+        INFO(c.config << ": " << c.edits.front().second << "\n" << r.err);
+        if (c.key.empty()) {
+            CHECK(r.exit_code == 0);
+            continue;
+        }
+        CHECK(r.exit_code == 2);
+        CHECK(r.err.find("variant.yaml:") != std::string::npos);
+        CHECK(r.err.find(c.key + ": its bounds break a rule of element") != std::string::npos);
         CHECK(r.err.find(c.says) != std::string::npos);
         CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
     }

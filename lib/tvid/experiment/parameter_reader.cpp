@@ -5,8 +5,12 @@
 
 #include <cmath>
 #include <cstdio>
+#include <limits>
+#include <utility>
 
 #include "tvid/experiment/model_reader.hpp"
+#include "tvid/model/element_traits.hpp"
+#include "tvid/model/field_bounds.hpp"
 
 namespace tvid {
 
@@ -65,6 +69,66 @@ void check_one_side_of_zero(const YamlMap& m, const ParameterSetting& p, const P
     }
     if (p.range && !(p.range->first > 0 || p.range->second < 0))
         m.fail("range", problem(p.range->first, p.range->second, true, true));
+}
+
+// The bounds of an element's fields once the parameters are read: a fixed parameter's
+// value, a free one's [min, max] (unbounded where a bound is not given). A rule an element
+// kind checks between its fields (elements/NAME.hpp, check) is broken here by bounds that
+// let some value break it, and reported at the first parameter it involves.
+class ParameterFieldBounds final : public FieldBounds {
+public:
+    ParameterFieldBounds(const YamlMap& parameters, const std::vector<ParameterSetting>& settings,
+                         std::string element)
+        : parameters_(parameters), settings_(settings), element_(std::move(element)) {}
+    bool known(const Field&) const override { return true; }
+    double lowest(const Field& f) const override {
+        if (!f.is_parameter()) return f.constant;
+        const ParameterSetting& p = setting(f);
+        return p.fixed ? p.init : p.has_min ? p.min : -std::numeric_limits<double>::infinity();
+    }
+    double highest(const Field& f) const override {
+        if (!f.is_parameter()) return f.constant;
+        const ParameterSetting& p = setting(f);
+        return p.fixed ? p.init : p.has_max ? p.max : std::numeric_limits<double>::infinity();
+    }
+    std::string text(const Field& f) const override {
+        if (!f.is_parameter()) return number_text(f.constant);
+        const ParameterSetting& p = setting(f);
+        if (p.fixed) return p.name + " = " + number_text(p.init);
+        return p.name + " (bounds [" + (p.has_min ? number_text(p.min) : std::string("-inf")) + ", " +
+               (p.has_max ? number_text(p.max) : std::string("inf")) + "])";
+    }
+    [[noreturn]] void fail(const char* key, std::initializer_list<Field> involved,
+                           const std::string& problem) const override {
+        std::string name;
+        for (const Field& f : involved)
+            if (f.is_parameter()) {
+                name = setting(f).name;
+                break;
+            }
+        parameters_.fail(name, "its bounds break a rule of element '" + element_ + "': " + key + ": " + problem);
+    }
+
+private:
+    const ParameterSetting& setting(const Field& f) const { return settings_[static_cast<std::size_t>(f.parameter)]; }
+    const YamlMap& parameters_;
+    const std::vector<ParameterSetting>& settings_;
+    std::string element_;
+};
+
+// Each element with a parameter among its fields keeps its kind's rules for every value of
+// the parameters' bounds (limits that hold zero, stage angles in order, ...).
+void check_element_rules(const YamlMap& parameters, const NetworkSpec& network,
+                         const std::vector<ParameterSetting>& settings) {
+    for_each_element(network, [&](auto kind, const auto& e) {
+        using K = decltype(kind);
+        if constexpr (requires(const FieldBounds& b) { K::check(e, b); }) {
+            bool has_parameter = false;
+            K::for_each_field([&](const FieldInfo& info, const Field& f) { has_parameter |= info.in_use && f.is_parameter(); },
+                              e);
+            if (has_parameter) K::check(e, ParameterFieldBounds(parameters, settings, e.name));
+        }
+    });
 }
 
 ParameterSetting read_one(const YamlMap& m, const std::string& name, const PhysicalRole& role,
@@ -162,6 +226,7 @@ std::vector<ParameterSetting> read_parameters(const YamlMap& parameters, const N
         }
         out.push_back(read_one(YamlMap(src, node, parameters.key_path(name)), name, roles[i], needs_search_box));
     }
+    check_element_rules(parameters, network, out);
     return out;
 }
 

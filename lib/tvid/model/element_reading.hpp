@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "tvid/model/element_source.hpp"
+#include "tvid/model/element_traits.hpp"
 #include "tvid/model/network_spec.hpp"
 #include "tvid/util/text.hpp"
 
@@ -52,7 +53,7 @@ template <class K>
 void read_element(ElementSource& src, const std::string& name, NetworkSpec& net) {
     typename K::Spec e = K::read(src, name);
     check_field_signs<K>(src, e);
-    if constexpr (requires { K::check(e, src); }) K::check(e, src);
+    if constexpr (requires { K::check(e, ConstantFieldBounds(src)); }) K::check(e, ConstantFieldBounds(src));
     if constexpr (requires { K::add_parts(e, src, net); }) K::add_parts(e, src, net);  // hidden nodes it needs
     add_element<K>(src, net, std::move(e));
 }

@@ -9,7 +9,9 @@
 #include <string>
 #include <vector>
 
+#include "tvid/model/element_source.hpp"
 #include "tvid/model/field.hpp"
+#include "tvid/model/field_bounds.hpp"
 
 namespace tvid {
 
@@ -82,5 +84,24 @@ inline std::string given_number(double v) {
     }
     return text;
 }
+
+/// The bounds of an element's fields while it is read: its constants, each its own value;
+/// a parameter is not known yet (its rules are checked with the parameters). A broken rule
+/// is reported at the element's key.
+class ConstantFieldBounds final : public FieldBounds {
+public:
+    explicit ConstantFieldBounds(const ElementSource& src) : src_(src) {}
+    bool known(const Field& f) const override { return !f.is_parameter(); }
+    double lowest(const Field& f) const override { return f.constant; }
+    double highest(const Field& f) const override { return f.constant; }
+    std::string text(const Field& f) const override { return given_number(f.constant); }
+    [[noreturn]] void fail(const char* key, std::initializer_list<Field>, const std::string& problem) const override {
+        src_.fail(key, problem);
+        __builtin_unreachable();  // fail() throws (a virtual [[noreturn]] call is not known to GCC as one)
+    }
+
+private:
+    const ElementSource& src_;
+};
 
 }  // namespace tvid

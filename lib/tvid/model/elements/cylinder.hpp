@@ -10,6 +10,7 @@
 #include "tvid/model/element_traits.hpp"
 #include "tvid/model/elements/node_motion.hpp"
 #include "tvid/model/field.hpp"
+#include "tvid/model/field_bounds.hpp"
 #include "tvid/model/slider_crank.hpp"
 
 namespace tvid {
@@ -66,10 +67,16 @@ struct Cylinder {
     }
 
     /// After the sign checks: a slider crank needs a rod longer than its crank.
-    static void check(const Spec& e, const ElementSource& src) {
-        if (!e.crank_radius.is_parameter() && !e.rod_length.is_parameter() &&
-            !(e.rod_length.constant > e.crank_radius.constant))
-            src.fail("rod_length", "the connecting rod must be longer than the crank radius");
+    static void check(const Spec& e, const FieldBounds& b) {
+        if (!b.known(e.crank_radius) || !b.known(e.rod_length)) return;
+        if (!(b.highest(e.rod_length) > b.lowest(e.crank_radius))) {
+            const bool given = !e.rod_length.is_parameter() && !e.crank_radius.is_parameter();
+            b.fail("rod_length", {e.rod_length, e.crank_radius},
+                   "the connecting rod must be longer than the crank radius" +
+                       (given ? std::string()
+                              : " (rod_length " + b.text(e.rod_length) + ", crank_radius " + b.text(e.crank_radius) +
+                                    ")"));
+        }
     }
 
     /// f(info, field...) for each numeric field, of each of e... (a spec first, then bound elements) in step.

@@ -10,6 +10,7 @@
 #include "tvid/model/element_traits.hpp"
 #include "tvid/model/elements/node_motion.hpp"
 #include "tvid/model/field.hpp"
+#include "tvid/model/field_bounds.hpp"
 #include "tvid/model/smooth_sign.hpp"
 
 namespace tvid {
@@ -96,11 +97,11 @@ struct Friction {
 
     /// After the sign rules: the breakaway torque is the peak of the Stribeck curve, at
     /// least the Coulomb torque (both constants; parameters are held by their bounds).
-    static void check(const Spec& e, const ElementSource& src) {
-        if (e.stribeck && !e.breakaway.is_parameter() && !e.coulomb.is_parameter() &&
-            e.breakaway.constant < e.coulomb.constant)
-            src.fail("breakaway", "must be at least coulomb (" + given_number(e.coulomb.constant) + " N m), got " +
-                                      given_number(e.breakaway.constant));
+    static void check(const Spec& e, const FieldBounds& b) {
+        if (e.stribeck && b.known(e.breakaway) && b.known(e.coulomb) &&
+            b.highest(e.breakaway) < b.lowest(e.coulomb))
+            b.fail("breakaway", {e.breakaway, e.coulomb},
+                   "must be at least coulomb (" + b.text(e.coulomb) + " N m), got " + b.text(e.breakaway));
     }
 
     /// f(info, field...) for each numeric field, of each of s, e... (a spec first, then bound elements) in step.

@@ -10,6 +10,7 @@
 #include "tvid/model/elements/clearance.hpp"
 #include "tvid/model/elements/node_motion.hpp"
 #include "tvid/model/field.hpp"
+#include "tvid/model/field_bounds.hpp"
 #include "tvid/model/smooth_clearance.hpp"
 #include "tvid/model/smooth_sign.hpp"
 
@@ -82,9 +83,9 @@ struct GearMesh {
     }
 
     /// After the sign rules: an efficiency is at most 1 (a parameter is held by its bounds).
-    static void check(const Spec& e, const ElementSource& src) {
-        if (e.lossy && !e.efficiency.is_parameter() && e.efficiency.constant > 1.0)
-            src.fail("efficiency", "must be at most 1 (got " + given_number(e.efficiency.constant) + ")");
+    static void check(const Spec& e, const FieldBounds& b) {
+        if (e.lossy && b.known(e.efficiency) && b.highest(e.efficiency) > 1.0)
+            b.fail("efficiency", {e.efficiency}, "must be at most 1 (got " + b.text(e.efficiency) + ")");
     }
 
     /// f(info, field...) for each numeric field, of each of s, e... (a spec first, then bound elements) in step.

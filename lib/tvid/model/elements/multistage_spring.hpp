@@ -12,6 +12,7 @@
 #include "tvid/model/element_traits.hpp"
 #include "tvid/model/elements/node_motion.hpp"
 #include "tvid/model/field.hpp"
+#include "tvid/model/field_bounds.hpp"
 #include "tvid/model/smooth_clearance.hpp"
 
 namespace tvid {
@@ -163,6 +164,28 @@ struct MultistageSpring {
     [[gnu::always_inline]] static void load(const Bound<T>& e, const T& t, const NodeMotion<T>&, T* node_torque) {
         node_torque[e.a] -= t;
         if (e.b != kGround) node_torque[e.b] += t;
+    }
+
+    /// Each side's stage angles can rise from zero outwards: bounds that put a stage wholly
+    /// before the one it follows are refused (a pair of constants is checked where the stages
+    /// are read, at the stage's own key).
+    static void check(const Spec& e, const FieldBounds& b) {
+        const auto side = [&](const char* key, const std::array<Field, kMaxStages>& angle, int stages) {
+            for (int i = 1; i < stages; ++i) {
+                const Field& before = angle[static_cast<std::size_t>(i - 1)];
+                const Field& at = angle[static_cast<std::size_t>(i)];
+                if (!before.is_parameter() && !at.is_parameter()) continue;
+                if (!b.known(before) || !b.known(at)) continue;
+                const bool same = before.is_parameter() && before.parameter == at.parameter;
+                if (!(b.highest(at) > b.lowest(before)) || same)
+                    b.fail(key, {at, before},
+                           "the stage angles must rise from zero outwards: stage " + std::to_string(i + 1) + "'s " +
+                               b.text(at) + " rad cannot lie beyond stage " + std::to_string(i) + "'s " +
+                               b.text(before) + " rad");
+            }
+        };
+        side("stages", e.angle, e.stages);
+        side("stages_negative", e.angle_negative, e.stages_negative);
     }
 
 private:

@@ -25,6 +25,7 @@
 #include "tvid/model/element_traits.hpp"
 #include "tvid/model/elements/node_motion.hpp"
 #include "tvid/model/field.hpp"
+#include "tvid/model/field_bounds.hpp"
 #include "tvid/simd/select.hpp"
 
 namespace tvid {
@@ -164,12 +165,15 @@ struct PositionController {
         }
     }
 
-    /// After the sign rules: the limits hold zero between them (a constant pair).
-    static void check(const Spec& e, const ElementSource& src) {
-        if (!e.limited || e.lower.is_parameter() || e.upper.is_parameter()) return;
-        if (!(e.lower.constant <= 0.0 && 0.0 <= e.upper.constant && e.lower.constant < e.upper.constant))
-            src.fail("limits", "expected [min, max] with min <= 0 <= max and min < max, got [" +
-                                   given_number(e.lower.constant) + ", " + given_number(e.upper.constant) + "]");
+    /// After the sign rules: the limits hold zero between them (min <= 0 <= max for every
+    /// value of their bounds), and some values of their bounds have min < max.
+    static void check(const Spec& e, const FieldBounds& b) {
+        if (!e.limited || !b.known(e.lower) || !b.known(e.upper)) return;
+        const bool same = e.lower.is_parameter() && e.lower.parameter == e.upper.parameter;
+        if (!(b.highest(e.lower) <= 0.0 && 0.0 <= b.lowest(e.upper) && b.lowest(e.lower) < b.highest(e.upper)) || same)
+            b.fail("limits", {e.lower, e.upper},
+                   "expected [min, max] with min <= 0 <= max and min < max, got [" + b.text(e.lower) + ", " +
+                       b.text(e.upper) + "]");
     }
 
     /// f(info, field...) for each numeric field, of each of s, e... (a spec first, then bound elements) in step.

@@ -88,7 +88,7 @@ struct SpeedController {
             e.upper = limits.second;
         }
         check_field_signs<PositionController>(src, e);
-        PositionController::check(e, src);
+        PositionController::check(e, ConstantFieldBounds(src));
         add_element<PositionController>(src, net, e);
     }
 };
