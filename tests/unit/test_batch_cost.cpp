@@ -258,7 +258,7 @@ TEST_CASE("engine candidates (cylinders, warm-up shooting, substeps) cost the sa
 }
 
 TEST_CASE("a drive under a sampled controller costs the same bits in a group, each window marched whole",
-          "[batch][sampled_controller]") {
+          "[batch][sampled_controller][heavy]") {
     const Experiment ex = load_experiment(test::source_dir() / "configs/digital_drive.yaml");
     const IdentificationProblem problem(ex);
     REQUIRE(batch_supported(problem));
@@ -289,7 +289,7 @@ TEST_CASE("a custom network with every element kind but the cylinder costs the s
     }
 }
 
-TEST_CASE("the swarm takes the same path with and without SIMD groups, on 1 and 2 threads", "[batch][pso]") {
+TEST_CASE("the swarm takes the same path with and without SIMD groups, on 1 and 2 threads", "[batch][pso][heavy]") {
     const Experiment ex = load_experiment(test::source_dir() / "configs/cvt_tipin.yaml",
                                           {{"estimation.pso.start", "latin_hypercube"},
                                            {"estimation.pso.particles", "40"},

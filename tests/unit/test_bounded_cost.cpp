@@ -74,7 +74,7 @@ TEST_CASE("a cost with a bound is the full cost below the bound and a partial su
 }
 
 TEST_CASE("the swarm's path is bit-identical with and without bounded costs, on 1 and 2 threads",
-          "[bounded][pso][threads]") {
+          "[bounded][pso][threads][heavy]") {
     for (const char* config : {"cvt_tipin.yaml", "cvt_tipin_clean.yaml"}) {
         const Experiment ex = small_swarm_experiment(config);
         const IdentificationProblem problem(ex);

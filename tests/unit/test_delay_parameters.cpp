@@ -224,7 +224,7 @@ TEST_CASE("a fit finds a delay written into noise-free data", "[delay][fit]") {
     }
 }
 
-TEST_CASE("an input delay has its standard error after every optimizer", "[delay][uncertainty]") {
+TEST_CASE("an input delay has its standard error after every optimizer", "[delay][uncertainty][heavy]") {
     // The torque logged 3.3 ms late and the outputs noisy: every optimizer's uncertainty
     // comes from the one evaluator, whose Jacobian has the input delay's column, so no
     // optimizer reports the delay as having no effect on the output.

@@ -61,7 +61,7 @@ void check_columns(const IdentificationProblem& problem, const std::vector<doubl
 }  // namespace
 
 TEST_CASE("engine: forward sensitivities through the warm-up shooting match central differences",
-          "[sensitivity][engine]") {
+          "[sensitivity][engine][heavy]") {
     // Three cycles (two of warm-up) of the 6-node crank model at a 20 %-off point. The
     // differences carry the rounding noise of the warm-up shooting (~1e-10 rad/s), which
     // swamps the weak damping columns at small steps: a step of 1e-3 keeps both
@@ -83,7 +83,7 @@ TEST_CASE("cvt: forward sensitivities from the equilibrium start match central d
 }
 
 TEST_CASE("the least-squares Jacobian from sensitivities equals the one by differences to their accuracy",
-          "[sensitivity][engine]") {
+          "[sensitivity][engine][heavy]") {
     const Experiment ex = load_experiment(source_dir() / "configs/engine_idle_clean.yaml");
     const IdentificationProblem problem(ex);
     ResidualEvaluator by_sensitivity(problem, 2, JacobianKind::sensitivity);
@@ -101,7 +101,7 @@ TEST_CASE("the least-squares Jacobian from sensitivities equals the one by diffe
     CHECK((Js - Jf).norm() / Jf.norm() < 1e-3);  // the differences' noise, see above
 }
 
-TEST_CASE("fixed-step RK4 sensitivities as PackedDual equal the augmented system's", "[sensitivity][engine][cvt]") {
+TEST_CASE("fixed-step RK4 sensitivities as PackedDual equal the augmented system's", "[sensitivity][engine][cvt][heavy]") {
     // The packed path integrates the same equations with the same RK4 arithmetic: on the
     // engine (no time inputs) every entry is the same double; on the CVT the augmented
     // system interpolates the input at the stage times where the packed path uses the
@@ -128,7 +128,7 @@ TEST_CASE("fixed-step RK4 sensitivities as PackedDual equal the augmented system
 }
 
 TEST_CASE("a Jacobian after the residuals at the same point reuses their starts and equals a fresh one",
-          "[sensitivity][engine]") {
+          "[sensitivity][engine][heavy]") {
     const Experiment ex = load_experiment(source_dir() / "configs/engine_idle_clean.yaml");
     const IdentificationProblem problem(ex);
     ResidualEvaluator reusing(problem, 2, JacobianKind::sensitivity), fresh(problem, 2, JacobianKind::sensitivity);

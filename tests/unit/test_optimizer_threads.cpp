@@ -49,7 +49,7 @@ TEST_CASE("nlopt with the sensitivity gradient is bit-identical for 1 and 3 thre
         "nlopt");
 }
 
-TEST_CASE("a randomized nlopt algorithm is bit-identical for 1 and 3 threads", "[nlopt][threads]") {
+TEST_CASE("a randomized nlopt algorithm is bit-identical for 1 and 3 threads", "[nlopt][threads][heavy]") {
     check_same_for_1_and_3_threads(
         {{"estimation.optimizer", "nlopt"},
          {"estimation.nlopt", "{ algorithm: GN_ISRES, max_evaluations: 150, seed: 3 }"},

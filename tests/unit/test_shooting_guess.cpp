@@ -155,7 +155,7 @@ TEST_CASE("a shooting guess that does not converge, or belongs to another window
 }
 
 TEST_CASE("least squares with shooting guesses give the same residuals and Jacobians on 1 and 2 threads",
-          "[shooting][engine][lm]") {
+          "[shooting][engine][lm][heavy]") {
     const Experiment ex = load_experiment(test::source_dir() / "configs/engine_idle_clean.yaml");
     const IdentificationProblem problem(ex);
     const std::vector<double> x = problem.initial();
@@ -189,7 +189,7 @@ TEST_CASE("least squares with shooting guesses give the same residuals and Jacob
 }
 
 TEST_CASE("the sensitivities' d(a, s)/dp of the warm-up shooting agree with differences and predict the start",
-          "[shooting][engine][sensitivity]") {
+          "[shooting][engine][sensitivity][heavy]") {
     const EngineAtPrior engine;
     const IdentificationProblem& problem = engine.problem;
     const std::vector<double>& x = engine.x;
@@ -248,7 +248,7 @@ TEST_CASE("the sensitivities' d(a, s)/dp of the warm-up shooting agree with diff
 }
 
 TEST_CASE("least squares evaluated side by side give the residuals of each point alone and reuse them",
-          "[shooting][engine][lm]") {
+          "[shooting][engine][lm][heavy]") {
     const Experiment ex = load_experiment(test::source_dir() / "configs/engine_idle_clean.yaml");
     const IdentificationProblem problem(ex);
     const std::vector<double> x = problem.initial();
