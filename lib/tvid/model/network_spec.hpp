@@ -95,16 +95,6 @@ struct ElementRef {
     int index;  ///< index into the vector of that kind
 };
 
-namespace detail {
-/// f(K{}) for each K of a tuple type, in order: a plain fold, inlined with f even where the
-/// optimizer inlines little (std::apply's std::__invoke layer is not always_inline, and
-/// under the -O1 sanitizer build every value it passes was copied through memory).
-template <class F, class... K>
-[[gnu::always_inline]] inline void call_for_each_type(F& f, std::tuple<K...>*) {
-    (f(K{}), ...);
-}
-}  // namespace detail
-
 /// The output kinds, one per row of model/output_kinds.hpp.
 enum class OutputKind {
 #define TVID_OUTPUT_KIND_ENUMERATOR(kind, Type) kind,
@@ -134,7 +124,7 @@ TVID_OUTPUT_KINDS(TVID_OUTPUT_ROW)
 /// f(K{}) for each output type K, in the table's order.
 template <class F>
 [[gnu::always_inline]] inline void for_each_output_kind(F&& f) {
-    detail::call_for_each_type(f, static_cast<OutputTypes*>(nullptr));
+    std::apply([&](auto... kind) __attribute__((always_inline)) { (f(kind), ...); }, OutputTypes{});
 }
 
 /// The experiment file's key of an output kind ("speed", …) and its SI unit ("rad/s", …).
@@ -211,7 +201,7 @@ TVID_ELEMENT_KINDS(TVID_ELEMENT_ROW)
 /// right-hand side walks the kinds this way.
 template <class F>
 [[gnu::always_inline]] inline void for_each_element_kind(F&& f) {
-    detail::call_for_each_type(f, static_cast<ElementTypes*>(nullptr));
+    std::apply([&](auto... kind) __attribute__((always_inline)) { (f(kind), ...); }, ElementTypes{});
 }
 
 /// f(K{}, spec) for each element of `n`, kind by kind in the table's order.
