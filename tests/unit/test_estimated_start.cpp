@@ -5,6 +5,7 @@
 // line of configs/free_line_clean.yaml (data by scripts/generate_free_line_data.py).
 #include <catch2/catch.hpp>
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
 #include <optional>
 #include <string>
@@ -12,6 +13,7 @@
 
 #include "support/test_files.hpp"
 #include "tvid/estimation/forward_sensitivity.hpp"
+#include "tvid/experiment/estimated_start.hpp"
 #include "tvid/experiment/experiment.hpp"
 #include "tvid/model/parameter_units.hpp"
 #include "tvid/util/input_error.hpp"
@@ -83,6 +85,28 @@ TEST_CASE("an estimated start on a line not tied to ground: every speed and ever
     CHECK(seed == std::vector<double>{0, 0, 0, first_speed, first_speed, first_speed});
     // The engine's angle is the seed's: the whole line turned is the same line.
     CHECK(ex.network.parameter_index("start1.engine.angle") < 0);
+}
+
+TEST_CASE("a start speed's search box is 10 % of the largest speed its node turns at, in its unit", "[estimated_start]") {
+    const Experiment ex = free_line();
+    const auto range_of = [&](const std::string& name) {
+        const int i = ex.network.parameter_index(name);
+        REQUIRE(i >= 0);
+        REQUIRE(ex.parameters[static_cast<std::size_t>(i)].range);
+        return ex.parameters[static_cast<std::size_t>(i)].range->second;
+    };
+    const auto largest = [&](const char* column) {
+        double l = 0.0;
+        for (double v : ex.data.column(column)) l = std::max(l, std::abs(v));
+        return l;
+    };
+    // The shafts tie the three nodes into one steady rotation (ratio 1): each turns at up to
+    // the faster of the two measured speeds, and the gearbox, measured by nothing, as well.
+    const double fastest = std::max(largest("w_engine"), largest("w_vehicle"));
+    REQUIRE(largest("w_engine") != Approx(largest("w_vehicle")));
+    for (const char* speed : {"start1.engine.speed", "start1.gearbox.speed", "start1.vehicle.speed"})
+        CHECK(range_of(speed) == Approx(kStartSpeedShare * fastest));
+    CHECK(range_of("start1.vehicle.angle") == kStartAngleRange);
 }
 
 TEST_CASE("a spring to ground makes every angle a start coordinate; each estimation window has its own",

@@ -74,14 +74,8 @@ std::vector<double> node_speed_limits(const ProblemDefinition& d, const Experime
     }
     std::vector<double> p;
     for (const ParameterSetting& s : d.parameters) p.push_back(s.init);
-    std::vector<double> scale(n, 0.0);  // the largest speed each node turns at, by the measured ones
-    for (std::size_t m = 0; m < n; ++m) {
-        if (!(largest[m] > 0)) continue;
-        const RigidMotion rigid = rigid_motion(d.network, p, static_cast<int>(m));
-        if (!rigid.problem.empty()) continue;
-        for (std::size_t j = 0; j < n; ++j)
-            if (rigid.tied[j]) scale[j] = std::max(scale[j], largest[m] * std::abs(rigid.ratio[j]));
-    }
+    // The largest speed each node turns at, by the measured ones.
+    const std::vector<double> scale = speeds_through_rigid_ties(d.network, p, largest);
     std::vector<double> limits(n, std::numeric_limits<double>::infinity());
     for (std::size_t j = 0; j < n; ++j)
         if (scale[j] > 0 && std::isfinite(scale[j])) limits[j] = kSpeedLimitFactor * scale[j];

@@ -51,15 +51,19 @@ bool rotation_is_seen(NetworkModel<double>& model, const RigidMotion& rigid) {
     return false;
 }
 
-// The largest measured speed [rad/s or m/s]: the speed outputs' columns as the model reads them.
-double largest_measured_speed(const Experiment& ex) {
-    double largest = 0.0;
+// The largest speed each node turns at [rad/s, or m/s on a linear node]: the speed outputs'
+// columns as the model reads them, carried to the nodes tied to theirs through the gear
+// ratios (a ball screw's motor in rad/s from its cart's m/s); 0 where none reaches.
+std::vector<double> node_speed_scales(const Experiment& ex, const std::vector<double>& p) {
+    std::vector<double> largest(ex.network.nodes.size(), 0.0);
     for (std::size_t k = 0; k < ex.outputs.size(); ++k) {
-        if (ex.network.outputs[static_cast<std::size_t>(ex.output_indices[k])].kind != OutputKind::speed) continue;
+        const OutputSpec& o = ex.network.outputs[static_cast<std::size_t>(ex.output_indices[k])];
+        if (o.kind != OutputKind::speed || o.node < 0) continue;
+        double& l = largest[static_cast<std::size_t>(o.node)];
         for (const double v : ex.data.column(ex.outputs[k].column))
-            if (std::isfinite(v)) largest = std::max(largest, std::abs(v * ex.outputs[k].scale));
+            if (std::isfinite(v)) l = std::max(l, std::abs(v * ex.outputs[k].scale));
     }
-    return largest;
+    return speeds_through_rigid_ties(ex.network, p, largest);
 }
 
 }  // namespace
@@ -67,9 +71,9 @@ double largest_measured_speed(const Experiment& ex) {
 void define_estimated_starts(Experiment& ex) {
     const std::size_t n = ex.network.nodes.size();
     std::vector<char> estimate_angle(n, 1), estimate_speed(n, 1);
+    std::vector<double> p;
+    for (const ParameterSetting& s : ex.parameters) p.push_back(s.init);
     {
-        std::vector<double> p;
-        for (const ParameterSetting& s : ex.parameters) p.push_back(s.init);
         NetworkModel<double> model(ex.network);
         model.set_parameters(p.data());
         const std::vector<char> prescribed = prescribed_speeds(model);
@@ -84,7 +88,12 @@ void define_estimated_starts(Experiment& ex) {
             if (rigid.problem.empty() && !rotation_is_seen(model, rigid)) estimate_angle[r] = 0;
         }
     }
-    const double speed_range = std::max(1.0, 0.1 * largest_measured_speed(ex));
+    const std::vector<double> speed_scale = node_speed_scales(ex, p);
+    // Where no measured speed reaches a node: the largest of the nodes of its kind (rad/s or m/s).
+    double largest_rotating = 0.0, largest_linear = 0.0;
+    for (std::size_t i = 0; i < n; ++i)
+        (ex.network.nodes[i].linear ? largest_linear : largest_rotating) =
+            std::max(ex.network.nodes[i].linear ? largest_linear : largest_rotating, speed_scale[i]);
     for (std::size_t w = 0; w < ex.estimation.size(); ++w)
         for (std::size_t state = 0; state < 2 * n; ++state) {
             const std::size_t node = state % n;
@@ -98,7 +107,10 @@ void define_estimated_starts(Experiment& ex) {
                 throw InputError(ex.estimated_start.where.file, ex.estimated_start.where.line, ex.estimated_start.where.key,
                                  "the estimated start's parameter " + s.name + " is also a model parameter: rename it");
             s.init = 0.0;  // a correction to the recipe's seed
-            const double range = angle ? kStartAngleRange : speed_range;
+            const double of_kind = spec.linear ? largest_linear : largest_rotating;
+            const double range = angle                    ? kStartAngleRange
+                                  : speed_scale[node] > 0 ? kStartSpeedShare * speed_scale[node]
+                                                          : std::max(kStartSpeedRange, kStartSpeedShare * of_kind);
             s.range = std::make_pair(-range, range);
             s.where = ex.estimated_start.where;
             const int index = static_cast<int>(ex.network.parameter_names.size());

@@ -16,8 +16,13 @@ namespace tvid {
 void define_estimated_starts(Experiment& ex);
 
 /// The search box half-widths of a start correction (a swarm's or multistart's box; LM
-/// leaves them unbounded): an angle's ±kStartAngleRange [rad or m], a speed's ±10 % of
-/// the largest measured speed, at least ±1 [rad/s or m/s].
+/// leaves them unbounded): an angle's ±kStartAngleRange [rad or m]; a speed's
+/// ±kStartSpeedShare of the largest speed measured at its node or carried to it through the
+/// gear ratios (a linear node's in m/s, a motor's behind a ball screw in rad/s); where no
+/// measured speed reaches the node, that share of the largest of the nodes of its kind
+/// (rotating or linear), at least ±kStartSpeedRange [rad/s or m/s].
 inline constexpr double kStartAngleRange = 0.5;
+inline constexpr double kStartSpeedShare = 0.1;
+inline constexpr double kStartSpeedRange = 1.0;
 
 }  // namespace tvid

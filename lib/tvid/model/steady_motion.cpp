@@ -72,6 +72,20 @@ RigidMotion rigid_motion(const NetworkSpec& spec, const std::vector<double>& p, 
     return m;
 }
 
+std::vector<double> speeds_through_rigid_ties(const NetworkSpec& spec, const std::vector<double>& p,
+                                              const std::vector<double>& largest) {
+    const std::size_t n = spec.nodes.size();
+    std::vector<double> scale(n, 0.0);
+    for (std::size_t m = 0; m < n && m < largest.size(); ++m) {
+        if (!(largest[m] > 0)) continue;
+        const RigidMotion rigid = rigid_motion(spec, p, static_cast<int>(m));
+        if (!rigid.problem.empty()) continue;
+        for (std::size_t j = 0; j < n; ++j)
+            if (rigid.tied[j]) scale[j] = std::max(scale[j], largest[m] * std::abs(rigid.ratio[j]));
+    }
+    return scale;
+}
+
 SteadyMotion solve_steady_motion(NetworkModel<double>& model, const double* u, int reference, double speed,
                                  double angle) {
     SteadyMotion r;

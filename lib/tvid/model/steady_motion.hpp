@@ -27,6 +27,13 @@ std::string held_to_ground(const NetworkSpec& spec);
 /// The ratios of `spec`'s nodes for the parameter vector p (gear ratios may be parameters).
 RigidMotion rigid_motion(const NetworkSpec& spec, const std::vector<double>& p, int reference);
 
+/// The largest speed each node turns at, when node m is known to turn at up to largest[m]
+/// (0: not known): carried to every node tied to m through the gear ratios between them (a
+/// ball screw's 1250 rad/m turns a linear speed in m/s into the motor's in rad/s), the
+/// largest where several reach a node; 0 for a node tied to no known speed.
+std::vector<double> speeds_through_rigid_ties(const NetworkSpec& spec, const std::vector<double>& p,
+                                              const std::vector<double>& largest);
+
 struct SteadyMotion {
     bool found = false;
     std::vector<double> x;       ///< the state [θ, ω]
