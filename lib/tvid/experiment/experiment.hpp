@@ -153,6 +153,23 @@ struct EstimationSettings {
     bool strict = false;
 };
 
+/// Where a dry friction's or a road load's smoothed sign turns (its smoothing_speed), and
+/// why: given in the experiment, or chosen from the data (experiment/smoothing_speeds.hpp).
+struct SmoothingChoice {
+    std::string element;         ///< the element's name
+    std::string kind;            ///< "friction" or "road_load"
+    double speed = 0.0;          ///< the smoothing speed [rad/s or m/s] (a parameter's start value)
+    std::string unit;            ///< "rad/s" or "m/s"
+    bool given = false;          ///< the experiment gave it
+    std::string basis;           ///< how it was chosen, for the report ("1 % of 0.2 m/s, ...")
+    double largest_speed = 0.0;  ///< the largest measured speed across the element [rad/s or m/s]; 0 when none
+    /// Of the samples in motion (a measured speed across the element above 3 times its
+    /// channel's noise), the share within kSmoothingShareSpeeds smoothing speeds of zero,
+    /// where the smoothed sign is a viscous term; negative when no channel measures that
+    /// speed, or it never moves.
+    double share_within = -1.0;
+};
+
 struct Experiment {
     std::filesystem::path file;          ///< the experiment file
     std::string config_sha256;           ///< SHA-256 of the experiment file's bytes as read (before --set)
@@ -182,6 +199,7 @@ struct Experiment {
     SimulationSettings simulation;
     EstimationSettings estimation_settings;
     std::filesystem::path report_dir;     ///< resolved; empty when not given
+    std::vector<SmoothingChoice> smoothing;  ///< each dry friction's and road load's smoothing_speed
 };
 
 /// A command-line override `key.path=value`, applied to the YAML before validation.

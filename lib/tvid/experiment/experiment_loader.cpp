@@ -9,6 +9,7 @@
 #include <sstream>
 #include <string_view>
 
+#include "tvid/experiment/smoothing_speeds.hpp"
 #include "tvid/experiment/channel_reader.hpp"
 #include "tvid/experiment/controller_clock.hpp"
 #include "tvid/experiment/data_reader.hpp"
@@ -452,6 +453,7 @@ Experiment load_experiment(const std::filesystem::path& file, const std::vector<
     refuse_sampled_warmup(top, ex);
     read_simulation_and_report(top, folder, recorded, ex);
     join_recordings(std::move(recorded), ex);
+    choose_smoothing_speeds(ex);
     if (ex.estimated_start.on) define_estimated_starts(ex);
     return ex;
 }

@@ -9,6 +9,7 @@
 
 #include "tvid/analysis/determined_combinations.hpp"
 #include "tvid/channels/recording_spans.hpp"
+#include "tvid/experiment/smoothing_speeds.hpp"
 #include "tvid/analysis/identifiability.hpp"
 
 namespace tvid {
@@ -435,6 +436,25 @@ void judge_search_boxes(const Experiment& ex, Verdict& v) {
     }
 }
 
+// Each smoothed sign's width, when the data chose it, and a warning where many samples sit
+// within a few widths of zero: there the dry friction is a viscous damper of slope F/v_s,
+// and the fit trades the one against the other.
+void judge_smoothing(const Experiment& ex, Verdict& v) {
+    for (const SmoothingChoice& c : ex.smoothing) {
+        if (!c.given)
+            v.add({"smoothing_speed", Severity::info, c.element,
+                   c.element + "'s sign is smoothed over " + num(c.speed) + " " + c.unit + ": " + c.basis,
+                   "give smoothing_speed: to choose it (smaller is closer to dry friction, and stiffer)"});
+        if (c.share_within >= kSmoothedShareWarning)
+            v.add({"smoothed_friction", Severity::warning, c.element,
+                   pct(c.share_within) + " of the samples in motion have a speed across " + c.element + " within " +
+                       num(kSmoothingShareSpeeds) + " smoothing speeds (" + num(kSmoothingShareSpeeds * c.speed) + " " +
+                       c.unit + ") of zero, where its smoothed sign acts as a viscous term: the fit trades its dry "
+                       "part against the viscous one",
+                   "a smaller smoothing_speed (a stiffer law: the simulation may take substeps)"});
+    }
+}
+
 void judge_stability(const StepStability& s, Verdict& v) {
     if (!s.assessed || s.margin < kStepMarginWarning) return;
     // Divided into substeps, the window is simulated within RK4's limit whatever the
@@ -527,6 +547,7 @@ void judge_fit(const IdentificationProblem& problem, FitResult& fit) {
         judge_starts(problem, fit, v);
         judge_stability(fit.stability, v);
         judge_search_boxes(ex, v);
+        judge_smoothing(ex, v);
         if (!fit.interrupted) judge_delays(problem, fit, v);
     }
     fit.verdict = std::move(v);

@@ -37,6 +37,9 @@ constexpr double kFailedShareWarning = 0.25;
 /// than kDistinctRelative (and 3 standard errors) away, is a second optimum.
 constexpr double kNearEqualCost = 0.01;
 constexpr double kDistinctRelative = 0.1;
+/// A dry friction or road load whose measured speed in motion lies within 3 smoothing speeds
+/// of zero (experiment/smoothing_speeds.hpp) at this share of the samples or more: a warning.
+constexpr double kSmoothedShareWarning = 0.2;
 /// RK4's stability margin from which a warning is given. Never an error: the simulation
 /// finished (a margin a little above 1 at a window's start is passed through by an engine,
 /// whose inertia changes with crank angle), but a slightly stiffer candidate blows up.

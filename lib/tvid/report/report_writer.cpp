@@ -129,6 +129,7 @@ json initial_state_json(const IdentificationProblem& problem, const FitResult& f
 // each validation window's own start was fitted on.
 namespace {
 json estimated_start_json(const IdentificationProblem& problem, const FitResult& fit);
+json smoothing_json(const Experiment& ex);
 }  // namespace
 
 json parameters_json(const IdentificationProblem& problem, const FitResult& fit) {
@@ -363,6 +364,7 @@ json fit_summary_json(const IdentificationProblem& problem, const FitResult& fit
            {"step_stability", stability_json(fit.stability, problem.subdivided_starts())},
            {"verdict", verdict_json(fit.verdict)}};
     add_data_fields(ex, s);
+    if (!ex.smoothing.empty()) s["smoothing"] = smoothing_json(ex);
     if (ex.estimated_start.on) s["initial_state"] = estimated_start_json(problem, fit);
     // The first estimation window's start as the evaluation at these parameters solved it.
     const std::vector<SolvedStart>& starts = fit.evaluation.estimation_starts;
@@ -372,6 +374,21 @@ json fit_summary_json(const IdentificationProblem& problem, const FitResult& fit
 }
 
 namespace {
+// Each smoothed sign's width and how it was chosen (experiment/smoothing_speeds.hpp).
+json smoothing_json(const Experiment& ex) {
+    json out = json::array();
+    for (const SmoothingChoice& c : ex.smoothing)
+        out.push_back({{"element", c.element},
+                       {"kind", c.kind},
+                       {"smoothing_speed", c.speed},
+                       {"unit", c.unit},
+                       {"given", c.given},
+                       {"basis", c.basis},
+                       {"largest_speed", c.largest_speed > 0 ? json(c.largest_speed) : json(nullptr)},
+                       {"share_within_3", c.share_within >= 0 ? json(c.share_within) : json(nullptr)}});
+    return out;
+}
+
 json estimated_start_json(const IdentificationProblem& problem, const FitResult& fit) {
     const Experiment& ex = problem.experiment();
     const char* recipe = ex.initial_state == InitialStateKind::rest       ? "rest"

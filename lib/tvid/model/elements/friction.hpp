@@ -30,6 +30,7 @@ struct FrictionSpec {
     Field coulomb = Field::value(0.0), coulomb_negative = Field::value(0.0);
     Field breakaway = Field::value(0.0), stribeck_speed = Field::value(1.0);
     Field smoothing_speed = Field::value(0.1);
+    bool smoothing_given = false;  ///< smoothing_speed given; else the data choose it (experiment/smoothing_speeds.hpp)
     bool dry = false;         ///< coulomb or breakaway given: the smoothed sign enters
     bool asymmetric = false;  ///< c_negative or coulomb_negative given
     bool stribeck = false;    ///< breakaway given (with stribeck_speed)
@@ -48,9 +49,10 @@ struct Friction {
         T inverse_smoothing = T(0.0), inverse_stribeck = T(0.0), rise = T(0.0);  ///< 1/v_s, 1/v_st, F_brk − Fc
     };
 
-    /// The default width of the sign's smoothing [rad/s]: about 1 rpm, small beside a
-    /// powertrain's speeds and large enough that a fixed RK4 step stays stable
-    /// (dT/dv at v = 0 is c + F_brk/v_s).
+    /// The width of the sign's smoothing [rad/s or m/s] where nothing else chooses it: in an
+    /// experiment, 1 % of the largest speed its recordings show at the element's nodes
+    /// (experiment/smoothing_speeds.hpp); this where they show none (dT/dv at v = 0 is
+    /// c + F_brk/v_s: a smaller width is a stiffer law).
     static constexpr double kDefaultSmoothingSpeed = 0.1;
 
     // ---- the experiment file: `{ type: friction, node: NODE, c: C }` or `between: [a, b]`, with
@@ -92,6 +94,7 @@ struct Friction {
         if (src.has("smoothing_speed") && !e.dry && !e.asymmetric)
             src.fail("smoothing_speed", "smooths the sign of dry or direction-dependent friction: give coulomb: or c_negative:");
         e.smoothing_speed = src.field_or("smoothing_speed", Field::value(kDefaultSmoothingSpeed));
+        e.smoothing_given = src.has("smoothing_speed");
         return e;
     }
 

@@ -19,6 +19,7 @@ struct RoadLoadSpec {
     int node = 0;
     Field rolling = Field::value(0.0), viscous = Field::value(0.0), drag = Field::value(0.0);  ///< a, b, c
     Field smoothing_speed = Field::value(0.1);
+    bool smoothing_given = false;  ///< smoothing_speed given; else the data choose it (experiment/smoothing_speeds.hpp)
 };
 
 namespace elements {
@@ -32,7 +33,7 @@ struct RoadLoad {
         T inverse_smoothing = T(0.0);
     };
 
-    /// The default width of the rolling resistance's smoothed sign [rad/s], as friction's.
+    /// The width of the rolling resistance's smoothed sign where nothing else chooses it, as friction's.
     static constexpr double kDefaultSmoothingSpeed = 0.1;
 
     // ---- the experiment file: `{ type: road_load, node: NODE, a: A, b: B, c: C, smoothing_speed: VS }`
@@ -51,6 +52,7 @@ struct RoadLoad {
         e.viscous = src.field_or("b", Field::value(0.0));
         e.drag = src.field_or("c", Field::value(0.0));
         e.smoothing_speed = src.field_or("smoothing_speed", Field::value(kDefaultSmoothingSpeed));
+        e.smoothing_given = src.has("smoothing_speed");
         return e;
     }
 
