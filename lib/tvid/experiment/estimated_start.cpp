@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "tvid/experiment/node_speeds.hpp"
 #include "tvid/model/network_model.hpp"
 #include "tvid/model/steady_motion.hpp"
 #include "tvid/util/input_error.hpp"
@@ -51,21 +52,6 @@ bool rotation_is_seen(NetworkModel<double>& model, const RigidMotion& rigid) {
     return false;
 }
 
-// The largest speed each node turns at [rad/s, or m/s on a linear node]: the speed outputs'
-// columns as the model reads them, carried to the nodes tied to theirs through the gear
-// ratios (a ball screw's motor in rad/s from its cart's m/s); 0 where none reaches.
-std::vector<double> node_speed_scales(const Experiment& ex, const std::vector<double>& p) {
-    std::vector<double> largest(ex.network.nodes.size(), 0.0);
-    for (std::size_t k = 0; k < ex.outputs.size(); ++k) {
-        const OutputSpec& o = ex.network.outputs[static_cast<std::size_t>(ex.output_indices[k])];
-        if (o.kind != OutputKind::speed || o.node < 0) continue;
-        double& l = largest[static_cast<std::size_t>(o.node)];
-        for (const double v : ex.data.column(ex.outputs[k].column))
-            if (std::isfinite(v)) l = std::max(l, std::abs(v * ex.outputs[k].scale));
-    }
-    return speeds_through_rigid_ties(ex.network, p, largest);
-}
-
 }  // namespace
 
 void define_estimated_starts(Experiment& ex) {
@@ -91,9 +77,10 @@ void define_estimated_starts(Experiment& ex) {
     const std::vector<double> speed_scale = node_speed_scales(ex, p);
     // Where no measured speed reaches a node: the largest of the nodes of its kind (rad/s or m/s).
     double largest_rotating = 0.0, largest_linear = 0.0;
-    for (std::size_t i = 0; i < n; ++i)
-        (ex.network.nodes[i].linear ? largest_linear : largest_rotating) =
-            std::max(ex.network.nodes[i].linear ? largest_linear : largest_rotating, speed_scale[i]);
+    for (std::size_t i = 0; i < n; ++i) {
+        double& of_kind = ex.network.nodes[i].linear ? largest_linear : largest_rotating;
+        of_kind = std::max(of_kind, speed_scale[i]);
+    }
     for (std::size_t w = 0; w < ex.estimation.size(); ++w)
         for (std::size_t state = 0; state < 2 * n; ++state) {
             const std::size_t node = state % n;

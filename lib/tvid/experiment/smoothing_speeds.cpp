@@ -5,41 +5,12 @@
 #include <string>
 #include <vector>
 
-#include "tvid/model/steady_motion.hpp"
+#include "tvid/experiment/node_speeds.hpp"
 #include "tvid/util/text.hpp"
 
 namespace tvid {
 
 namespace {
-
-// Each node's measured speed per sample [rad/s or m/s], where a speed output or a speed
-// source's channel reads it directly; empty where none does.
-std::vector<std::vector<double>> measured_node_speeds(const Experiment& ex) {
-    std::vector<std::vector<double>> speed(ex.network.nodes.size());
-    const auto take = [&](int node, const std::vector<double>& column, double scale) {
-        if (node < 0 || static_cast<std::size_t>(node) >= speed.size() || !speed[static_cast<std::size_t>(node)].empty())
-            return;
-        std::vector<double>& v = speed[static_cast<std::size_t>(node)];
-        v.reserve(column.size());
-        for (double x : column) v.push_back(x * scale);
-    };
-    for (std::size_t k = 0; k < ex.outputs.size(); ++k) {
-        const OutputSpec& o = ex.network.outputs[static_cast<std::size_t>(ex.output_indices[k])];
-        if (o.kind == OutputKind::speed) take(o.node, ex.data.column(ex.outputs[k].column), ex.outputs[k].scale);
-    }
-    for (const SpeedSourceSpec& s : ex.network.speed_sources)
-        if (s.input >= 0 && static_cast<std::size_t>(s.input) < ex.inputs.size() && !s.scale.is_parameter())
-            take(s.node, ex.data.column(ex.inputs[static_cast<std::size_t>(s.input)].column),
-                 ex.inputs[static_cast<std::size_t>(s.input)].scale * s.scale.constant);
-    return speed;
-}
-
-double largest_finite(const std::vector<double>& v) {
-    double largest = 0.0;
-    for (double x : v)
-        if (std::isfinite(x)) largest = std::max(largest, std::abs(x));
-    return largest;
-}
 
 // The channel's noise: the median absolute sample-to-sample difference over 0.6745·√2 (a
 // standard deviation for Gaussian noise on a signal smooth at the sample rate).
@@ -72,11 +43,9 @@ double share_within(const std::vector<double>& v, double width) {
 void choose_smoothing_speeds(Experiment& ex) {
     NetworkSpec& net = ex.network;
     const std::vector<std::vector<double>> speed = measured_node_speeds(ex);
-    std::vector<double> largest(net.nodes.size(), 0.0);
-    for (std::size_t i = 0; i < speed.size(); ++i) largest[i] = largest_finite(speed[i]);
     std::vector<double> p;
     for (const ParameterSetting& s : ex.parameters) p.push_back(s.init);
-    const std::vector<double> scale = speeds_through_rigid_ties(net, p, largest);
+    const std::vector<double> scale = node_speed_scales(ex, p);
     const auto unit_of = [&](int node) { return net.nodes[static_cast<std::size_t>(node)].linear ? "m/s" : "rad/s"; };
     const auto node_name = [&](int node) { return net.nodes[static_cast<std::size_t>(node)].name; };
 
