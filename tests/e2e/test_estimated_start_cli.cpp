@@ -1,11 +1,12 @@
 // `tvid fit` with an estimated start on a line not tied to ground that was recorded in
 // motion by an independent numpy script (scripts/generate_free_line_data.py, its own RK4):
 // on the noisy recording every parameter and every start coordinate lands within 3 standard
-// errors of the truth and the validation (its own start estimated on its first tenth) is as
+// errors of the truth and the validation (its own start estimated on its first tenth, which is not scored) is as
 // good as the estimation; on the noise-free twin everything comes back exactly. The start is
 // reported apart from the model's parameters and read back by --params.
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <map>
@@ -163,4 +164,42 @@ TEST_CASE("validate --params takes an estimated start as stored, whatever the ex
     const RunResult bad = run_tvid({"validate", config.string(), "--params", five.string(), "--quiet"});
     CHECK(bad.exit_code == 2);
     CHECK(bad.err == five.string() + ": initial_states: expected a list of start coordinates, as tvid fit writes it\n");
+}
+
+TEST_CASE("validation: estimated leaves the samples its start is fitted on out of the score, and refuses a window "
+          "too short to score beyond them",
+          "[e2e][estimated_start]") {
+    const TempDir tmp;
+    const std::filesystem::path config = source_dir() / "configs/free_line.yaml";
+    const std::filesystem::path truth_params = tmp.write("truth.json", truth()["parameters"].dump());
+    // Every parameter 10 times off (the vehicle 10 times light): a start fitted on the very
+    // samples it is scored on hid it on a short window.
+    const std::filesystem::path wrong_params = tmp.write(
+        "wrong.json", R"({"J_e": 2.5, "J_g": 0.6, "J_v": 0.9, "k_cl": 60, "c_cl": 15, "k_ds": 40000, "c_ds": 60, "c_v": 9})");
+    const auto validate = [&](const std::filesystem::path& params, const std::string& window) {
+        return run_tvid({"validate", config.string(), "--params", params.string(), "--json", "--set",
+                         "windows.validation=[{time: " + window + "}]"});
+    };
+    // 11 samples at 500 Hz: the start's 5 coordinates are fitted on 10 of them.
+    const RunResult short_window = validate(wrong_params, "[8, 8.02]");
+    CHECK(short_window.exit_code == 2);
+    CHECK(std::count(short_window.err.begin(), short_window.err.end(), '\n') == 1);
+    CHECK(short_window.err.find("windows.validation[0].time") != std::string::npos);
+    CHECK(short_window.err.find("holds 11 samples") != std::string::npos);
+    CHECK(short_window.err.find("at least 21 samples") != std::string::npos);
+    CHECK(short_window.out.empty());
+
+    // 21 samples: the 10 after the first fit the start, the last 10 are scored.
+    const RunResult at_truth = validate(truth_params, "[8, 8.04]"), wrong = validate(wrong_params, "[8, 8.04]");
+    INFO(at_truth.err << wrong.err);
+    REQUIRE(at_truth.exit_code == 0);
+    REQUIRE(wrong.exit_code == 0);
+    const json t = json::parse(at_truth.out)["validation"]["pooled"], w = json::parse(wrong.out)["validation"]["pooled"];
+    for (const std::string output : {"w_engine", "T_shaft", "w_vehicle"}) {
+        INFO(output);
+        CHECK(t[output]["samples"] == 10);
+        CHECK(t[output]["rmse"].get<double>() < 2.5 * truth()["noise_std"][output].get<double>());
+    }
+    CHECK(w["T_shaft"]["rmse"].get<double>() > 10 * t["T_shaft"]["rmse"].get<double>());
+    CHECK(w["w_vehicle"]["rmse"].get<double>() > 10 * t["w_vehicle"]["rmse"].get<double>());
 }

@@ -32,9 +32,9 @@ std::size_t WindowStarts::estimation_index(const Window& w) const {
 }
 
 std::pair<std::size_t, std::size_t> WindowStarts::estimated_start_samples(const Window& w) const {
-    if (w.first > w.start) return {w.start, w.first};
-    const std::size_t tenth = std::max<std::size_t>((w.last - w.start) / 10, 2 * d_->estimated.states.size());
-    return {w.start, std::min(w.last, w.start + tenth)};
+    // The window's warm-up, or the lead-in the loader gave it (experiment/estimated_start.cpp):
+    // the residuals of samples (w.start, w.first), none of them scored.
+    return {w.start, w.first > w.start ? w.first - 1 : w.start};
 }
 
 bool WindowStarts::initial_state(const Window& w, ProblemWorkspace& ws, std::string* problem) const {

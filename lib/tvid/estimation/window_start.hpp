@@ -73,9 +73,9 @@ public:
     /// parameters (an estimated start's seed); false (with a reason) if impossible.
     bool recipe_state(const Window& w, ProblemWorkspace& ws, std::string* problem) const;
 
-    /// The samples [from, to] a validation window's estimated start is fitted on
-    /// (`validation: estimated`): its warm-up when it has one (then none of them is
-    /// scored), else its first tenth (which is scored).
+    /// The samples (from, to] a validation window's estimated start is fitted on
+    /// (`validation: estimated`): those before its first scored sample, its warm-up or the
+    /// lead-in the loader gave it (a tenth of it, at least two samples per coordinate).
     std::pair<std::size_t, std::size_t> estimated_start_samples(const Window& w) const;
 
 private:

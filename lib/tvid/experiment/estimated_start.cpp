@@ -52,6 +52,27 @@ bool rotation_is_seen(NetworkModel<double>& model, const RigidMotion& rigid) {
     return false;
 }
 
+// `validation: estimated`: a validation window without a warm-up fits its start on the
+// samples after its first (a tenth of it, at least two per estimated coordinate), and they
+// become its lead-in, simulated but not scored (WindowStarts::estimated_start_samples): a start fitted to the very samples it is judged on
+// would score any model well on a short window. A window that leaves fewer samples to score
+// than its start is fitted on is refused.
+void hold_out_start_samples(Experiment& ex, std::size_t coordinates) {
+    for (Window& w : ex.validation) {
+        if (w.first > w.start) continue;  // its warm-up holds the start's samples
+        const std::size_t fitted = std::max<std::size_t>((w.last - w.start) / 10, 2 * coordinates);
+        if (w.last < w.start + 2 * fitted)
+            throw InputError(w.where.file, w.where.line, w.where.key,
+                             "validation window '" + w.label + "' holds " + std::to_string(w.last - w.start + 1) +
+                                 " samples; with initial_state.validation: estimated its start (" +
+                                 std::to_string(coordinates) + " coordinates) is fitted on the " + std::to_string(fitted) +
+                                 " after its first, which are not scored, and fewer than " + std::to_string(fitted) +
+                                 " would be left to score: make it at least " + std::to_string(2 * fitted + 1) +
+                                 " samples long, or give windows.warmup");
+        w.first = w.start + fitted + 1;
+    }
+}
+
 }  // namespace
 
 void define_estimated_starts(Experiment& ex) {
@@ -105,6 +126,8 @@ void define_estimated_starts(Experiment& ex) {
             ex.network.start_coordinates.push_back({index, w, state});
             ex.parameters.push_back(std::move(s));
         }
+    if (ex.estimated_start.validation && !ex.estimation.empty())
+        hold_out_start_samples(ex, ex.network.start_coordinates.size() / ex.estimation.size());
 }
 
 }  // namespace tvid
