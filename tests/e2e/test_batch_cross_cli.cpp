@@ -6,6 +6,8 @@
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
+#include <sstream>
+#include <string>
 
 #include "support/run_tvid.hpp"
 #include "support/test_files.hpp"
@@ -108,7 +110,7 @@ TEST_CASE("tvid batch --cross: one row per cycle, batch.csv's fit on the diagona
     CHECK(read_text(tmp.path() / "t1" / "matrix.csv") == matrix_text);
 }
 
-TEST_CASE("tvid batch --cross over recordings; without --cross no matrix, but the stability table",
+TEST_CASE("tvid batch --cross over recordings, without --cross no matrix, but the stability table",
           "[e2e][batch][cross]") {
     TempDir tmp;
     const fs::path rec = tmp.path() / "recordings";
@@ -145,4 +147,42 @@ TEST_CASE("tvid batch --cross over recordings; without --cross no matrix, but th
     CHECK(read_csv(tmp.path() / "plain" / "parameter_stability.csv").header ==
           std::vector<std::string>{"parameter", "unit", "count", "mean", "std", "cv", "median", "mad", "min", "max",
                                    "outliers"});
+}
+
+TEST_CASE("tvid batch --cross with estimated starts estimates each validated job's start with the fitted job's model "
+          "held",
+          "[e2e][batch][cross][estimated_start]") {
+    // The noise-free free line (an independent numpy recording, configs/free_line_clean.yaml)
+    // cut in two recordings that start in different states: each job's start corrections
+    // belong to its own recording, so the other job's model, exact too, must fit it as well
+    // once its start is estimated again (job A's corrections on B's seed missed by far).
+    TempDir tmp;
+    const fs::path rec = tmp.path() / "recordings";
+    fs::create_directories(rec);
+    std::istringstream lines(read_text(source_dir() / "data/free_line/free_line_clean.csv"));
+    std::string header, line, first, second;
+    std::getline(lines, header);
+    for (std::size_t k = 0; std::getline(lines, line); ++k) (k < 3000 ? first : second) += line + "\n";
+    tmp.write("recordings/a_first.csv", header + "\n" + first);
+    tmp.write("recordings/b_second.csv", header + "\n" + second);
+    std::vector<std::string> args{"batch", (source_dir() / "configs/free_line_clean.yaml").string(), "--data",
+                                  (rec / "*.csv").string(), "--set", "windows.estimation=[{samples: [0, 1000]}]",
+                                  "--set", "windows.validation=[]", "--cross", "-o", (tmp.path() / "out").string(),
+                                  "--quiet"};
+    const json truth = json::parse(read_text(source_dir() / "data/free_line/truth.json"))["parameters"];
+    for (const auto& [name, value] : truth.items()) {
+        args.push_back("--set");
+        args.push_back("parameters." + name + ".init=" + value.dump());
+    }
+    const RunResult r = run_tvid(args);
+    INFO(r.err);
+    REQUIRE(r.exit_code == 0);
+    const tvid::BatchFile matrix = read_csv(tmp.path() / "out" / "matrix.csv");
+    REQUIRE(matrix.rows.size() == 2);
+    for (const auto& row : matrix.rows)
+        for (const std::string job : {"a_first", "b_second"})
+            for (const std::string output : {"w_engine", "T_shaft", "w_vehicle"}) {
+                INFO(row[0] << " on " << job << ": " << output);
+                CHECK(std::stod(row[column_of(matrix.header, "fit_" + job + "_" + output)]) > 99.99999);
+            }
 }

@@ -9,9 +9,11 @@
 #include <memory>
 #include <thread>
 
-#include "tvid/util/parallel_region.hpp"
 #include "tvid/analysis/evaluation.hpp"
 #include "tvid/estimation/parallel_evaluator.hpp"
+#include "tvid/estimation/residual_evaluator.hpp"
+#include "tvid/optim/held_columns.hpp"
+#include "tvid/util/parallel_region.hpp"
 #include "tvid/util/stop_request.hpp"
 
 namespace tvid {
@@ -43,6 +45,42 @@ struct ValidatedJob {
     std::unique_ptr<IdentificationProblem> problem;
     std::string problem_text;  ///< why it could not be loaded
 };
+
+// The free columns of `problem` that correct an estimated start (none without one).
+std::vector<std::size_t> start_columns(const IdentificationProblem& problem) {
+    std::vector<std::size_t> columns;
+    for (const NetworkSpec::StartCoordinate& c : problem.experiment().network.start_coordinates)
+        if (const long j = problem.free_column(c.parameter); j >= 0) columns.push_back(static_cast<std::size_t>(j));
+    return columns;
+}
+
+// Job i's model on job j's windows, where the windows' starts are estimated: job i's start
+// corrections belong to its own recordings' seeds, so job j's start is estimated again with
+// job i's model held (Levenberg–Marquardt over the start's columns from job j's own fitted
+// start, as validation: estimated does for a validation window), and the cell scores that.
+// `free_i` holds job i's model values and its start; `free_j` job j's own fit.
+std::vector<double> start_estimated_with_model_held(const IdentificationProblem& problem,
+                                                    const std::vector<std::size_t>& starts, std::vector<double> free_i,
+                                                    const std::vector<double>& free_j, std::string* why) {
+    std::vector<double> x0, lower, upper;
+    for (std::size_t j : starts) {
+        free_i[j] = free_j[j];
+        x0.push_back(free_j[j]);
+        lower.push_back(problem.lower()[j]);
+        upper.push_back(problem.upper()[j]);
+    }
+    ResidualEvaluator whole(problem, 1, problem.experiment().estimation_settings.jacobian);
+    HeldColumns start(whole, free_i, starts);
+    LmSettings settings;
+    settings.max_iterations = 60;
+    settings.stol = 0.0;  // the start to the bit the data give, not to a standard error
+    const LmSummary fit = run_levenberg_marquardt(settings, x0, lower, upper, start);
+    if (!std::isfinite(fit.best_cost) || fit.best.size() != starts.size()) {
+        if (why) *why = "the start could not be estimated with the model held: " + fit.termination;
+        return free_i;  // job j's own start: the cell says it failed
+    }
+    return start.whole_point(fit.best.data());
+}
 
 }  // namespace
 
@@ -99,9 +137,15 @@ CrossMatrix compute_cross_matrix(const BatchSettings& settings, const std::vecto
             cell.problem = v.problem_text;
         } else {
             try {
-                const Evaluation ev = evaluate_parameters(*v.problem, v.problem->full_parameters(free[i]), 1);
-                cell.ok = ev.estimation.ok;
-                cell.problem = first_failed_window(ev);
+                const std::vector<std::size_t> starts = start_columns(*v.problem);
+                std::string start_problem;
+                const std::vector<double> point =
+                    i == j || starts.empty()
+                        ? free[i]
+                        : start_estimated_with_model_held(*v.problem, starts, free[i], free[j], &start_problem);
+                const Evaluation ev = evaluate_parameters(*v.problem, v.problem->full_parameters(point), 1);
+                cell.ok = ev.estimation.ok && start_problem.empty();
+                cell.problem = start_problem.empty() ? first_failed_window(ev) : start_problem;
                 for (std::size_t k = 0; cell.ok && k < m.outputs.size() && k < ev.estimation.pooled.size(); ++k) {
                     cell.fit_percent[k] = ev.estimation.pooled[k].fit_percent;
                     cell.rmse[k] = ev.estimation.pooled[k].rmse;

@@ -3,7 +3,9 @@
 // simulated on every successful job's estimation windows (the data that job was fitted
 // on), scored by evaluate_parameters like the fit itself, so that the diagonal repeats
 // batch.csv's estimation fit % exactly. Written as matrix.csv (wide) and
-// matrix_long.csv (one line per cell and output).
+// matrix_long.csv (one line per cell and output). With an estimated start, a job's start
+// corrections belong to its own recording: off the diagonal the validated job's start is
+// estimated again with the fitted job's model held, and the cell scores that.
 
 #include <string>
 #include <vector>
