@@ -243,7 +243,7 @@ TEST_CASE("a report never replaces a file the run reads", "[e2e][files]") {
     CHECK(read_text(report / "summary.json") == summary);
 }
 
-TEST_CASE("a name with a comma is one CSV cell; a name with a path separator is refused", "[e2e][files]") {
+TEST_CASE("a name with a comma is one CSV cell, a name with a path separator is refused", "[e2e][files]") {
     TempDir tmp;
     const fs::path rec = tmp.write("rec.csv", recording());
     const fs::path exp = tmp.write("comma.yaml", one_node(rec.string(), "w, rad", "c,1"));

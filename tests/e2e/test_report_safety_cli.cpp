@@ -92,7 +92,7 @@ const char* const kReportFiles[] = {"params.json", "params.csv", "estimation.csv
 
 }  // namespace
 
-TEST_CASE("the same fit again replaces its own report; anything else is refused without --force", "[e2e][report]") {
+TEST_CASE("the same fit again replaces its own report, anything else is refused without --force", "[e2e][report]") {
     TempDir tmp;
     const fs::path out = tmp.path() / "run";
     std::vector<std::string> args = quick_fit(out);

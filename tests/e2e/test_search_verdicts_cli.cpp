@@ -68,7 +68,7 @@ bool has_finding(const json& summary, const std::string& code) {
 
 }  // namespace
 
-TEST_CASE("a swarm whose best is no minimum is told so; least squares from it reaches the optimum",
+TEST_CASE("a swarm whose best is no minimum is told so, least squares from it reaches the optimum",
           "[e2e][verdict]") {
     const TempDir tmp;
     const json swarm = fit(tmp, "swarm", {});

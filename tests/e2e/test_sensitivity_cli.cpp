@@ -198,15 +198,18 @@ TEST_CASE("tvid sensitivity of the CVT shows the scaling symmetry of its paramet
     CHECK(worst < 1e-6 * largest);
 }
 
-TEST_CASE("tvid sensitivity writes into the report directory by default; --json and --quiet", "[e2e][sensitivity]") {
+TEST_CASE("tvid sensitivity writes into the report directory by default, --json and --quiet", "[e2e][sensitivity]") {
     TempDir tmp;
     const std::string exp = (source_dir() / "configs/cvt_tipin_clean.yaml").string();
     const auto report = tmp.path() / "report";
     const RunResult r = run_tvid({"sensitivity", exp, "--set", "report.dir=" + report.string(), "--json"});
     INFO(r.err);
     REQUIRE(r.exit_code == 0);
-    const json printed = json::parse(r.out);
+    json printed = json::parse(r.out);
     const json written = json::parse(read_text(report / "sensitivity" / "sensitivity.json"));
+    // --json prints the file's document and where the report went.
+    CHECK(printed["report"] == (report / "sensitivity").string());
+    printed.erase("report");
     CHECK(printed == written);
     CHECK(printed["experiment"] == "cvt-tipin-clean");
     CHECK(std::filesystem::exists(report / "sensitivity" / "ranking.csv"));

@@ -47,7 +47,7 @@ TEST_CASE("jobs: every cycle of every recording, ids from file stems", "[batch]"
     CHECK(jobs[1].overrides[2].value == "[ { cycle: 5 } ]");  // validated on the next cycle
 }
 
-TEST_CASE("jobs: recordings alone keep the windows; cycles alone keep the recording", "[batch]") {
+TEST_CASE("jobs: recordings alone keep the windows, cycles alone keep the recording", "[batch]") {
     BatchRequest recordings;
     recordings.recordings = {"/d/x.csv"};
     const auto r = plan_batch_jobs(recordings);
@@ -123,7 +123,7 @@ TEST_CASE("batch.csv columns: parameters, cost, metrics per split, counts", "[ba
     CHECK(two.index("max_residual_ratio_percent_validation_b") + 5 == two.size());
 }
 
-TEST_CASE("rows are quoted where needed and read back unchanged; a torn last line is dropped", "[batch]") {
+TEST_CASE("rows are quoted where needed and read back unchanged, a torn last line is dropped", "[batch]") {
     TempDir tmp;
     const BatchColumns columns({"p"}, {"y"});
     BatchRow bad = columns.row("r1", kBatchBadInput, "data.csv:12: column y, \"x\": not a number");

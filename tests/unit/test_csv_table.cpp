@@ -388,7 +388,7 @@ TEST_CASE("CsvTable rejects duplicate column names", "[csv][error]") {
     }
 }
 
-TEST_CASE("CsvTable rejects ';' and tab separated files", "[csv][error]") {
+TEST_CASE("CsvTable rejects semicolon and tab separated files", "[csv][error]") {
     SECTION("semicolon header") {
         const InputError e = error_for("# export\ntime;speed\n0,5;1,2\n");
         CHECK(e.line() == 2);

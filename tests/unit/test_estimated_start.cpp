@@ -109,7 +109,7 @@ TEST_CASE("a start speed's search box is 10 % of the largest speed its node turn
     CHECK(range_of("start1.vehicle.angle") == kStartAngleRange);
 }
 
-TEST_CASE("a spring to ground makes every angle a start coordinate; each estimation window has its own",
+TEST_CASE("a spring to ground makes every angle a start coordinate, each estimation window has its own",
           "[estimated_start]") {
     const Experiment held = free_line(
         {{"model.elements",
@@ -163,7 +163,7 @@ TEST_CASE("an estimated start's sensitivity columns equal central differences on
     }
 }
 
-TEST_CASE("the truth's start gives the noise-free recording; a validation window fits its own start",
+TEST_CASE("the truth's start gives the noise-free recording, a validation window fits its own start",
           "[estimated_start]") {
     const Experiment ex = free_line();
     const IdentificationProblem problem(ex);

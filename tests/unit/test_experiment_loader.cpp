@@ -1090,7 +1090,7 @@ TEST_CASE("a channel's delay shifts it onto the model's time, interpolated, held
     }
 }
 
-TEST_CASE("a delay of whole samples shifts a sine exactly; one past the recording is refused", "[experiment][channels]") {
+TEST_CASE("a delay of whole samples shifts a sine exactly, one past the recording is refused", "[experiment][channels]") {
     Scratch s;
     std::ostringstream csv;
     csv << "t,u,w,a,T\n";

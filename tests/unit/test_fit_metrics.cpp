@@ -22,7 +22,7 @@ TEST_CASE("fit metrics of a known residual", "[metrics]") {
     CHECK(m.max_abs_residual_ratio == Approx(0.5));
 }
 
-TEST_CASE("a perfect fit has Q = 100 % and zero residual ratio; zero samples are skipped in the ratio", "[metrics]") {
+TEST_CASE("a perfect fit has Q = 100 % and zero residual ratio, zero samples are skipped in the ratio", "[metrics]") {
     const std::vector<double> y{0.0, 1.0, 2.0};
     const FitMetrics m = compute_fit_metrics(y, y, 0.0);
     CHECK(m.q_index == 100.0);

@@ -60,7 +60,7 @@ TEST_CASE("exponents near small fractions are rounded, others printed as numbers
     CHECK(d.text == "scaling a by s^0.37, b by s and c by s^2 leaves the output unchanged");
 }
 
-TEST_CASE("a direction along one parameter says it has no effect; a zero value gives proportions", "[identifiability]") {
+TEST_CASE("a direction along one parameter says it has no effect, a zero value gives proportions", "[identifiability]") {
     CHECK(describe_null_direction({0.0, 1.0, 0.01}, {"J1", "C1", "C2"}, {1, 1, 1}).text ==
           "C1 has no effect on the output");
     const auto c = describe_null_direction(unit({1, -1}), {"d_ds", "d_tm"}, {0.0, 3.0});

@@ -140,7 +140,7 @@ TEST_CASE("NLopt settings errors name the line and the key", "[experiment][optim
                  "global NLopt algorithm GN_DIRECT_L searches within the bounds");
 }
 
-TEST_CASE("least-squares optimizers need the l2 cost; multistart needs a search box", "[experiment][optimizers]") {
+TEST_CASE("least-squares optimizers need the l2 cost, multistart needs a search box", "[experiment][optimizers]") {
     expect_error(load("  optimizer: pso+lm", "  cost: l1"), 19, "estimation.cost",
                  "the pso+lm optimizer minimizes a sum of squares: set cost: l2");
     expect_error(load("  optimizer: multistart", "  cost: l1"), 19, "estimation.cost",

@@ -66,7 +66,7 @@ TEST_CASE("each row plans its own iterations") {
     CHECK(planned(OptimizerKind::nlopt) == 1 << 30);       // an int for the progress line
 }
 
-TEST_CASE("only the swarm runs all its planned iterations; only multistart writes starts.csv") {
+TEST_CASE("only the swarm runs all its planned iterations, only multistart writes starts.csv") {
     for (const OptimizerKindRow& row : optimizer_kinds()) {
         const OptimizerKind kind = row.kind;
         CAPTURE(optimizer_name(kind));

@@ -51,7 +51,7 @@ TEST_CASE("pack arithmetic, max, min and abs are the double operations lane by l
     }
 }
 
-TEST_CASE("pack comparisons give masks; select chooses lane by lane as the conditional operator", "[pack]") {
+TEST_CASE("pack comparisons give masks, select chooses lane by lane as the conditional operator", "[pack]") {
     const Pack<8> a = pack(kValues, 0), b = pack(kValues, 3);
     const Mask<8> lt = a < b, ge = a >= b, eq = a == b, ne = a != b;
     const Pack<8> chosen = select(lt, a, b);

@@ -87,7 +87,7 @@ TEST_CASE("parameters are ranked by the RMS of p·dy/dp over every scored sample
     CHECK(r[1].ranks[1].relative == 0.0);
 }
 
-TEST_CASE("an output no parameter moves has no relative ranking; ties keep the parameter order",
+TEST_CASE("an output no parameter moves has no relative ranking, ties keep the parameter order",
           "[sensitivity-report]") {
     Example ex;
     for (auto& w : ex.study.estimation) w.dydp[1] = {{0, 0}, {0, 0}};

@@ -129,7 +129,7 @@ TEST_CASE("H1 of a first-order filter matches its analytic response within the c
     }
 }
 
-TEST_CASE("a segment longer than the signal is the signal; mismatched lengths are refused", "[spectra]") {
+TEST_CASE("a segment longer than the signal is the signal, mismatched lengths are refused", "[spectra]") {
     std::vector<double> x(100, 1.0), y(99, 1.0);
     CHECK(welch_segment_length(100) == 64);
     CHECK(welch_segment_length(40) == 40);
