@@ -2,9 +2,11 @@
 // problem here has an analytic Jacobian (checked once against central differences).
 #include <catch2/catch.hpp>
 #include <Eigen/QR>
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
+#include <string>
 #include <vector>
 
 #include "tvid/optim/levenberg_marquardt.hpp"
@@ -236,6 +238,64 @@ TEST_CASE("LM solves Rosenbrock's valley from (-1.2, 1)", "[lm]") {
     CHECK(s.history.back().evaluations == s.residual_evaluations + s.jacobian_evaluations);
     CHECK(s.jacobian_at_best.rows() == 2);
     CHECK(s.jacobian_at_best(0, 0) == Approx(-20.0 * s.best[0]));
+}
+
+// Rosenbrock's valley made steep and narrow, r = (a (x2 − x1²), 1 − x1), its two residuals among
+// `rows` (the rest 0, as samples a candidate already fits): far from the minimum Σr²/(N − M)
+// is the misfit, and LM's steps along the curved valley lower Σr² by less than a hundredth of it.
+struct NarrowValley : LeastSquaresProblem {
+    double a;
+    std::size_t rows;
+    NarrowValley(double steepness, std::size_t n) : a(steepness), rows(n) {}
+    std::size_t residual_count() const override { return rows; }
+    bool residuals(const double* x, double* r) override {
+        std::fill(r, r + rows, 0.0);
+        r[0] = a * (x[1] - x[0] * x[0]);
+        r[1] = 1.0 - x[0];
+        return true;
+    }
+    bool jacobian(const double* x, double* r, Eigen::MatrixXd& J) override {
+        residuals(x, r);
+        J.setZero();
+        J(0, 0) = -2.0 * a * x[0];
+        J(0, 1) = a;
+        J(1, 0) = -1.0;
+        return true;
+    }
+};
+
+TEST_CASE("LM's noise-based stop holds near a minimum only: small steps along a narrow valley go on", "[lm]") {
+    // With 100 rows the statistical cost test used to end this run after 5 iterations at
+    // Σr² = 4.44 ("cost change below the noise (stol)"), where the minimum is 0 at (1, 1):
+    // the Gauss–Newton model there still promised the whole misfit.
+    NarrowValley problem(1e5, 100);
+    LmSettings settings;
+    settings.max_iterations = 10000;
+    const auto s = run_levenberg_marquardt(settings, {-1.2, 1.0}, unbounded_lower(2), unbounded_upper(2), problem);
+    CAPTURE(s.termination, s.iterations);
+    CHECK(s.termination != "cost change below the noise (stol)");
+    CHECK(s.success);
+    CHECK(s.best_cost < 1e-12);
+    CHECK(s.best[0] == Approx(1.0).margin(1e-6));
+}
+
+TEST_CASE("LM's statistical tolerance ends a noisy fit near its optimum, before the classical tolerances", "[lm]") {
+    // The exponential decay with a deterministic ±0.01 "noise": stol ends it within a tenth of a
+    // standard error of the optimum that stol 0 reaches, in fewer iterations.
+    ExponentialDecay problem;
+    for (std::size_t i = 0; i < problem.y.size(); ++i) problem.y[i] += 0.01 * std::sin(7.3 * static_cast<double>(i));
+    const std::vector<double> start{1.5 * 2.0, 0.5 * 1.3, 1.5 * 0.5};
+    LmSettings exact;
+    exact.stol = 0.0;
+    const auto optimum = run_levenberg_marquardt(exact, start, unbounded_lower(3), unbounded_upper(3), problem);
+    const auto s = run_levenberg_marquardt(LmSettings{}, start, unbounded_lower(3), unbounded_upper(3), problem);
+    CAPTURE(s.termination, s.iterations, optimum.termination, optimum.iterations);
+    CHECK(s.success);
+    CHECK(s.termination.find("stol") != std::string::npos);
+    CHECK(s.iterations < optimum.iterations);
+    // Σr² above the optimum's by at most stol² σ² (σ² = Σr²/(N − M)), twice that for the rounding.
+    const double variance = optimum.best_cost / static_cast<double>(problem.t.size() - 3);
+    CHECK(s.best_cost - optimum.best_cost <= 2 * 0.01 * variance);
 }
 
 TEST_CASE("LM recovers an exponential decay from a start 50 % off", "[lm]") {
