@@ -25,6 +25,11 @@ std::vector<char> null_space_members(const Eigen::FullPivLU<Eigen::MatrixXd>& lu
 
 }  // namespace
 
+// Converged residuals: a millionth of the start's (the rounding of angles thousands of
+// radians large times a stiff element's stiffness stays below it), or below 1e-9 (rad/s²).
+constexpr double kResidualShare = 1e-6;
+constexpr double kResidualFloor = 1e-9;
+
 NewtonResult solve_damped_newton(const NewtonSystem& system, Eigen::VectorXd z0) {
     NewtonResult r;
     const Eigen::Index n = z0.size();
@@ -32,6 +37,7 @@ NewtonResult solve_damped_newton(const NewtonSystem& system, Eigen::VectorXd z0)
     Eigen::MatrixXd& jac = r.jacobian;
     jac.resize(n, n);
     system.residual(z, g);
+    const double start_norm = g.norm();
     bool polished = false;
     for (int iter = 0; iter < 100; ++iter) {
         const double norm = g.norm();
@@ -75,11 +81,16 @@ NewtonResult solve_damped_newton(const NewtonSystem& system, Eigen::VectorXd z0)
             polished = true;
             continue;
         }
-        if (polished || g.norm() == 0.0) {
+        // A step that small is convergence only where the residual went with it: a line
+        // search that found no decrease (a kink the differenced Jacobian cannot see, such as
+        // a stiff lossy gear's switch of efficiency at zero power) also ends in tiny steps.
+        const bool small = g.norm() <= kResidualShare * start_norm || g.norm() <= kResidualFloor;
+        if ((polished && small) || g.norm() == 0.0) {
             r.status = NewtonStatus::converged;
             r.z = z;
             return r;
         }
+        if (polished) break;
     }
     r.z = z;
     return r;

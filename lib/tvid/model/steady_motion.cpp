@@ -151,7 +151,9 @@ SteadyMotion solve_steady_motion(NetworkModel<double>& model, const double* u, i
         }
         case NewtonStatus::not_converged: break;
     }
-    r.problem = "Newton's method did not converge to a steady motion";
+    r.problem = "Newton's method did not converge to a steady motion (a stiff element's switch, such as a stiff lossy "
+                "gear's efficiency at zero power, can stall it); start from initial_state: measured, or estimated "
+                "from it";
     return r;
 }
 
