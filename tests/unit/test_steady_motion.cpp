@@ -10,6 +10,18 @@ using namespace tvid;
 
 namespace {
 
+// A gear mesh named "gear" from node a to node b.
+GearMeshSpec mesh(int a, int b, Field ratio, Field k, double c) {
+    GearMeshSpec gear;
+    gear.name = "gear";
+    gear.a = a;
+    gear.b = b;
+    gear.ratio = ratio;
+    gear.k = k;
+    gear.c = Field::value(c);
+    return gear;
+}
+
 // a (J 1) =gear, ratio 3, k 1000= b (J 3) –spring 200– c (J 5); T_in on a, −T_L on c.
 NetworkSpec geared_line() {
     NetworkSpec spec;
@@ -18,14 +30,7 @@ NetworkSpec geared_line() {
     spec.parameter_names = {"n"};
     spec.nodes = {NodeSpec{"a", Field::value(1.0), false}, NodeSpec{"b", Field::value(3.0), false},
                   NodeSpec{"c", Field::value(5.0), false}};
-    GearMeshSpec gear;
-    gear.name = "gear";
-    gear.a = 0;
-    gear.b = 1;
-    gear.ratio = Field::param(0);
-    gear.k = Field::value(1000.0);
-    gear.c = Field::value(4.0);
-    spec.gear_meshes.push_back(gear);
+    spec.gear_meshes.push_back(mesh(0, 1, Field::param(0), Field::value(1000.0), 4.0));
     spec.spring_dampers.push_back(SpringDamperSpec{"shaft", 1, 2, Field::value(200.0), Field::value(2.0)});
     spec.frictions.push_back(FrictionSpec{"bearing", 2, Field::value(0.05)});
     spec.torques.push_back(TorqueSpec{"drive", 0, 0, Field::value(0.0), Field::value(1.0)});
@@ -120,13 +125,7 @@ TEST_CASE("a steady motion through a stiff lossy gear is right or refused, never
             spec.parameter_names = {"k"};
             spec.nodes = {NodeSpec{"motor", Field::value(0.2), false}, NodeSpec{"out", Field::value(0.005), false},
                           NodeSpec{"load", Field::value(1.2), false}};
-            GearMeshSpec gear;
-            gear.name = "gear";
-            gear.a = 0;
-            gear.b = 1;
-            gear.ratio = Field::value(3.5);
-            gear.k = Field::param(0);
-            gear.c = Field::value(5.0);
+            GearMeshSpec gear = mesh(0, 1, Field::value(3.5), Field::param(0), 5.0);
             gear.lossy = eta < 1.0;
             gear.efficiency = Field::value(eta);
             spec.gear_meshes.push_back(gear);
