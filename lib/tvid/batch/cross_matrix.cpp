@@ -43,6 +43,7 @@ void for_each_task(std::size_t count, std::size_t workers, const Task& task) {
 struct ValidatedJob {
     std::unique_ptr<Experiment> experiment;
     std::unique_ptr<IdentificationProblem> problem;
+    std::vector<std::size_t> start_columns;  ///< its free columns that correct an estimated start
     std::string problem_text;  ///< why it could not be loaded
 };
 
@@ -104,6 +105,7 @@ CrossMatrix compute_cross_matrix(const BatchSettings& settings, const std::vecto
         try {
             validated[k].experiment = std::make_unique<Experiment>(load_experiment(settings.experiment, overrides));
             validated[k].problem = std::make_unique<IdentificationProblem>(*validated[k].experiment);
+            validated[k].start_columns = start_columns(*validated[k].problem);
         } catch (const std::exception& e) {
             validated[k].problem_text = e.what();
         }
@@ -137,7 +139,7 @@ CrossMatrix compute_cross_matrix(const BatchSettings& settings, const std::vecto
             cell.problem = v.problem_text;
         } else {
             try {
-                const std::vector<std::size_t> starts = start_columns(*v.problem);
+                const std::vector<std::size_t>& starts = v.start_columns;
                 std::string start_problem;
                 const std::vector<double> point =
                     i == j || starts.empty()

@@ -54,9 +54,9 @@ bool rotation_is_seen(NetworkModel<double>& model, const RigidMotion& rigid) {
 
 // `validation: estimated`: a validation window without a warm-up fits its start on the
 // samples after its first (a tenth of it, at least two per estimated coordinate), and they
-// become its lead-in, simulated but not scored (WindowStarts::estimated_start_samples): a start fitted to the very samples it is judged on
-// would score any model well on a short window. A window that leaves fewer samples to score
-// than its start is fitted on is refused.
+// become its lead-in, simulated but not scored (WindowStarts::estimated_start_samples): a
+// start fitted to the very samples it is judged on would score any model well on a short
+// window. A window that leaves fewer samples to score than its start is fitted on is refused.
 void hold_out_start_samples(Experiment& ex, std::size_t coordinates) {
     for (Window& w : ex.validation) {
         if (w.first > w.start) continue;  // its warm-up holds the start's samples
