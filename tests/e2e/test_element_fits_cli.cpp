@@ -40,7 +40,7 @@ std::map<std::string, json> parameters_of(const json& summary) {
 TEST_CASE("each new element's noise-free recording gives every parameter back", "[e2e][element_fits]") {
     const TempDir tmp;
     for (const std::string recording : {"dry_friction", "road_load", "clutch_damper", "lossy_gear", "positioning_drive",
-                                      "digital_drive"}) {
+                                      "digital_drive", "rigid_gear"}) {
         INFO(recording);
         const json s = fit_shipped(tmp, recording + "_clean");
         CHECK(s["optimizer"]["converged"] == true);
@@ -57,7 +57,7 @@ TEST_CASE("each new element's noise-free recording gives every parameter back", 
 TEST_CASE("each new element's noisy recording: the noise floor, the truth within its errors", "[e2e][element_fits]") {
     const TempDir tmp;
     for (const std::string recording : {"dry_friction", "road_load", "clutch_damper", "lossy_gear", "positioning_drive",
-                                      "digital_drive"}) {
+                                      "digital_drive", "rigid_gear"}) {
         INFO(recording);
         const json s = fit_shipped(tmp, recording);
         const json t = truth_of(recording);
@@ -134,6 +134,12 @@ TEST_CASE("a new element's bad entry is one line naming the file, line and key, 
         {"digital_drive", "sample_period: 0.001, delay: 0.001", "sample_period: 0.0015, delay: 0.003", "sample_period",
          "is not a whole number of sample intervals"},
         {"digital_drive", "angle_average: 2", "angle_average: 0", "angle_average", "expected a whole number"},
+        {"rigid_gear", "torque: halfshaft", "torque: gearbox", "torque", "offers no torque output"},
+        {"rigid_gear", "    - { type: spring_damper, name: halfshaft,",
+         "    - { type: ideal_gear, name: back, between: [gear_out, gear_in], ratio: 0.25 }\n"
+         "    - { type: spring_damper, name: halfshaft,",
+         "between", "ideal gears around a loop"},
+        {"rigid_gear", "efficiency: eta }", "efficiency: 1.2 }", "efficiency", "must be at most 1"},
     };
     for (const Case& c : cases) {
         const std::string data = "data/" + c.config;

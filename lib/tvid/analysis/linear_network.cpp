@@ -55,6 +55,7 @@ const char* angle_dependence_name(AngleDependence a) {
 }
 
 std::size_t LinearNetwork::angle_state(std::size_t node) const {
+    if (node < angle_root.size()) node = angle_root[node];
     for (std::size_t k = 0; k < states.size(); ++k)
         if (states[k] == node) return k;
     return states.size();
@@ -76,15 +77,28 @@ LinearNetwork linearise_network(const NetworkSpec& spec, const std::vector<doubl
     model.set_parameters(params.data());
 
     for (const NodeSpec& s : spec.nodes) sys.node_names.push_back(s.name);
+    // A node an ideal gear ties keeps no state of its own: its group's root's coordinate
+    // moves it (θ_i = factor_i·θ_root), so the linear system is the reduced line's.
     for (std::size_t i = 0; i < n; ++i) {
+        sys.angle_factor.push_back(model.tie_factor(i));
+        if (model.tied_to_other(i)) continue;
         sys.states.push_back(i);
         sys.state_names.push_back("theta:" + spec.nodes[i].name);
     }
     for (std::size_t i = 0; i < n; ++i) {
         if (sys.prescribed[i]) continue;  // its speed is the input's: the state is read by no equation
+        if (model.tied_to_other(i)) continue;
         sys.states.push_back(n + i);
         sys.state_names.push_back("omega:" + spec.nodes[i].name);
     }
+    sys.angle_root.resize(n);
+    for (std::size_t i = 0; i < n; ++i) sys.angle_root[i] = model.tie_root(i);
+    // A kept column's perturbation moves its node and every node tied to it: ∂/∂q = Σ f_m ∂/∂x_m.
+    const auto column_weight = [&](std::size_t kept, std::size_t full_state) {
+        const std::size_t node = full_state % n, own = kept % n;
+        if (full_state / n != kept / n || model.tie_root(node) != own) return 0.0;
+        return model.tie_factor(node);
+    };
     sys.input_names = spec.input_names;
     sys.rate_of.assign(u.size(), -1);
     for (std::size_t j = 0; j < spec.input_rates.size(); ++j) {
@@ -103,8 +117,17 @@ LinearNetwork linearise_network(const NetworkSpec& spec, const std::vector<doubl
     const auto ns = static_cast<Eigen::Index>(sys.states.size());
     sys.A.resize(ns, ns);
     for (Eigen::Index r = 0; r < ns; ++r)
-        for (Eigen::Index c = 0; c < ns; ++c)
-            sys.A(r, c) = a_full[sys.states[static_cast<std::size_t>(r)] * full + sys.states[static_cast<std::size_t>(c)]];
+        for (Eigen::Index c = 0; c < ns; ++c) {
+            const std::size_t row = sys.states[static_cast<std::size_t>(r)], col = sys.states[static_cast<std::size_t>(c)];
+            if (!model.ties_nodes()) {
+                sys.A(r, c) = a_full[row * full + col];
+                continue;
+            }
+            double sum = 0.0;
+            for (std::size_t m = 0; m < full; ++m)
+                if (const double w = column_weight(col, m); w != 0.0) sum += w * a_full[row * full + m];
+            sys.A(r, c) = sum;
+        }
 
     // B = ∂f/∂u and D = ∂y/∂u by central differences (the inputs enter linearly).
     const auto ni = static_cast<Eigen::Index>(u.size());
@@ -152,7 +175,9 @@ LinearNetwork linearise_network(const NetworkSpec& spec, const std::vector<doubl
                 const Dual y = dual_model.output(static_cast<std::size_t>(k), xd.data(), u.data());
                 for (Eigen::Index c = 0; c < ns; ++c) {
                     const std::size_t s = sys.states[static_cast<std::size_t>(c)];
-                    if (s >= first && s < first + width) sys.C(k, c) = y.derivative(static_cast<int>(s - first));
+                    for (std::size_t m = first; m < first + width; ++m)  // the column's own state and its tied ones
+                        if (const double w = m == s ? 1.0 : column_weight(s, m); w != 0.0)
+                            sys.C(k, c) += w * y.derivative(static_cast<int>(m - first));
                 }
             }
         }

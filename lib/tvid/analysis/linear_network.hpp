@@ -35,8 +35,13 @@ struct LinearNetwork {
     AngleDependence angle_dependence = AngleDependence::revolution_mean;
     std::vector<ElementLinearisation> elements;
 
+    /// Per node: the node whose angle state moves it (its ideal-gear group's root, or itself)
+    /// and θ_node / θ_that (1 for an untied node).
+    std::vector<std::size_t> angle_root;
+    std::vector<double> angle_factor;
+
     std::size_t node_count() const { return node_names.size(); }
-    /// The row/column of node i's angle state.
+    /// The row/column of the angle state that moves node i (angle_factor[i] times it).
     std::size_t angle_state(std::size_t node) const;
 };
 

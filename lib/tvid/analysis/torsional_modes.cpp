@@ -145,7 +145,9 @@ ModalAnalysis torsional_modes(const LinearNetwork& system, const std::vector<dou
 
     // A free rotation: the rigid motion (θ_i = ratio_i, ω = 0) meets no restoring torque.
     Eigen::VectorXd rigid = Eigen::VectorXd::Zero(ns);
-    for (std::size_t i = 0; i < nodes; ++i) rigid[static_cast<Eigen::Index>(system.angle_state(i))] = ratio[i];
+    for (std::size_t i = 0; i < nodes; ++i)
+        if (i >= system.angle_root.size() || system.angle_root[i] == i)  // a tied node's is its root's
+            rigid[static_cast<Eigen::Index>(system.angle_state(i))] = ratio[i];
     const double scale = std::max(system.A.cwiseAbs().maxCoeff(), std::numeric_limits<double>::min());
     out.free_rotation = (system.A * rigid).norm() <= 1e-9 * scale * rigid.norm();
 
@@ -168,7 +170,9 @@ ModalAnalysis torsional_modes(const LinearNetwork& system, const std::vector<dou
         // sign): reported as ζ = 0, not as ±1e-11.
         if (std::abs(l.real()) <= 1e-12 * scale && l.imag() > 0.0) m.damping_ratio = 0.0;
         m.shape.resize(nodes);
-        for (std::size_t i = 0; i < nodes; ++i) m.shape[i] = vectors(static_cast<Eigen::Index>(system.angle_state(i)), k);
+        for (std::size_t i = 0; i < nodes; ++i)
+            m.shape[i] = (i < system.angle_factor.size() ? system.angle_factor[i] : 1.0) *
+                         vectors(static_cast<Eigen::Index>(system.angle_state(i)), k);
         // Turning as one body: on a line free to rotate, the eigenvalue ~0 or real (the
         // speed's decay under friction) with the shape of the rigid motion.
         const bool tiny = std::abs(l) <= 1e-6 * largest;

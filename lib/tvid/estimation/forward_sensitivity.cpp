@@ -116,10 +116,13 @@ bool ForwardSensitivity::steady_sensitivity(std::size_t j0, std::size_t j1, Sens
     Eigen::MatrixXd dgdp, dgdz;
     implicit_jacobians(x, n, n, j1 - j0, ws, dgdp, dgdz, [&](const std::vector<Dual>& at) {
         ws.model.derivative(at.data(), u, dxdt.data());
+        for (std::size_t i = 0; i < n; ++i)  // a node an ideal gear ties: its row is the tie (steady_motion.cpp)
+            if (ws.model.tied_to_other(i)) dxdt[n + i] = ws.model.tie_constraint(i, at.data());
         return dxdt.data() + n;  // the accelerations
     });
     const auto at = [](std::size_t i) { return static_cast<Eigen::Index>(i); };
-    for (std::size_t i = 0; i < n; ++i) dgdz(at(i), at(ref)) = -rigid.ratio[i];  // ∂g_i/∂α
+    for (std::size_t i = 0; i < n; ++i)  // ∂g_i/∂α
+        dgdz(at(i), at(ref)) = ws.model.tied_to_other(i) ? 0.0 : -rigid.ratio[i];
     const Eigen::FullPivLU<Eigen::MatrixXd> lu(dgdz);
     if (!lu.isInvertible()) return false;
     dtheta = -lu.solve(dgdp);
@@ -137,6 +140,18 @@ bool ForwardSensitivity::start_sensitivity(const Window& w, std::size_t j0, std:
             for (const NetworkSpec::StartCoordinate& c : def.estimated.of_window[k])
                 if (const long j = problem_->free_column(c.parameter); j >= static_cast<long>(j0) && j < static_cast<long>(j1))
                     dtheta(static_cast<Eigen::Index>(c.state), static_cast<Eigen::Index>(j - static_cast<long>(j0))) = 1.0;
+            // A node an ideal gear ties follows its root: x_i = f_i·x_root (window_start.cpp).
+            const std::size_t n = ws.model.node_count();
+            for (std::size_t i = 0; i < n && ws.model.ties_nodes(); ++i) {
+                if (!ws.model.tied_to_other(i)) continue;
+                const std::size_t r = ws.model.tie_root(i);
+                const Dual& f = ws.model.tie_factor(i);
+                for (const std::size_t s : {std::size_t{0}, n})
+                    for (Eigen::Index j = 0; j < dtheta.cols(); ++j)
+                        dtheta(static_cast<Eigen::Index>(s + i), j) =
+                            f.value() * dtheta(static_cast<Eigen::Index>(s + r), j) +
+                            ws.plain->x_start[s + r] * f.derivative(static_cast<int>(j));
+            }
             return true;
         }
     }

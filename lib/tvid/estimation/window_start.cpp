@@ -52,6 +52,7 @@ bool WindowStarts::initial_state(const Window& w, ProblemWorkspace& ws, std::str
             const std::vector<double>& p = ws.model.parameters();
             for (const NetworkSpec::StartCoordinate& c : estimated.of_window[k])
                 ws.x[c.state] += p[static_cast<std::size_t>(c.parameter)];
+            ws.model.project_onto_ties(ws.x.data());  // a node an ideal gear ties follows its root
             return true;
         }
         if (!recipe_state(w, ws, problem)) return false;

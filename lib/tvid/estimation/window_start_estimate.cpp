@@ -31,6 +31,7 @@ public:
         ws_.x = recipe_;
         const std::vector<std::size_t>& states = d_.estimated.states;
         for (std::size_t j = 0; j < states.size(); ++j) ws_.x[states[j]] += delta[j];
+        ws_.model.project_onto_ties(ws_.x.data());
         std::size_t row = 0;
         const std::size_t count = residual_count();
         const auto observe = [&](std::size_t i, const std::vector<double>& x, const std::vector<double>& u) {
@@ -94,6 +95,7 @@ bool WindowStarts::estimate_start(const Window& w, ProblemWorkspace& ws, std::st
         return false;
     }
     for (std::size_t j = 0; j < states.size(); ++j) ws.x[states[j]] += fit.best[j];
+    ws.model.project_onto_ties(ws.x.data());
     return true;
 }
 

@@ -166,6 +166,12 @@ std::string either(const std::vector<std::string>& words) {
 void read_output_element(const YamlMap& m, const std::string& key, const NetworkSpec& net, OutputSpec& o) {
     const std::string element = m.text(key);
     if (!net.find_element(element, o.element)) m.fail(key, "no element named '" + element + "'");
+    for_each_element_kind([&](auto kind) {
+        using K = decltype(kind);
+        if (ElementRow<K>::kind == o.element.kind && K::outputs == ElementOutputs::none)
+            m.fail(key, std::string("a ") + K::type_name + " offers no torque output (it ties its nodes rigidly; its "
+                        "torque is the constraint's): read the torque of a shaft beside it");
+    });
     if (!m.has("side")) return;
     o.side = m.choice("side", {"input", "output"}) == "output" ? TorqueSide::output : TorqueSide::input;
     if (element_has_output_side(o.element.kind)) return;

@@ -85,6 +85,9 @@ void define_estimated_starts(Experiment& ex) {
         model.set_parameters(p.data());
         const std::vector<char> prescribed = prescribed_speeds(model);
         for (std::size_t i = 0; i < n; ++i) estimate_speed[i] = prescribed[i] ? 0 : 1;
+        // A node an ideal gear ties to its group's root moves with it: the root's coordinates hold the group's.
+        for (std::size_t i = 0; i < n; ++i)
+            if (model.tied_to_other(i)) estimate_speed[i] = estimate_angle[i] = 0;
         // One angle per rigid rotation nothing sees stays the recipe's: its first node's.
         std::vector<char> placed(n, 0);
         for (std::size_t r = 0; r < n; ++r) {

@@ -10,6 +10,7 @@
 #include "tvid/model/element_reading.hpp"
 #include "tvid/model/elements/composite_kinds.hpp"
 #include "tvid/model/presets.hpp"
+#include "tvid/model/rigid_gears.hpp"
 
 namespace tvid {
 
@@ -142,10 +143,25 @@ private:
             if (const std::string why = plain_name_problem(name); !why.empty()) m.fail("name", why);
             read_element_of_type(m, type, name);
         }
+        check_rigid_gears(list, path);
         if (net_.input_names.empty() && net_.angle_input_names.empty())
             src_.fail(list, path,
                       "no element of type " + channel_readers() + " reads a channel: no measurement drives the network");
         finish_reading(net_);
+    }
+
+    // Ideal gears that cannot be reduced (rigid_gears.hpp): refused at the element named.
+    void check_rigid_gears(const YAML::Node& list, const std::string& path) const {
+        std::string culprit;
+        const std::string why = rigid_gear_problem(net_, &culprit);
+        if (why.empty()) return;
+        for (std::size_t i = 0; i < list.size(); ++i) {
+            const YamlMap m(src_, list[i], path + "[" + std::to_string(i) + "]");
+            const std::string type = m.text("type");
+            if ((m.has("name") ? m.text("name") : type + std::to_string(i + 1)) == culprit)
+                m.fail(m.has("between") ? "between" : "node", why);
+        }
+        src_.fail(list, path, why);
     }
 
     const YamlMap& model_;

@@ -23,8 +23,9 @@ struct ChannelUse {
 };
 
 /// The outputs an element offers: its torque, or its torque on either side (a gear mesh:
-/// T on its input shaft, n·T on its output shaft; the kind defines output_side_torque).
-enum class ElementOutputs { torque, torque_each_side };
+/// T on its input shaft, n·T on its output shaft; the kind defines output_side_torque), or
+/// none (an ideal gear: its torque is a constraint's).
+enum class ElementOutputs { torque, torque_each_side, none };
 
 /// How the elements that depend on a node's absolute angle (a cylinder's slider crank and
 /// gas torque, an order torque) are linearised.

@@ -18,6 +18,7 @@
 #include "tvid/channels/crank_angle_channels.hpp"
 #include "tvid/model/elements/node_motion.hpp"
 #include "tvid/model/network_spec.hpp"
+#include "tvid/model/rigid_gears.hpp"
 
 namespace tvid {
 
@@ -44,7 +45,8 @@ public:
           other_torques_(spec.nodes.size()),
           output_offsets_(spec.outputs.size()),
           output_gains_(spec.outputs.size()),
-          parameters_(spec.parameter_names.size()) {
+          parameters_(spec.parameter_names.size()),
+          rigid_(plan_rigid_gears(spec)) {
         for_each_element_kind([&](auto kind) {
             using Kind = decltype(kind);
             elements_of<Kind>().resize(ElementRow<Kind>::list(spec).size());
@@ -89,6 +91,7 @@ public:
                 Kind::bind(specs[i], bound[i]);
             }
         });
+        rigid_.set_ratios(elements_of<elements::IdealGear>());
         for (std::size_t i = 0; i < output_offsets_.size(); ++i) {
             output_offsets_[i] = v(s.outputs[i].offset);
             output_gains_[i] = v(s.outputs[i].gain);
@@ -115,7 +118,26 @@ public:
                 Kind::correct_accelerations(elements_of<Kind>(), inertia_.data(), node_torque_.data(),
                                             dxdt + node_count_);
         });
+        // Nodes that ideal gears tie turn as one coordinate (rigid_gears.hpp).
+        if (rigid_.active())
+            rigid_.accelerations(elements_of<elements::IdealGear>(), inertia_.data(), node_torque_.data(), omega, true,
+                                 dxdt + node_count_);
         if (prescribes_motion_) impose_prescribed_motion(u, node_torque_.data(), dxdt + node_count_, last_torques_.data());
+    }
+
+    /// Whether ideal gears tie some nodes into one coordinate (rigid_gears.hpp): then a
+    /// tied node's angle and speed follow its group's root's, θ_i = factor_i·θ_root.
+    bool ties_nodes() const { return rigid_.active(); }
+    /// Whether node i's coordinate is a tied group's root's (its state follows, not leads).
+    bool tied_to_other(std::size_t i) const { return rigid_.plan().dependent(i); }
+    /// Node i's group root and θ_i/θ_root at the ratios set (i and 1 for an untied node).
+    std::size_t tie_root(std::size_t i) const { return rigid_.plan().root[i]; }
+    const T& tie_factor(std::size_t i) const { return rigid_.factor(i); }
+    /// θ_i − factor_i·θ_root: zero where node i's angle agrees with its group's.
+    T tie_constraint(std::size_t i, const T* theta) const { return rigid_.constraint(i, theta); }
+    /// The state x with each tied node's angle and speed set from its group's root's.
+    void project_onto_ties(T* x) const {
+        if (rigid_.active()) rigid_.project(x, node_count_);
     }
 
     /// Whether some element samples the line at instants and holds its output between them
@@ -156,8 +178,11 @@ public:
     }
 
     /// Net torque on each node with all speeds zero (for the static equilibrium).
+    /// With ideal gears, a group's root carries the group's net torque through the ratios and
+    /// each tied node's row is its tie_constraint (zero at a consistent angle).
     void static_torques(const T* theta, const double* u, T* torque) {
         accumulate_torques(NodeMotion<T>{theta, nullptr, u, angle_inputs_, false}, torque, nullptr);
+        if (rigid_.active()) rigid_.static_rows(elements_of<elements::IdealGear>(), theta, torque);
     }
 
     /// The offset (amplitude shift) of output k.
@@ -315,6 +340,7 @@ private:
     /// Where each element kind starts in last_torques_ (the table's order, as accumulate_torques keeps them).
     std::array<std::size_t, kElementKindCount> first_of_kind_{};
     mutable std::vector<T> last_torques_;  ///< every element's torque in the last derivative() call
+    RigidGears<T> rigid_;                  ///< the ideal gears' reduction
 };
 
 }  // namespace tvid

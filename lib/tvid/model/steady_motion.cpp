@@ -126,12 +126,16 @@ SteadyMotion solve_steady_motion(NetworkModel<double>& model, const double* u, i
         set_angles(z);
         model.derivative(x.data(), u, dxdt.data());
         for (Eigen::Index i = 0; i < n; ++i) g[i] = dxdt[static_cast<std::size_t>(n + i)] - ratio(i) * z[ref];
+        // A node an ideal gear ties moves with its group's root: its row is the tie.
+        for (Eigen::Index i = 0; i < n; ++i)
+            if (model.tied_to_other(static_cast<std::size_t>(i))) g[i] = model.tie_constraint(static_cast<std::size_t>(i), x.data());
     };
     system.state_value = [&](Eigen::Index j, const Eigen::VectorXd& z) { return ratio(j) * angle + z[j]; };
     system.known_columns.resize(static_cast<std::size_t>(n));
     Eigen::VectorXd& alpha_column = system.known_columns[static_cast<std::size_t>(ref)];
     alpha_column.resize(n);
-    for (Eigen::Index i = 0; i < n; ++i) alpha_column[i] = -ratio(i);  // ∂(θ_i'' − r_i·α)/∂α
+    for (Eigen::Index i = 0; i < n; ++i)  // ∂(θ_i'' − r_i·α)/∂α; a tie holds no α
+        alpha_column[i] = model.tied_to_other(static_cast<std::size_t>(i)) ? 0.0 : -ratio(i);
     const NewtonResult solved = solve_damped_newton(system, Eigen::VectorXd::Zero(n));
     switch (solved.status) {
         case NewtonStatus::converged:

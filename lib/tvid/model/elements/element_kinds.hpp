@@ -18,6 +18,7 @@
 #include "tvid/model/elements/cylinder.hpp"
 #include "tvid/model/elements/friction.hpp"
 #include "tvid/model/elements/gear_mesh.hpp"
+#include "tvid/model/elements/ideal_gear.hpp"
 #include "tvid/model/elements/multistage_spring.hpp"
 #include "tvid/model/elements/order_torque.hpp"
 #include "tvid/model/elements/position_controller.hpp"
@@ -38,4 +39,5 @@
     X(speed_source, SpeedSource, speed_sources)    \
     X(road_load, RoadLoad, road_loads)             \
     X(multistage_spring, MultistageSpring, multistage_springs) \
-    X(position_controller, PositionController, position_controllers)
+    X(position_controller, PositionController, position_controllers) \
+    X(ideal_gear, IdealGear, ideal_gears)
