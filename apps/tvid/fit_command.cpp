@@ -1,5 +1,6 @@
 // `tvid fit EXP.yaml`: identify the free parameters and write the report directory.
 
+#include <chrono>
 #include <cstdio>
 #include <iostream>
 #include <memory>
@@ -11,6 +12,7 @@
 #include "tvid/estimation/parallel_evaluator.hpp"
 #include "tvid/experiment/experiment.hpp"
 #include "tvid/fit/fit_run.hpp"
+#include "tvid/fit/swarm_time_note.hpp"
 #include "tvid/parallel/distributed_evaluator.hpp"
 #include "tvid/parallel/on_every_process.hpp"
 #include "tvid/report/report_directory.hpp"
@@ -67,7 +69,14 @@ int run_fit_command(const FitCommand& cmd) {
     const int planned = planned_iterations(ex.estimation_settings);
     const bool planned_is_cap = planned_iterations_are_a_cap(ex.estimation_settings);
     ProgressLine progress(wants_progress_line(cmd.common.quiet, cmd.common.json), planned, planned_is_cap);
-    options.progress = [&progress](const HistoryRow& row) {
+    const auto started = std::chrono::steady_clock::now();
+    options.progress = [&](const HistoryRow& row) {
+        // After the swarm's first iteration: how long the rest will take, before it runs.
+        if (row.iteration == 0 && !cmd.common.quiet) {
+            const double first = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+            const std::string note = swarm_time_note(ex.estimation_settings, problem.dimension(), row.evaluations, first);
+            if (!note.empty()) std::cerr << "tvid: " << note << std::endl;
+        }
         progress.update(row);
         return true;
     };

@@ -3,6 +3,7 @@
 // nine parameters have the exact scaling symmetry of Yoshida & Takamatsu eqs. 15–21 (θ → sθ with
 // ρ1 → sρ1, μ → sμ, k± → k±/s, c± → c±/s, σ → σ/s leaves Tds unchanged).
 #include <catch2/catch.hpp>
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <nlohmann/json.hpp>
@@ -60,12 +61,60 @@ TEST_CASE("exponents near small fractions are rounded, others printed as numbers
     CHECK(d.text == "scaling a by s^0.37, b by s and c by s^2 leaves the output unchanged");
 }
 
-TEST_CASE("a direction along one parameter says it has no effect, a zero value gives proportions", "[identifiability]") {
+TEST_CASE("a direction along one parameter says it has no effect, a zero value changes by an amount", "[identifiability]") {
     CHECK(describe_null_direction({0.0, 1.0, 0.01}, {"J1", "C1", "C2"}, {1, 1, 1}).text ==
           "C1 has no effect on the output");
+    // d_ds at 0 has no relative change: δd_ds = t·v (column scale 1), ln d_tm changes by −t·v.
     const auto c = describe_null_direction(unit({1, -1}), {"d_ds", "d_tm"}, {0.0, 3.0});
     CHECK_FALSE(c.multiplicative);
-    CHECK(c.text.find("+0.71 d_ds, -0.71 d_tm") != std::string::npos);
+    CHECK(c.text == "scaling d_tm by s while changing d_ds by -1·ln(s) (absolute changes) leaves the output unchanged");
+}
+
+TEST_CASE("start corrections in a null direction change by amounts, never scale", "[identifiability][start]") {
+    // Two speed corrections of an estimated start, each at its coordinate's scale (50 rad/s):
+    // additive corrections that start at 0, whatever their value at the optimum.
+    const std::vector<ParameterScaleRule> rules = {{50, "its coordinate's scale (50)"}, {50, "its coordinate's scale (50)"}};
+    const auto c = describe_null_direction(unit({1, -1}), {"start1.flywheel.speed", "start1.load.speed"}, {0.3, -0.2},
+                                           rules, {50, 50});
+    CHECK_FALSE(c.multiplicative);
+    CHECK(c.members == std::vector<std::string>{"start1.flywheel.speed", "start1.load.speed"});
+    CHECK(c.text == "changing start1.flywheel.speed by +0.71 and start1.load.speed by -0.71 together "
+                    "(absolute changes, or any multiple of them) leaves the output unchanged");
+    // The components are in units of each column's scale: the amounts take it back.
+    const auto d = describe_null_direction(unit({1, -1}), {"start1.a.speed", "start1.b.speed"}, {0.3, -0.2}, rules,
+                                           {50, 100});
+    CHECK(d.text == "changing start1.a.speed by +0.45 and start1.b.speed by -0.89 together "
+                    "(absolute changes, or any multiple of them) leaves the output unchanged");
+    // A delay (its rule: a sample period) is shifted too.
+    const auto e = describe_null_direction(unit({1, 1}), {"delay_T", "start1.b.speed"}, {2e-3, 0.1},
+                                           {{1e-3, "a sample period (0.001 s)"}, rules[0]}, {2e-3, 50});
+    CHECK(e.text.rfind("changing delay_T by +4e-05 and start1.b.speed by +1 together", 0) == 0);
+}
+
+TEST_CASE("a null direction mixing physical parameters and a start correction reads per member", "[identifiability][start]") {
+    // ln k and ln J rise with ln s; the load's start speed moves by 10 rad/s per unit of ln s.
+    const std::vector<ParameterScaleRule> rules = {{}, {}, {20, "its coordinate's scale (20)"}};
+    const auto c = describe_null_direction(unit({1, 1, 0.5}), {"k", "J", "start1.load.speed"}, {1e4, 0.5, 0.1}, rules,
+                                           {1e4, 0.5, 20});
+    CHECK_FALSE(c.multiplicative);
+    CHECK(c.exponents == std::vector<double>{1, 1, 0});
+    CHECK(c.text == "scaling k and J by s while changing start1.load.speed by +10·ln(s) (absolute changes) "
+                    "leaves the output unchanged");
+    // Through assess_identifiability: the rules and the uncertainty's column scales reach it.
+    ParameterUncertainty u;
+    u.available = true;
+    u.rank = 2;
+    u.condition_number = std::numeric_limits<double>::infinity();
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    u.std_error = {nan, nan, nan};
+    u.determined = {false, false, false};
+    u.correlation.assign(3, std::vector<double>(3, nan));
+    u.null_directions = {unit({1, 1, 0.5})};
+    u.column_scale = {1e4, 0.5, 20};
+    const auto r = assess_identifiability(u, {"k", "J", "start1.load.speed"}, {1e4, 0.5, 0.1}, rules);
+    REQUIRE(r.null_directions.size() == 1);
+    CHECK(r.null_directions[0].text == c.text);
+    CHECK(r.warning().find("scaling start1") == std::string::npos);
 }
 
 TEST_CASE("relative standard errors, weak flags and strongly correlated pairs", "[identifiability]") {
@@ -182,4 +231,51 @@ TEST_CASE("a delay, offset or phase near 0 is judged against its natural scale, 
     const auto far = assess_identifiability(u, {"d", "c"}, {3e-3, 5e-6}, rules);
     CHECK(far.parameters[0].judged_against == "its value");
     CHECK(far.parameters[0].flag == IdentifiabilityFlag::weak);
+}
+
+TEST_CASE("a free line seen only through its shaft torque: its start speeds change together by equal amounts",
+          "[identifiability][start]") {
+    // No loss to ground and only the shaft's torque measured: every node's start speed raised
+    // by the same amount turns the whole line faster and leaves every twist, so the torque, as
+    // it was. Each correction's column is at its own coordinate's scale; the amounts are equal.
+    const test::TempDir dir;
+    const std::string data = (test::source_dir() / "data/free_line/free_line_clean.csv").string();
+    const auto file = dir.write("line.yaml", "tvid: 1\n"
+                                             "data: { file: '" + data + "', time: t }\n"
+                                             "model:\n"
+                                             "  nodes: [ { name: engine, J: 0.25 }, { name: gearbox, J: 0.06 }, { name: vehicle, J: J_v } ]\n"
+                                             "  elements:\n"
+                                             "    - { type: torque, name: drive, node: engine, input: T_engine }\n"
+                                             "    - { type: spring_damper, name: clutch, between: [engine, gearbox], k: 600, c: 1.5 }\n"
+                                             "    - { type: spring_damper, name: shaft, between: [gearbox, vehicle], k: 4000, c: 6 }\n"
+                                             "inputs: { T_engine: T_engine }\n"
+                                             "outputs: { T_shaft: { column: T_shaft, torque: shaft } }\n"
+                                             "parameters: { J_v: { init: 9, min: 0.1, max: 1000 } }\n"
+                                             "windows: { estimation: [ { time: [0, 2] } ] }\n"
+                                             "initial_state: { kind: estimated, from: rest }\n"
+                                             "simulation: { method: rk4, step: 1.0e-3 }\n"
+                                             "estimation: { cost: l2, optimizer: lm }\n");
+    const Experiment ex = load_experiment(file);
+    const IdentificationProblem problem(ex);
+    // At corrections away from 0, where a relative reading would speak of scaling them.
+    std::vector<double> at = problem.initial();
+    double correction = 0.3;
+    for (std::size_t j = 0; j < at.size(); ++j)
+        if (problem.start_scale(j) > 0) at[j] = correction -= 0.2;
+    const ParameterUncertainty u = estimate_uncertainty(problem, at);
+    REQUIRE(u.available);
+    REQUIRE(u.column_scale.size() == problem.dimension());
+    for (std::size_t j = 0; j < problem.dimension(); ++j) {
+        INFO(problem.free_names()[j]);
+        const double s = problem.start_scale(j);
+        CHECK(u.column_scale[j] == (s > 0 ? std::max(std::abs(at[j]), s) : std::abs(at[j])));
+    }
+    const IdentifiabilityReport r = assess_identifiability(problem, u, at);
+    REQUIRE(r.null_directions.size() == 1);
+    const ParameterCombination& c = r.null_directions[0];
+    INFO(c.text);
+    CHECK(c.members == std::vector<std::string>{"start1.engine.speed", "start1.gearbox.speed", "start1.vehicle.speed"});
+    CHECK_FALSE(c.multiplicative);
+    CHECK(c.text == "changing start1.engine.speed by +0.58, start1.gearbox.speed by +0.58 and start1.vehicle.speed by "
+                    "+0.58 together (absolute changes, or any multiple of them) leaves the output unchanged");
 }

@@ -78,6 +78,18 @@ void expect_error(const Loaded& r, int line, const std::string& key, const std::
 
 }  // namespace
 
+TEST_CASE("an experiment that names no optimizer runs the swarm, and the settings say it is the default", "[swarm]") {
+    const std::string d_ds = "  d_ds:    { min: -100, max: 100, range: [-10, -5] }";
+    const Loaded plain = load("  cost: l1", "  strict: false", d_ds);
+    REQUIRE(plain.experiment);
+    CHECK(plain.experiment->estimation_settings.optimizer == OptimizerKind::pso);
+    CHECK_FALSE(plain.experiment->estimation_settings.optimizer_given);
+    const Loaded named = load("  optimizer: pso", "  cost: l1", d_ds);
+    REQUIRE(named.experiment);
+    CHECK(named.experiment->estimation_settings.optimizer == OptimizerKind::pso);
+    CHECK(named.experiment->estimation_settings.optimizer_given);
+}
+
 TEST_CASE("the five optimizers load with their settings", "[experiment][optimizers]") {
     const Loaded nlopt = load("  optimizer: nlopt",
                               "  nlopt: { algorithm: ld_lbfgs, max_evaluations: 300, max_seconds: 20, xtol_rel: 1e-6, "

@@ -79,43 +79,61 @@ const char* to_string(IdentifiabilityFlag flag) {
 }
 
 ParameterCombination describe_null_direction(const std::vector<double>& direction,
-                                             const std::vector<std::string>& names, const std::vector<double>& values) {
+                                             const std::vector<std::string>& names, const std::vector<double>& values,
+                                             const std::vector<ParameterScaleRule>& rules,
+                                             const std::vector<double>& column_scales) {
     ParameterCombination c;
     c.vector = direction;
     c.exponents.assign(direction.size(), 0.0);
-    // The leading member (the component the sign convention makes positive) gets s^1.
-    double largest = 0.0;
-    for (double v : direction) largest = std::max(largest, std::abs(v));
-    std::size_t lead = 0;
-    while (lead < direction.size() && std::abs(direction[lead]) < 0.5 * largest) ++lead;
-    if (lead == direction.size()) return c;
     std::vector<std::size_t> members;
-    for (std::size_t j = 0; j < direction.size(); ++j) {
-        if (std::abs(direction[j]) <= kNullDirectionComponent) continue;
-        members.push_back(j);
-        c.members.push_back(names[j]);
-        // Along the direction, ln p_j changes by t·v_j: p_j → p_j·s^(v_j/v_lead) with s = e^(t·v_lead).
-        c.exponents[j] = rounded_exponent(direction[j] / direction[lead]);
-        if (values[j] == 0.0) c.multiplicative = false;
-    }
+    for (std::size_t j = 0; j < direction.size(); ++j)
+        if (std::abs(direction[j]) > kNullDirectionComponent) {
+            members.push_back(j);
+            c.members.push_back(names[j]);
+        }
+    if (members.empty()) return c;
     if (members.size() == 1) {
         c.text = names[members[0]] + " has no effect on the output";
         return c;
     }
-    if (!c.multiplicative) {
-        // A zero value has no relative change: give the proportions of the changes.
-        std::string parts;
-        for (std::size_t j : members) {
-            char buf[48];
-            std::snprintf(buf, sizeof buf, "%s%+.2g %s", parts.empty() ? "" : ", ", direction[j], names[j].c_str());
-            parts += buf;
+    // A member with a meaningful zero (a start's correction, a delay, an offset, a phase) or
+    // at 0 changes by an amount: the component times its column's scale. The others scale.
+    const auto additive = [&](std::size_t j) { return (j < rules.size() && rules[j].scale > 0) || values[j] == 0.0; };
+    const auto amount = [&](std::size_t j) {
+        const double scale = j < column_scales.size() ? column_scales[j] : values[j] != 0.0 ? std::abs(values[j]) : 1.0;
+        return direction[j] * scale;
+    };
+    std::vector<std::size_t> scaled, shifted;
+    for (std::size_t j : members) (additive(j) ? shifted : scaled).push_back(j);
+    c.multiplicative = shifted.empty();
+    if (scaled.empty()) {
+        // Amounts only: their proportions, as a unit vector.
+        double norm = 0.0;
+        for (std::size_t j : shifted) norm += amount(j) * amount(j);
+        norm = std::sqrt(norm);
+        std::vector<std::string> parts;
+        for (std::size_t j : shifted) {
+            char buf[32];
+            std::snprintf(buf, sizeof buf, "%+.2g", amount(j) / norm);
+            parts.push_back(names[j] + " by " + buf);
         }
-        c.text = "changing " + parts + " together (relative changes; absolute for a parameter at 0) leaves the output unchanged";
+        c.text = "changing " + and_list(parts) + " together (absolute changes, or any multiple of them) leaves the output unchanged";
         return c;
     }
-    // Group the members by their power of s, in order of first appearance.
+    // The leading scaled member (the first of at least half the largest) gets s^1.
+    double largest = 0.0;
+    for (std::size_t j : scaled) largest = std::max(largest, std::abs(direction[j]));
+    std::size_t lead = scaled.front();
+    for (std::size_t j : scaled)
+        if (std::abs(direction[j]) >= 0.5 * largest) {
+            lead = j;
+            break;
+        }
+    // Along the direction, ln p_j changes by t·v_j: p_j → p_j·s^(v_j/v_lead) with s = e^(t·v_lead).
+    for (std::size_t j : scaled) c.exponents[j] = rounded_exponent(direction[j] / direction[lead]);
+    // Group the scaled members by their power of s, in order of first appearance.
     std::vector<std::pair<double, std::vector<std::string>>> groups;
-    for (std::size_t j : members) {
+    for (std::size_t j : scaled) {
         bool placed = false;
         for (auto& g : groups)
             if (std::abs(g.first - c.exponents[j]) <= 1e-12) {
@@ -126,12 +144,18 @@ ParameterCombination describe_null_direction(const std::vector<double>& directio
     }
     std::vector<std::string> phrases;
     for (const auto& g : groups) phrases.push_back(and_list(g.second) + " by " + power_of_s(g.first));
-    std::string joined;
-    for (std::size_t i = 0; i < phrases.size(); ++i) {
-        if (i > 0) joined += i + 1 == phrases.size() ? " and " : ", ";
-        joined += phrases[i];
+    c.text = "scaling " + and_list(phrases);
+    if (!shifted.empty()) {
+        // ... and the others by amounts in ln s: δq = t·v_q·scale_q = (v_q·scale_q / v_lead)·ln s.
+        std::vector<std::string> parts;
+        for (std::size_t j : shifted) {
+            char buf[48];
+            std::snprintf(buf, sizeof buf, "%+.2g·ln(s)", amount(j) / direction[lead]);
+            parts.push_back(names[j] + " by " + buf);
+        }
+        c.text += " while changing " + and_list(parts) + " (absolute changes)";
     }
-    c.text = "scaling " + joined + " leaves the output unchanged";
+    c.text += " leaves the output unchanged";
     return c;
 }
 
@@ -218,7 +242,8 @@ IdentifiabilityReport assess_identifiability(const ParameterUncertainty& u, cons
             const double c = u.correlation[a][b];
             if (std::isfinite(c) && std::abs(c) > kStrongCorrelation) r.correlated_pairs.push_back({names[a], names[b], c});
         }
-    for (const auto& dir : u.null_directions) r.null_directions.push_back(describe_null_direction(dir, names, values));
+    for (const auto& dir : u.null_directions)
+        r.null_directions.push_back(describe_null_direction(dir, names, values, rules, u.column_scale));
     return r;
 }
 

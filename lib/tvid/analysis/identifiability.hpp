@@ -59,7 +59,7 @@ struct ParameterCombination {
     /// non-members), relative to the leading member; rounded to a fraction with a
     /// denominator up to 4 when within 0.02 of one.
     std::vector<double> exponents;
-    bool multiplicative = true;         ///< false when a member's value is 0 (its change is absolute)
+    bool multiplicative = true;         ///< false when a member changes by an amount (at 0, or its rule has a scale)
     std::string text;                   ///< e.g. "scaling rho1 and mu by s and ... by 1/s leaves the output unchanged"
 };
 
@@ -94,8 +94,14 @@ std::vector<ParameterScaleRule> parameter_scale_rules(const IdentificationProble
 IdentifiabilityReport assess_identifiability(const IdentificationProblem& problem, const ParameterUncertainty& uncertainty,
                                              const std::vector<double>& values);
 
-/// The combination a null direction describes (members, exponents, text).
+/// The combination a null direction describes (members, exponents, text). `rules`: a
+/// member whose rule has a scale (a start's correction, a delay, an offset, a phase) has a
+/// meaningful zero, so its change is written as an amount, not a factor; `column_scales`
+/// (ParameterUncertainty::column_scale) turn the direction's components into those
+/// amounts (empty: |value|, or 1 at 0).
 ParameterCombination describe_null_direction(const std::vector<double>& direction,
-                                             const std::vector<std::string>& names, const std::vector<double>& values);
+                                             const std::vector<std::string>& names, const std::vector<double>& values,
+                                             const std::vector<ParameterScaleRule>& rules = {},
+                                             const std::vector<double>& column_scales = {});
 
 }  // namespace tvid

@@ -79,6 +79,7 @@ ParameterUncertainty estimate_uncertainty(const IdentificationProblem& problem, 
     // An estimated start's correction (near 0 by design): at the scale of its coordinate.
     for (std::size_t j = 0; j < m; ++j)
         if (const double s = problem.start_scale(j); s > 0) scale[j] = std::max(std::abs(free_best[j]), s);
+    u.column_scale = scale;
     const Eigen::MatrixXd* given = known.jacobian;
     const bool use_given = given && given->cols() == static_cast<Eigen::Index>(m) &&
                            given->rows() > static_cast<Eigen::Index>(m) && given->allFinite() &&

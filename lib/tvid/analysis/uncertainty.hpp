@@ -47,6 +47,10 @@ struct ParameterUncertainty {
     /// formed.
     double gauss_newton_decrease = std::numeric_limits<double>::quiet_NaN();
     double sum_of_squares = 0.0;  ///< Σe² at the point
+    /// Per free parameter, the scale of its column in the scaled Jacobian: |p_j|, 1 at
+    /// p_j = 0, an estimated start's coordinate scale for its correction. A null direction's
+    /// component v_j is the change δp_j / column_scale[j].
+    std::vector<double> column_scale;
 };
 
 /// The residuals' Jacobian at the optimum as the optimizer left it: ∂r/∂p over the free

@@ -142,6 +142,7 @@ struct EstimationSettings {
     CostKind cost = CostKind::l1;
     OutputNormalization normalize = OutputNormalization::automatic;  ///< `normalize: spread | none`
     OptimizerKind optimizer = OptimizerKind::pso;
+    bool optimizer_given = false;  ///< the experiment (or --optimizer, --set) names it; else the swarm is the default
     /// Each optimizer kind's own settings section (`pso:`, `lm:`, `nlopt:`, `multistart:`; a
     /// field each, experiment/optimizer_kinds/table.hpp).
 #define TVID_OPTIMIZER_SETTINGS_FIELD(section, Kind) Kind::Settings section;

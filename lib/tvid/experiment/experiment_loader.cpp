@@ -228,7 +228,10 @@ EstimationSettings read_estimation(const YamlMap& m) {
     if (m.has("normalize"))
         s.normalize = m.choice("normalize", {"spread", "none"}) == "spread" ? OutputNormalization::spread
                                                                             : OutputNormalization::none;
-    if (m.has("optimizer")) s.optimizer = read_optimizer_kind(m);
+    if (m.has("optimizer")) {
+        s.optimizer = read_optimizer_kind(m);
+        s.optimizer_given = true;
+    }
     read_optimizer_sections(m, s);
     // Levenberg–Marquardt minimizes a sum of squares (the methodology paper eq. 7), also as the polish
     // of pso+lm and in every start of multistart.
