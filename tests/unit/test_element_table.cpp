@@ -60,7 +60,7 @@ struct AllKindsNetwork {
         spec.preset = "custom";
         spec.input_names = {"u"};
         spec.angle_input_names = {"p_cyl"};
-        for (const char* name : {"n0", "n1", "n2", "n3"}) {
+        for (const char* name : {"n0", "n1", "n2", "n3", "n4"}) {
             spec.parameter_names.push_back(std::string("J_") + name);
             p.push_back(0.05);
             spec.nodes.push_back(NodeSpec{name, Field::param(static_cast<int>(p.size() - 1)), false});
@@ -95,6 +95,12 @@ struct AllKindsNetwork {
         damper.stages_negative = 1;
         spec.multistage_springs.push_back(damper);
         spec.position_controllers.push_back(PositionControllerSpec{"servo", 2, -1, {}, {}, {}});
+        IdealGearSpec gearbox;  // ties n4 to n1 rigidly, lossy
+        gearbox.name = "gearbox";
+        gearbox.a = 1;
+        gearbox.b = 4;
+        gearbox.lossy = true;
+        spec.ideal_gears.push_back(gearbox);
 
         for_each_element_kind([&](auto kind) {
             using Kind = decltype(kind);
@@ -108,6 +114,7 @@ struct AllKindsNetwork {
                         f = Field::param(static_cast<int>(p.size() - 1));
                     },
                     e);
+                if constexpr (Kind::outputs == ElementOutputs::none) continue;  // a constraint's torque
                 OutputSpec torque;
                 torque.name = e.name;
                 torque.kind = OutputKind::torque;
@@ -126,7 +133,7 @@ struct AllKindsNetwork {
 };
 
 // A state with every element loaded: both clearances in contact, all speeds nonzero.
-const std::vector<double> kState = {0.3, 0.05, -0.02, 0.1, 10.0, -3.0, 7.0, 4.0};
+const std::vector<double> kState = {0.3, 0.05, -0.02, 0.1, 0.02, 10.0, -3.0, 7.0, 4.0, -1.2};  // n4 tied to n1
 const double kInput[] = {5.0, 2.0};  // u and the slope of u
 
 std::vector<double> derivative(const AllKindsNetwork& net, const std::vector<double>& p) {
@@ -152,7 +159,7 @@ TEST_CASE("every element kind has one row of the table", "[model][elements]") {
     CHECK(position == kElementKindCount);
     CHECK(names == std::set<std::string>{"spring_damper", "clearance", "friction", "gear_mesh", "torque", "cylinder",
                                          "order_torque", "speed_source", "road_load",
-                                         "multistage_spring", "position_controller"});
+                                         "multistage_spring", "position_controller", "ideal_gear"});
     // The test network below has elements of every kind.
     const AllKindsNetwork net;
     for (std::size_t count : element_counts(net.spec)) CHECK(count >= 1);
@@ -172,7 +179,8 @@ TEST_CASE("each kind's field walk visits each field once, in step over a spec an
         {"road_load", {"a", "b", "c", "smoothing_speed"}},
         {"multistage_spring",
          {"stages.angle", "stages.k", "stages_negative.angle", "stages_negative.k", "c", "smoothing_angle"}},
-        {"position_controller", {"setpoint", "kp", "kd", "limits.min", "limits.max", "ki"}}};
+        {"position_controller", {"setpoint", "kp", "kd", "limits.min", "limits.max", "ki"}},
+        {"ideal_gear", {"ratio", "efficiency", "smoothing_power"}}};
     for_each_element_kind([&](auto kind) {
         using Kind = decltype(kind);
         typename Kind::Spec spec{};
@@ -359,7 +367,7 @@ TEST_CASE("every element says how it enters a linearisation, in either mode", "[
         std::size_t elements = 0;
         for (std::size_t count : element_counts(net.spec)) elements += count;
         CHECK(notes == elements);
-        CHECK(prescribed == std::vector<char>{0, 0, 0, 1});  // the speed source's node
+        CHECK(prescribed == std::vector<char>{0, 0, 0, 1, 0});  // the speed source's node
         // The cylinder's reciprocating mass is averaged into its throw's inertia.
         CHECK((added[2] > 0) == (mode == AngleDependence::revolution_mean));
     }
