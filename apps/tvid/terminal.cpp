@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <sstream>
 
 namespace tvid::cli {
@@ -172,6 +173,16 @@ std::string fit_summary_text(const IdentificationProblem& problem, const FitResu
     for (std::size_t i = 0; i < ex.parameters.size(); ++i) {
         const ParameterSetting& p = ex.parameters[i];
         std::string se = p.fixed ? "fixed" : "", relative;
+        if (!p.expr.empty()) {  // a formula of others: its standard error by the delta method
+            const double e = fit.uncertainty.available
+                                 ? formula_std_error(ex.network.parameter_formulas, static_cast<int>(i),
+                                                        fit.best_params, problem.free_indices(), fit.uncertainty.covariance)
+                                 : std::numeric_limits<double>::quiet_NaN();
+            char buf[64];
+            std::snprintf(buf, sizeof buf, "%.3g", e);
+            se = std::isfinite(e) ? buf : "";
+            relative = "= " + p.expr;
+        }
         const NetworkSpec::StartCoordinate* start = start_coordinate(ex.network, i);
         for (std::size_t j = 0; j < problem.free_indices().size() && j < identifiability.parameters.size(); ++j) {
             if (problem.free_indices()[j] != i) continue;

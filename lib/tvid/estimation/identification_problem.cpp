@@ -145,6 +145,7 @@ void IdentificationProblem::apply_channel_delays(ProblemWorkspace& ws) const {
 void IdentificationProblem::full_parameters(const double* free, std::vector<double>& out) const {
     out = fixed_values_;
     for (std::size_t j = 0; j < free_.size(); ++j) out[free_[j]] = free[j];
+    resolve_parameter_formulas(definition_.network.parameter_formulas, out.data());  // `expr:` parameters
 }
 
 std::vector<double> IdentificationProblem::full_parameters(const std::vector<double>& free) const {

@@ -38,6 +38,8 @@ struct ParameterSetting {
     /// `scale: log | linear`: whether the optimizers search the parameter or its logarithm
     /// (optim/parameter_scaling.hpp); log needs a positive min.
     ParameterScale scale = ParameterScale::linear;
+    /// `expr:` a formula of other parameters (held; init is its value at theirs), or empty.
+    std::string expr;
     SourceLocation where;
 };
 

@@ -3,6 +3,7 @@
 #include "tvid/io/atomic_file.hpp"
 #include "tvid/util/text.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -11,6 +12,7 @@
 #include "tvid/experiment/model_reader.hpp"
 #include "tvid/model/element_traits.hpp"
 #include "tvid/model/field_bounds.hpp"
+#include "tvid/model/parameter_formula.hpp"
 
 namespace tvid {
 
@@ -199,20 +201,65 @@ ParameterSetting read_one(const YamlMap& m, const std::string& name, const Physi
 
 }  // namespace
 
-std::vector<ParameterSetting> read_parameters(const YamlMap& parameters, const NetworkSpec& network,
+namespace {
+
+// The formulas of the parameters given as `{ expr: "…" }`, in the order they resolve.
+std::vector<ParameterFormula> read_formulas(const YamlMap& parameters, const NetworkSpec& network) {
+    const YamlSource& src = parameters.source();
+    std::vector<ParameterFormula> expressions;
+    for (std::size_t i = 0; i < network.parameter_names.size(); ++i) {
+        const std::string& name = network.parameter_names[i];
+        if (!parameters.has(name) || !parameters.get(name).IsMap()) continue;
+        const YamlMap m(src, parameters.get(name), parameters.key_path(name));
+        if (!m.has("expr")) continue;
+        m.allow_only({"expr"});  // a formula's value is its own: no init, bounds or range
+        try {
+            expressions.push_back(compile_parameter_formula(m.text("expr"), network.parameter_names,
+                                                               static_cast<int>(i)));
+        } catch (const std::invalid_argument& e) {
+            m.fail("expr", e.what());
+        }
+    }
+    try {
+        return order_parameter_formulas(std::move(expressions), network.parameter_names);
+    } catch (const std::invalid_argument& e) {
+        const std::string first = std::string(e.what()).substr(std::string(e.what()).find(": ") + 2);
+        const std::string name = first.substr(0, first.find(' '));
+        const YamlMap m(src, parameters.get(name), parameters.key_path(name));
+        m.fail("expr", e.what());
+    }
+}
+
+}  // namespace
+
+std::vector<ParameterSetting> read_parameters(const YamlMap& parameters, NetworkSpec& network,
                                               bool needs_search_box) {
     const YamlSource& src = parameters.source();
     parameters.allow_only(network.parameter_names);
-    const std::vector<bool> used = parameters_in_use(network);
+    const std::vector<ParameterFormula> expressions = read_formulas(parameters, network);
+    std::vector<bool> used = parameters_in_use(network);
+    for (const ParameterFormula& e : expressions)  // a parameter a formula reads is in use
+        for (int r : e.reads) used[static_cast<std::size_t>(r)] = true;
     const std::vector<PhysicalRole> roles = physical_roles(network);
     std::vector<ParameterSetting> out;
     for (std::size_t i = 0; i < network.parameter_names.size(); ++i) {
         const std::string& name = network.parameter_names[i];
         if (!parameters.has(name))
-            parameters.fail_missing(name, "(model parameter " + name + " needs { init, min, max } or { value })");
+            parameters.fail_missing(name, "(model parameter " + name + " needs { init, min, max }, { value } or { expr })");
         if (const std::string why = plain_name_problem(name); !why.empty()) parameters.fail(name, why);
-        if (!used[i]) parameters.fail(name, "is not used by any node, element or output of the model");
+        if (!used[i]) parameters.fail(name, "is not used by any node, element, output or formula of the model");
         const YAML::Node node = parameters.get(name);
+        if (const auto e = std::find_if(expressions.begin(), expressions.end(),
+                                        [&](const ParameterFormula& x) { return x.parameter == static_cast<int>(i); });
+            e != expressions.end()) {
+            ParameterSetting p;
+            p.name = name;
+            p.fixed = true;  // held: the formula gives its value
+            p.expr = e->text;
+            p.where = src.where(node, parameters.key_path(name));
+            out.push_back(p);
+            continue;
+        }
         if (node.IsScalar()) {  // `name: 3.5` is shorthand for a fixed value
             ParameterSetting p;
             p.name = name;
@@ -226,6 +273,19 @@ std::vector<ParameterSetting> read_parameters(const YamlMap& parameters, const N
         }
         out.push_back(read_one(YamlMap(src, node, parameters.key_path(name)), name, roles[i], needs_search_box));
     }
+    // A formula's value at the others' init values, held to its physical role there.
+    std::vector<double> init(out.size());
+    for (std::size_t i = 0; i < out.size(); ++i) init[i] = out[i].init;
+    resolve_parameter_formulas(expressions, init.data());
+    for (const ParameterFormula& e : expressions) {
+        const auto i = static_cast<std::size_t>(e.parameter);
+        out[i].init = init[i];
+        const YamlMap m(src, parameters.get(out[i].name), parameters.key_path(out[i].name));
+        if (!std::isfinite(init[i])) m.fail("expr", "is " + number_text(init[i]) + " at the other parameters' init values");
+        if (roles[i].what != nullptr && violates(roles[i], init[i]))
+            m.fail("expr", role_problem(roles[i], out[i].name, init[i]) + " at the other parameters' init values");
+    }
+    network.parameter_formulas = expressions;
     check_element_rules(parameters, network, out);
     return out;
 }

@@ -20,7 +20,10 @@ namespace tvid {
 /// A value, bound or range that makes the model unphysical is refused: inertias, σ and
 /// cylinder dimensions must be positive; stiffness, damping, friction, backlash and
 /// reciprocating mass cannot be negative.
-std::vector<ParameterSetting> read_parameters(const YamlMap& parameters, const NetworkSpec& network,
+/// A parameter `{ expr: "FORMULA" }` is a formula of others (model/parameter_formula.hpp):
+/// held, its value the formula's at every evaluation; `network` gets the formulas in the
+/// order they resolve, and a cycle among them is refused naming it.
+std::vector<ParameterSetting> read_parameters(const YamlMap& parameters, NetworkSpec& network,
                                               bool needs_search_box);
 
 /// Why `value` cannot be parameter `index` of `network` with the setting `setting`: a

@@ -75,7 +75,9 @@ public:
     void set_parameters(const T* p) {
         const NetworkSpec& s = *spec_;
         std::copy_n(p, parameters_.size(), parameters_.begin());
-        auto v = [p](const Field& f) { return f.is_parameter() ? p[f.parameter] : T(f.constant); };
+        // A parameter given by a formula of others (parameter_formula.hpp) takes its value here.
+        resolve_parameter_formulas(s.parameter_formulas, parameters_.data());
+        auto v = [this](const Field& f) { return f.is_parameter() ? parameters_[static_cast<std::size_t>(f.parameter)] : T(f.constant); };
         for (std::size_t i = 0; i < node_count_; ++i) {
             const T j = v(s.nodes[i].inertia);
             inverse_inertia_[i] = s.nodes[i].inverse ? j : T(1) / j;
@@ -98,7 +100,7 @@ public:
         }
     }
 
-    /// The parameter vector last given to set_parameters (zeros before the first call).
+    /// The parameter vector last given to set_parameters, its formulas resolved (zeros before the first call).
     const std::vector<T>& parameters() const { return parameters_; }
 
     /// dx/dt = f(x, u) with u the input values at the current time.

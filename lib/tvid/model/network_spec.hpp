@@ -20,6 +20,7 @@
 #include "tvid/model/elements/element_kinds.hpp"
 #include "tvid/model/field.hpp"
 #include "tvid/model/output_kinds.hpp"
+#include "tvid/model/parameter_formula.hpp"
 
 namespace tvid {
 
@@ -172,6 +173,9 @@ struct NetworkSpec {
         std::size_t state = 0;
     };
     std::vector<StartCoordinate> start_coordinates;
+    /// Parameters given by a formula of others (`expr:`), each after those it reads: a
+    /// NetworkModel resolves them over the parameter vector it is given.
+    std::vector<ParameterFormula> parameter_formulas;
 
     int parameter_index(const std::string& name) const;  ///< -1 if absent
     int input_index(const std::string& name) const;

@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <sstream>
 
 #include "tvid/analysis/fit_metrics.hpp"
@@ -146,7 +147,19 @@ json parameters_json(const IdentificationProblem& problem, const FitResult& fit)
         json entry{{"name", p.name},        {"unit", units[i]}, {"scale", scale_name(p.scale)},
                    {"value", json_number(fit.best_params[i])}, {"init", p.init},
                    {"min", bound(p, true)}, {"max", bound(p, false)},              {"fixed", p.fixed}};
-        if (j >= 0 && fit.uncertainty.available) {
+        if (!p.expr.empty()) {
+            // A formula of other parameters: its standard error by the delta method.
+            entry["expr"] = p.expr;
+            const double se = fit.uncertainty.available
+                                  ? formula_std_error(ex.network.parameter_formulas, static_cast<int>(i),
+                                                         fit.best_params, problem.free_indices(), fit.uncertainty.covariance)
+                                  : std::numeric_limits<double>::quiet_NaN();
+            entry["std_error"] = std::isfinite(se) ? json_number(se) : json(nullptr);
+            entry["ci95"] = std::isfinite(se) ? json::array({json_number(fit.best_params[i] - 1.96 * se),
+                                                             json_number(fit.best_params[i] + 1.96 * se)})
+                                              : json(nullptr);
+            entry["determined"] = nullptr;
+        } else if (j >= 0 && fit.uncertainty.available) {
             const auto jj = static_cast<std::size_t>(j);
             entry["std_error"] = json_number(fit.uncertainty.std_error[jj]);
             entry["ci95"] = json::array({json_number(fit.uncertainty.ci_low[jj]), json_number(fit.uncertainty.ci_high[jj])});
@@ -475,11 +488,20 @@ void write_fit_report(const std::filesystem::path& dir, const IdentificationProb
         const int j = free_position(problem, i);
         const bool unc = j >= 0 && fit.uncertainty.available;
         const auto jj = static_cast<std::size_t>(std::max(j, 0));
+        std::string se = unc ? csv_cell(fit.uncertainty.std_error[jj]) : "";
+        std::string low = unc ? csv_cell(fit.uncertainty.ci_low[jj]) : "", high = unc ? csv_cell(fit.uncertainty.ci_high[jj]) : "";
+        if (!p.expr.empty() && fit.uncertainty.available) {  // a formula's, by the delta method
+            const double e = formula_std_error(ex.network.parameter_formulas, static_cast<int>(i), fit.best_params,
+                                                  problem.free_indices(), fit.uncertainty.covariance);
+            if (std::isfinite(e)) {
+                se = csv_cell(e);
+                low = csv_cell(fit.best_params[i] - 1.96 * e);
+                high = csv_cell(fit.best_params[i] + 1.96 * e);
+            }
+        }
         csv << csv_field(p.name) << ',' << csv_cell(fit.best_params[i], "%.17g") << ',' << csv_cell(p.init, "%.17g") << ','
             << (p.has_min ? csv_cell(p.min, "%.17g") : "") << ',' << (p.has_max ? csv_cell(p.max, "%.17g") : "") << ','
-            << (p.fixed ? "true" : "false") << ',' << (unc ? csv_cell(fit.uncertainty.std_error[jj]) : "") << ','
-            << (unc ? csv_cell(fit.uncertainty.ci_low[jj]) : "") << ',' << (unc ? csv_cell(fit.uncertainty.ci_high[jj]) : "")
-            << ',' << csv_field(units[i]) << '\n';
+            << (p.fixed ? "true" : "false") << ',' << se << ',' << low << ',' << high << ',' << csv_field(units[i]) << '\n';
     }
     write_output_file(dir, "params.csv", csv.str());
 
