@@ -223,6 +223,25 @@ std::string fit_summary_text(const IdentificationProblem& problem, const FitResu
         out << row << '\n';
     }
     if (!starts.empty()) out << "  estimated start        value            std error\n" << starts;
+    // Where the residuals are correlated (or their variance differs between outputs), the
+    // sandwich's standard errors differ from the table's: said when by more than half.
+    {
+        const ParameterUncertainty& u = fit.uncertainty;
+        std::string robust;
+        bool differs = false;
+        for (std::size_t j = 0; j < u.robust_std_error.size() && j < u.std_error.size(); ++j) {
+            const double a = u.std_error[j], b = u.robust_std_error[j];
+            if (!(a > 0) || !std::isfinite(b)) continue;
+            differs = differs || b > 1.5 * a || b < a / 1.5;
+            char buf[96];
+            std::snprintf(buf, sizeof buf, "%s%s %.3g (%.2gx)", robust.empty() ? "" : ", ",
+                          ex.parameters[problem.free_indices()[j]].name.c_str(), b, b / a);
+            robust += buf;
+        }
+        if (differs)
+            out << "  standard errors with correlated residuals (Newey-West, " << u.robust_lags << " lags): " << robust
+                << '\n';
+    }
     // Strongly correlated parameters (|r| > kStrongCorrelation): summary.json's correlated_pairs.
     if (!identifiability.correlated_pairs.empty()) {
         std::vector<CorrelatedPair> pairs = identifiability.correlated_pairs;

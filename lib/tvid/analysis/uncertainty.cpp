@@ -1,6 +1,8 @@
 #include "tvid/analysis/uncertainty.hpp"
 
 #include "tvid/estimation/residual_evaluator.hpp"
+#include "tvid/analysis/robust_covariance.hpp"
+#include "tvid/estimation/window_score.hpp"
 
 #include <Eigen/Dense>
 #include <algorithm>
@@ -86,12 +88,16 @@ ParameterUncertainty estimate_uncertainty(const IdentificationProblem& problem, 
                            std::isfinite(known.sum_of_squares);
     Eigen::MatrixXd js;
     double ssr = 0.0;
+    std::vector<double> r;
     if (use_given) {
         js = *given;
         ssr = known.sum_of_squares;
         for (std::size_t j = 0; j < m; ++j) js.col(static_cast<Eigen::Index>(j)) *= scale[j];
+        // The residuals themselves, for the robust standard errors: one simulation.
+        ResidualEvaluator evaluator(problem, threads, problem.experiment().estimation_settings.jacobian);
+        r.assign(evaluator.residual_count(), 0.0);
+        if (r.size() != static_cast<std::size_t>(js.rows()) || !evaluator.residuals(free_best.data(), r.data())) r.clear();
     } else {
-        std::vector<double> r;
         if (!scaled_jacobian(problem, free_best, threads, scale, js, r, ssr, u.problem)) return u;
         u.gauss_newton_decrease = gauss_newton_decrease(problem, free_best, js, r);
     }
@@ -157,6 +163,23 @@ ParameterUncertainty estimate_uncertainty(const IdentificationProblem& problem, 
             u.correlation[a][b] = cov(ia, ib) / std::sqrt(cov(ia, ia) * cov(ib, ib));
             u.covariance[a][b] = scale[a] * scale[b] * cov(ia, ib);
         }
+
+    // The sandwich: (JᵀJ)⁺ S (JᵀJ)⁺ on the determined subspace, S scaled by N/(N − M) as s² is.
+    u.robust_std_error.assign(m, nan);
+    if (r.size() == static_cast<std::size_t>(n) && n > 0) {
+        Eigen::MatrixXd bread = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(m), static_cast<Eigen::Index>(m));
+        for (Eigen::Index k = 0; k < u.rank; ++k) bread += v.col(k) * v.col(k).transpose() / (sv[k] * sv[k]);
+        std::vector<std::size_t> window_samples;
+        for (const Window& w : problem.definition().estimation) window_samples.push_back(scored_sample_count(w));
+        const Eigen::MatrixXd meat = long_run_score_covariance(js, r, problem.definition().measured.size(),
+                                                               window_samples, u.robust_lags) *
+                                     (static_cast<double>(n) / dof);
+        const Eigen::MatrixXd sandwich = bread * meat * bread;
+        for (std::size_t j = 0; j < m; ++j)
+            if (u.determined[j])
+                u.robust_std_error[j] =
+                    scale[j] * std::sqrt(std::max(sandwich(static_cast<Eigen::Index>(j), static_cast<Eigen::Index>(j)), 0.0));
+    }
     return u;
 }
 

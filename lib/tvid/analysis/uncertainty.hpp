@@ -51,6 +51,15 @@ struct ParameterUncertainty {
     /// p_j = 0, an estimated start's coordinate scale for its correction. A null direction's
     /// component v_j is the change δp_j / column_scale[j].
     std::vector<double> column_scale;
+    /// Per free parameter, a standard error that holds when the residuals are correlated in
+    /// time or differ in variance between outputs (NaN when undetermined or not formed):
+    /// the sandwich (JᵀJ)⁻¹ S (JᵀJ)⁻¹ with S the Newey–West estimate of the scores'
+    /// long-run covariance, g_t = Σ_k J_tkᵀ r_tk per scored sample t (the outputs of one
+    /// sample together), Bartlett weights over `robust_lags` lags within each window (Andrews'
+    /// AR(1) plug-in bandwidth). For white residuals of one common variance it is the usual
+    /// standard error, up to the estimates' noise.
+    std::vector<double> robust_std_error;
+    std::size_t robust_lags = 0;
 };
 
 /// The residuals' Jacobian at the optimum as the optimizer left it: ∂r/∂p over the free

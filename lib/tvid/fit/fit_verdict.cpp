@@ -404,7 +404,10 @@ void judge_starts(const IdentificationProblem& problem, const FitResult& fit, Ve
         double widest_gap = 0.0;
         for (std::size_t j = 0; j < s.best.size(); ++j) {
             const double gap = std::abs(s.best[j] - best.best[j]);
-            const double se = j < fit.uncertainty.std_error.size() ? fit.uncertainty.std_error[j] : 0.0;
+            // Within 3 standard errors: the sandwich's where correlated residuals make it the larger.
+            double se = j < fit.uncertainty.std_error.size() ? fit.uncertainty.std_error[j] : 0.0;
+            if (j < fit.uncertainty.robust_std_error.size() && fit.uncertainty.robust_std_error[j] > se)
+                se = fit.uncertainty.robust_std_error[j];
             const double scale = std::max(std::abs(best.best[j]), 1e-300);
             if (gap <= kDistinctRelative * scale || (std::isfinite(se) && gap <= 3.0 * se)) continue;
             if (gap / scale > widest_gap) { widest_gap = gap / scale; widest = j; }

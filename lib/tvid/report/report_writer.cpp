@@ -162,6 +162,8 @@ json parameters_json(const IdentificationProblem& problem, const FitResult& fit)
         } else if (j >= 0 && fit.uncertainty.available) {
             const auto jj = static_cast<std::size_t>(j);
             entry["std_error"] = json_number(fit.uncertainty.std_error[jj]);
+            if (jj < fit.uncertainty.robust_std_error.size())  // correlated residuals' (Newey–West sandwich)
+                entry["robust_std_error"] = json_number(fit.uncertainty.robust_std_error[jj]);
             entry["ci95"] = json::array({json_number(fit.uncertainty.ci_low[jj]), json_number(fit.uncertainty.ci_high[jj])});
             entry["determined"] = static_cast<bool>(fit.uncertainty.determined[jj]);
             entry["interval"] = jj < fit.uncertainty.interval.size() ? fit.uncertainty.interval[jj] : "two-sided";
