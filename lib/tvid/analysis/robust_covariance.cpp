@@ -52,7 +52,8 @@ Eigen::MatrixXd long_run_score_covariance(const Eigen::MatrixXd& js, const std::
     const double alpha = denominator > 0 ? numerator / denominator : 0.0;
     lags = static_cast<std::size_t>(std::ceil(1.1447 * std::cbrt(alpha * static_cast<double>(samples))));
     lags = std::min(lags, samples / 4);
-    Eigen::MatrixXd s = g * g.transpose();
+    // Coefficient by coefficient, never Eigen's threaded product: the same bits on any thread count.
+    Eigen::MatrixXd s = g.lazyProduct(g.transpose());
     for (std::size_t l = 1; l <= lags; ++l) {
         const double weight = 1.0 - static_cast<double>(l) / static_cast<double>(lags + 1);
         Eigen::MatrixXd gamma = Eigen::MatrixXd::Zero(m, m);

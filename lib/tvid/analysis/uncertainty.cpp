@@ -174,7 +174,8 @@ ParameterUncertainty estimate_uncertainty(const IdentificationProblem& problem, 
         const Eigen::MatrixXd meat = long_run_score_covariance(js, r, problem.definition().measured.size(),
                                                                window_samples, u.robust_lags) *
                                      (static_cast<double>(n) / dof);
-        const Eigen::MatrixXd sandwich = bread * meat * bread;
+        const Eigen::MatrixXd half = bread.lazyProduct(meat);  // unthreaded products: the same bits on any thread count
+        const Eigen::MatrixXd sandwich = half.lazyProduct(bread);
         for (std::size_t j = 0; j < m; ++j)
             if (u.determined[j])
                 u.robust_std_error[j] =
