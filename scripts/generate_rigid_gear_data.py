@@ -20,8 +20,9 @@ with f = eta ** tanh(P / 1 W), P = tau wg the power the input gives the gearbox;
 tau, so the two are solved together here by fixed-point iteration (to 1e-14).
 
 The recorded outputs are the engine speed, the wheel speed and the half-shaft torque.
-Written: rigid_gear_clean.csv (no noise) and rigid_gear.csv (noise on the three outputs),
-truth.json with the parameters.
+Written: rigid_gear_clean.csv (no noise) and rigid_gear.csv (noise on the three outputs, and
+a column T_engine_logged: the engine torque as a logger records it, with white noise of
+1.5 N m that the vehicle never felt), truth.json with the parameters.
 
     /usr/bin/python3 scripts/generate_rigid_gear_data.py [OUT_DIR]      (default data/rigid_gear)
 """
@@ -40,6 +41,7 @@ FS = 1000.0             # samples per second
 DURATION = 6.0          # s
 SUBSTEPS = 10
 NOISE = {"w_engine": 0.3, "w_wheel": 0.05, "T_shaft": 2.0}   # rad/s, rad/s, N m
+INPUT_NOISE = {"T_engine_logged": 1.5}                        # N m, on the logged engine torque
 SEED = 20261129
 
 
@@ -100,8 +102,9 @@ def simulate(p, te_samples):
     return t, rows[:, 0], rows[:, 1], rows[:, 2], rows[:, 3]
 
 
-def write(path, t, te, w_e, w_v, t_s):
-    write_csv(path, ["t", "T_engine", "w_engine", "w_wheel", "T_shaft"], [t, te, w_e, w_v, t_s])
+def write(path, t, te, w_e, w_v, t_s, logged=()):
+    names = ["t", "T_engine", "w_engine", "w_wheel", "T_shaft"] + (["T_engine_logged"] if len(logged) else [])
+    write_csv(path, names, [t, te, w_e, w_v, t_s] + ([logged] if len(logged) else []))
 
 
 if __name__ == "__main__":
@@ -111,10 +114,12 @@ if __name__ == "__main__":
     t, w_e, w_v, t_s, power = simulate(TRUTH, te)
     write(os.path.join(out, "rigid_gear_clean.csv"), t, te, w_e, w_v, t_s)
     rng = np.random.default_rng(SEED)
-    write(os.path.join(out, "rigid_gear.csv"), t, te, w_e + rng.normal(0, NOISE["w_engine"], t.size),
-          w_v + rng.normal(0, NOISE["w_wheel"], t.size), t_s + rng.normal(0, NOISE["T_shaft"], t.size))
+    noisy = (w_e + rng.normal(0, NOISE["w_engine"], t.size), w_v + rng.normal(0, NOISE["w_wheel"], t.size),
+             t_s + rng.normal(0, NOISE["T_shaft"], t.size))
+    logged = te + np.random.default_rng(SEED + 1).normal(0, INPUT_NOISE["T_engine_logged"], t.size)
+    write(os.path.join(out, "rigid_gear.csv"), t, te, *noisy, logged)
     with open(os.path.join(out, "truth.json"), "w") as f:
-        json.dump({"parameters": TRUTH, "constants": CONSTANTS, "noise_std": NOISE, "fs_hz": FS,
+        json.dump({"parameters": TRUTH, "constants": CONSTANTS, "noise_std": NOISE, "input_noise_std": INPUT_NOISE, "fs_hz": FS,
                    "substeps": SUBSTEPS, "seed": SEED, "generator": "scripts/generate_rigid_gear_data.py"}, f, indent=1)
     print(f"wrote {out}: {t.size} samples; wheel speed {w_v.min():.2f} ... {w_v.max():.2f} rad/s, "
           f"engine {w_e.min():.1f} ... {w_e.max():.1f} rad/s, shaft torque {t_s.min():.0f} ... {t_s.max():.0f} N m, "
