@@ -239,8 +239,18 @@ std::string fit_summary_text(const IdentificationProblem& problem, const FitResu
             robust += buf;
         }
         if (differs)
-            out << "  standard errors with correlated residuals (Newey-West, " << u.robust_lags << " lags): " << robust
-                << '\n';
+            out << "  standard errors with correlated residuals (Newey-West, " << u.robust_lags << " lags"
+                << (u.input_noise ? ", at least the table's" : "") << "): " << robust << '\n';
+        if (u.input_noise) {
+            std::string carried;
+            for (std::size_t k = 0; k < ex.outputs.size() && k < u.propagated_noise_rms.size(); ++k) {
+                char buf[96];
+                std::snprintf(buf, sizeof buf, "%s%s %.3g", carried.empty() ? "" : ", ", ex.outputs[k].model_name.c_str(),
+                              u.propagated_noise_rms[k]);
+                carried += buf;
+            }
+            out << "  the standard errors hold the declared input noise, carried to " << carried << " (RMS; its memory " << u.input_noise_lags << " samples)\n";
+        }
     }
     // Strongly correlated parameters (|r| > kStrongCorrelation): summary.json's correlated_pairs.
     if (!identifiability.correlated_pairs.empty()) {

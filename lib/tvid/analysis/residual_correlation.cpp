@@ -38,7 +38,8 @@ void paired_runs(const std::vector<std::vector<double>>& u, const std::vector<st
 void mark_outside(CorrelationTest& t, bool skip_zero) {
     for (std::size_t i = 0; i < t.lags.size(); ++i) {
         if (skip_zero && t.lags[i] == 0) continue;
-        if (std::abs(t.values[i]) > t.band) t.outside.push_back(t.lags[i]);
+        const double expected = i < t.expected.size() ? t.expected[i] : 0.0;
+        if (std::abs(t.values[i] - expected) > t.band) t.outside.push_back(t.lags[i]);
     }
 }
 
@@ -109,12 +110,16 @@ CorrelationTest autocorrelation_test(const std::vector<std::vector<double>>& run
 }
 
 CorrelationTest cross_correlation_test(const std::vector<std::vector<double>>& u,
-                                       const std::vector<std::vector<double>>& e, int lags) {
+                                       const std::vector<std::vector<double>>& e, int lags,
+                                       const std::vector<double>& noise_covariance, int band_lags) {
     CorrelationTest t;
     std::vector<std::vector<double>> u_runs, e_runs;
     paired_runs(u, e, u_runs, e_runs);
-    const PooledAutocorrelation au = pooled_autocorrelation(u_runs, lags);
-    const PooledAutocorrelation ae = pooled_autocorrelation(e_runs, lags);
+    std::size_t longest = 0;
+    for (const auto& r : u_runs) longest = std::max(longest, r.size());
+    const int p_lags = std::max(lags, std::min(band_lags, static_cast<int>(longest / 4)));
+    const PooledAutocorrelation au = pooled_autocorrelation(u_runs, p_lags);
+    const PooledAutocorrelation ae = pooled_autocorrelation(e_runs, p_lags);
     t.samples = au.samples;
     if (au.samples < kCorrelationMinimumSamples) return t;
     t.available = true;
@@ -131,12 +136,19 @@ CorrelationTest cross_correlation_test(const std::vector<std::vector<double>>& u
         }
         t.lags.push_back(tau);
         t.values.push_back(norm > 0.0 ? sum / norm : 0.0);  // a constant input or residual: no correlation
+        if (noise_covariance.empty()) continue;
+        const auto k = static_cast<std::size_t>(std::abs(tau));
+        double pairs = 0.0;
+        for (const std::vector<double>& ur : u_runs) pairs += ur.size() > k ? static_cast<double>(ur.size() - k) : 0.0;
+        t.expected.push_back(tau >= 0 && k < noise_covariance.size() && norm > 0.0 ? -pairs * noise_covariance[k] / norm : 0.0);
     }
-    // Ljung's P with Bartlett weights, over the pair's own autocorrelations.
+    // Ljung's P over the pair's own autocorrelations: with Bartlett weights over the M lags;
+    // over a longer memory (band_lags) with weight 1, as Bartlett's formula sums them, so that
+    // a slowly wandering pair is not cut short.
     double p = 1.0;
-    for (int k = 1; k <= lags; ++k)
-        p += 2.0 * (1.0 - static_cast<double>(k) / (lags + 1)) * au.rho[static_cast<std::size_t>(k)] *
-             ae.rho[static_cast<std::size_t>(k)];
+    for (int k = 1; k <= p_lags; ++k)
+        p += 2.0 * (p_lags > lags ? 1.0 : 1.0 - static_cast<double>(k) / (p_lags + 1)) *
+             au.rho[static_cast<std::size_t>(k)] * ae.rho[static_cast<std::size_t>(k)];
     t.variance_factor = std::max(1.0, p);
     t.band = kCorrelationZ * std::sqrt(t.variance_factor / static_cast<double>(au.samples));
     mark_outside(t, false);
@@ -145,7 +157,9 @@ CorrelationTest cross_correlation_test(const std::vector<std::vector<double>>& u
 
 ResidualCorrelation analyse_residual_correlation(const std::vector<std::vector<std::vector<double>>>& residuals,
                                                  const std::vector<std::vector<std::vector<double>>>& inputs,
-                                                 int lags) {
+                                                 int lags,
+                                                 const std::vector<std::vector<std::vector<double>>>& noise_covariance,
+                                                 const std::vector<int>& band_lags) {
     ResidualCorrelation out;
     std::size_t longest = 0;
     std::vector<std::vector<std::vector<double>>> runs;
@@ -155,9 +169,14 @@ ResidualCorrelation analyse_residual_correlation(const std::vector<std::vector<s
     }
     out.lags = std::max(1, std::min(lags, static_cast<int>(longest / 3)));
     for (const auto& r : runs) out.autocorrelation.push_back(autocorrelation_test(r, out.lags));
-    for (const auto& u : inputs) {
+    for (std::size_t q = 0; q < inputs.size(); ++q) {
         out.cross_correlation.emplace_back();
-        for (const auto& e : residuals) out.cross_correlation.back().push_back(cross_correlation_test(u, e, out.lags));
+        for (std::size_t k = 0; k < residuals.size(); ++k) {
+            const bool noisy = q < noise_covariance.size() && k < noise_covariance[q].size();
+            out.cross_correlation.back().push_back(
+                cross_correlation_test(inputs[q], residuals[k], out.lags, noisy ? noise_covariance[q][k] : std::vector<double>{},
+                                       k < band_lags.size() ? band_lags[k] : 0));
+        }
     }
     return out;
 }

@@ -50,7 +50,11 @@ struct CorrelationTest {
     std::vector<double> values;    ///< at each lag
     double band = 0.0;             ///< the 99 % band ±band
     double variance_factor = 1.0;  ///< P of the cross-correlation's band (1 for the autocorrelation)
-    std::vector<int> outside;      ///< the lags whose |value| > band (lag 0 of an autocorrelation is not tested)
+    /// A cross-correlation's value that a declared noise on the input leaves at each lag at the
+    /// true parameters (cross_correlation_test's `expected`); empty when none. A lag is
+    /// tested by its distance from it.
+    std::vector<double> expected;
+    std::vector<int> outside;      ///< the lags whose |value − expected| > band (lag 0 of an autocorrelation is not tested)
 
     /// The lags tested (lag 0 of an autocorrelation left out), and how many of those lie
     /// outside the band, among the lags from `from` on.
@@ -68,15 +72,28 @@ struct ResidualCorrelation {
 /// `residuals[output][window]` and `inputs[input][window]`: each output's residual and each
 /// input at the scored samples of each window (the same windows and lengths throughout).
 /// A non-finite value ends a run (for a cross-correlation, a non-finite input or residual).
+/// `noise_covariance[input][output]` and `band_lags[output]`: cross_correlation_test's, or
+/// empty (no declared noise).
 ResidualCorrelation analyse_residual_correlation(const std::vector<std::vector<std::vector<double>>>& residuals,
                                                  const std::vector<std::vector<std::vector<double>>>& inputs,
-                                                 int lags = kCorrelationLags);
+                                                 int lags = kCorrelationLags,
+                                                 const std::vector<std::vector<std::vector<double>>>& noise_covariance = {},
+                                                 const std::vector<int>& band_lags = {});
 
 /// The autocorrelation test of one residual alone (its runs as finite_runs gives them).
 CorrelationTest autocorrelation_test(const std::vector<std::vector<double>>& runs, int lags);
 
 /// The cross-correlation test of input u with residual e, window by window (equal lengths).
+/// `noise_covariance` (τ = 0 … M, or empty): E[n(t) δ(t + τ)] of the input's declared noise n
+/// and what it carries to the output, δ (analysis/input_noise.hpp). The simulation reads u + n
+/// where the line felt u, so the residual holds −δ, and r(τ) is expected at
+/// −Σ_runs (N_run − τ) E[n δ](τ) / sqrt(Σu² Σe²) (0 for τ < 0: noise does not run backwards).
+/// `band_lags` (≥ lags, at most a quarter of the longest run): the lags of P's sum, for a
+/// residual whose memory is known to reach further than M (a declared input noise carried
+/// through a slow mode: a residual and an input that both wander correlate by chance far
+/// beyond the white band).
 CorrelationTest cross_correlation_test(const std::vector<std::vector<double>>& u,
-                                       const std::vector<std::vector<double>>& e, int lags);
+                                       const std::vector<std::vector<double>>& e, int lags,
+                                       const std::vector<double>& noise_covariance = {}, int band_lags = 0);
 
 }  // namespace tvid

@@ -1,10 +1,14 @@
 #include "tvid/analysis/uncertainty.hpp"
 
 #include "tvid/estimation/residual_evaluator.hpp"
+#include "tvid/analysis/input_noise.hpp"
+#include "tvid/analysis/residual_whiteness.hpp"
 #include "tvid/analysis/robust_covariance.hpp"
 #include "tvid/estimation/window_score.hpp"
 
 #include <Eigen/Dense>
+#include <complex>
+#include <unsupported/Eigen/FFT>
 #include <algorithm>
 #include <boost/math/distributions/students_t.hpp>
 #include <cmath>
@@ -56,6 +60,97 @@ double gauss_newton_decrease(const IdentificationProblem& problem, const std::ve
     const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(a);
     const Eigen::VectorXd step = qr.solve(e);  // the least-squares fit of r by the columns
     return (a * step).squaredNorm();
+}
+
+// The declared input noise carried to the residuals (analysis/input_noise.hpp), as the
+// residual vector holds them: each output's scale and filter applied, window by window. Its
+// covariance between samples and outputs, at lags up to twice its reach.
+PropagatedInputNoise residual_input_noise(const IdentificationProblem& problem, const std::vector<double>& free_best,
+                                          std::size_t rows, const InputNoiseResponses* known, int threads) {
+    const ProblemDefinition& d = problem.definition();
+    std::vector<const Window*> windows;
+    for (const Window& w : d.estimation) windows.push_back(&w);
+    InputNoiseResponses responses =
+        known && !known->delta.empty()
+            ? *known
+            : input_noise_responses(problem, problem.full_parameters(free_best), windows, kInputNoiseDraws, threads);
+    const std::size_t outputs = d.measured.size();
+    std::vector<double> block;
+    for (auto& draw : responses.delta) {
+        std::size_t total = 0;
+        for (std::size_t w = 0; w < windows.size(); ++w) {
+            auto& y = draw[w];
+            const std::size_t n = y.empty() ? 0 : y.front().size();
+            if (n != scored_sample_count(*windows[w])) return {};  // not the residuals' rows
+            total += n * outputs;
+            block.assign(n * outputs, 0.0);
+            for (std::size_t a = 0; a < outputs; ++a)
+                for (std::size_t i = 0; i < n; ++i) block[i * outputs + a] = d.output_scale[a] * y[a][i];
+            problem.filter_window_residuals(*windows[w], block.data(), 1, 0);
+            for (std::size_t a = 0; a < outputs; ++a)
+                for (std::size_t i = 0; i < n; ++i) y[a][i] = block[i * outputs + a];
+        }
+        if (total != rows) return {};
+    }
+    // Every lag up to half the shortest window: a slow mode's memory can be long.
+    PropagatedInputNoise p = propagated_covariance(responses, outputs, std::numeric_limits<int>::max());
+    return p;
+}
+
+// Jᵀ Σ J, window by window, with Σ between the residuals of scored samples t and s = t + d
+// the covariance C(d) between outputs (C_ab(d) = E[δ_a(t) δ_b(t + d)], C(−d) = C(d)ᵀ), tapered
+// by w_d = 1 up to `reach` and linearly to 0 at 2·reach, plus each output's white part on the
+// diagonal at d = 0. By the DFT over at least n + 2·reach points (no lag wraps around):
+// Σ_{t,s} x[t] c[s − t] y[s] = (1/N) Σ_f conj(X_f) conj(C_f) Y_f for real x, c, y.
+Eigen::MatrixXd noise_model_meat(const Eigen::MatrixXd& js, const PropagatedInputNoise& noise,
+                                 const std::vector<double>& white, const std::vector<std::size_t>& window_samples,
+                                 std::size_t outputs, std::size_t reach) {
+    using Complex = std::complex<double>;
+    const auto m = static_cast<std::size_t>(js.cols());
+    Eigen::MatrixXd meat = Eigen::MatrixXd::Zero(js.cols(), js.cols());
+    const std::size_t last = std::min<std::size_t>(2 * reach, static_cast<std::size_t>(noise.lags));
+    Eigen::FFT<double> fft;
+    std::size_t offset = 0;
+    for (const std::size_t n : window_samples) {
+        std::size_t size = 16;
+        while (size < n + last + 1) size *= 2;
+        // The spectra of each output's Jacobian columns and of the tapered covariances.
+        std::vector<std::vector<std::vector<Complex>>> columns(outputs, std::vector<std::vector<Complex>>(m));
+        std::vector<double> x(size);
+        for (std::size_t a = 0; a < outputs; ++a)
+            for (std::size_t j = 0; j < m; ++j) {
+                std::fill(x.begin(), x.end(), 0.0);
+                for (std::size_t t = 0; t < n; ++t)
+                    x[t] = js(static_cast<Eigen::Index>((offset + t) * outputs + a), static_cast<Eigen::Index>(j));
+                fft.fwd(columns[a][j], x);
+            }
+        std::vector<std::vector<std::vector<Complex>>> spectrum(outputs, std::vector<std::vector<Complex>>(outputs));
+        for (std::size_t a = 0; a < outputs; ++a)
+            for (std::size_t b = 0; b < outputs; ++b) {
+                std::fill(x.begin(), x.end(), 0.0);
+                for (std::size_t d = 0; d <= last && d < n; ++d) {
+                    const double w = d <= reach ? 1.0 : static_cast<double>(2 * reach - d) / static_cast<double>(reach);
+                    x[d] = w * noise.covariance[a][b][d];               // s = t + d
+                    if (d > 0) x[size - d] = w * noise.covariance[b][a][d];  // s = t − d
+                }
+                if (a == b) x[0] += white[a];
+                fft.fwd(spectrum[a][b], x);
+            }
+        for (std::size_t i = 0; i < m; ++i)
+            for (std::size_t j = i; j < m; ++j) {
+                Complex sum = 0.0;
+                for (std::size_t a = 0; a < outputs; ++a)
+                    for (std::size_t b = 0; b < outputs; ++b) {
+                        const std::vector<Complex>&xa = columns[a][i], &yb = columns[b][j], &c = spectrum[a][b];
+                        for (std::size_t f = 0; f < size; ++f) sum += std::conj(xa[f] * c[f]) * yb[f];
+                    }
+                const double v = sum.real() / static_cast<double>(size);
+                meat(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) += v;
+                if (j != i) meat(static_cast<Eigen::Index>(j), static_cast<Eigen::Index>(i)) += v;
+            }
+        offset += n;
+    }
+    return meat;
 }
 
 }  // namespace
@@ -138,17 +233,42 @@ ParameterUncertainty estimate_uncertainty(const IdentificationProblem& problem, 
     // Covariance of the scaled parameters on the determined subspace: s² V Σ⁻² Vᵀ.
     Eigen::MatrixXd cov = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(m), static_cast<Eigen::Index>(m));
     for (Eigen::Index k = 0; k < u.rank; ++k) cov += (s2 / (sv[k] * sv[k])) * v.col(k) * v.col(k).transpose();
+    Eigen::MatrixXd bread = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(m), static_cast<Eigen::Index>(m));
+    for (Eigen::Index k = 0; k < u.rank; ++k) bread += v.col(k) * v.col(k).transpose() / (sv[k] * sv[k]);
+    std::vector<std::size_t> window_samples;
+    for (const Window& w : problem.definition().estimation) window_samples.push_back(scored_sample_count(w));
+    const std::size_t outputs = problem.definition().measured.size();
+    // With a declared input noise: the sandwich with the noise model's covariance as its middle.
+    if (declares_input_noise(problem.definition()) && r.size() == static_cast<std::size_t>(n) && outputs > 0) {
+        const PropagatedInputNoise noise = residual_input_noise(problem, free_best, r.size(), known.input_noise, threads);
+        if (noise.available) {
+            std::vector<double> white(outputs, 0.0);
+            for (std::size_t i = 0; i < r.size(); ++i) white[i % outputs] += r[i] * r[i];
+            const double per_output = static_cast<double>(r.size() / outputs);
+            for (std::size_t a = 0; a < outputs; ++a) {
+                const double variance = white[a] / per_output * (static_cast<double>(n) / dof);
+                white[a] = std::max(variance - noise.covariance[a][a][0], kWhiteShareFloor * variance);
+                const double scale_a = problem.definition().output_scale[a];
+                u.propagated_noise_rms.push_back(scale_a != 0.0 ? noise.rms(a) / std::abs(scale_a) : noise.rms(a));
+            }
+            u.input_noise = true;
+            u.input_noise_lags = static_cast<std::size_t>(noise.correlation_lags);
+            const Eigen::MatrixXd meat =
+                noise_model_meat(js, noise, white, window_samples, outputs, u.input_noise_lags);
+            cov = bread.lazyProduct(meat).lazyProduct(bread);
+        }
+    }
     const boost::math::students_t t_dist(dof);
     const double t975 = boost::math::quantile(t_dist, 0.975);
     for (std::size_t j = 0; j < m; ++j) {
         u.determined[j] = !in_null[j];
         if (!u.determined[j]) continue;
         const auto jj = static_cast<Eigen::Index>(j);
-        u.std_error[j] = scale[j] * std::sqrt(cov(jj, jj));
+        u.std_error[j] = scale[j] * std::sqrt(std::max(cov(jj, jj), 0.0));
         if (problem.scales()[j] == ParameterScale::log && free_best[j] > 0) {
             // A log-scaled parameter's scaled column is ∂r/∂ln p: the interval is symmetric in
             // ln p, so p·exp(∓t·σ), asymmetric in p and positive.
-            const double half = t975 * std::sqrt(cov(jj, jj));
+            const double half = t975 * std::sqrt(std::max(cov(jj, jj), 0.0));
             u.ci_low[j] = free_best[j] * std::exp(-half);
             u.ci_high[j] = free_best[j] * std::exp(half);
             continue;
@@ -167,12 +287,8 @@ ParameterUncertainty estimate_uncertainty(const IdentificationProblem& problem, 
     // The sandwich: (JᵀJ)⁺ S (JᵀJ)⁺ on the determined subspace, S scaled by N/(N − M) as s² is.
     u.robust_std_error.assign(m, nan);
     if (r.size() == static_cast<std::size_t>(n) && n > 0) {
-        Eigen::MatrixXd bread = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(m), static_cast<Eigen::Index>(m));
-        for (Eigen::Index k = 0; k < u.rank; ++k) bread += v.col(k) * v.col(k).transpose() / (sv[k] * sv[k]);
-        std::vector<std::size_t> window_samples;
-        for (const Window& w : problem.definition().estimation) window_samples.push_back(scored_sample_count(w));
-        const Eigen::MatrixXd meat = long_run_score_covariance(js, r, problem.definition().measured.size(),
-                                                               window_samples, u.robust_lags) *
+        u.robust_lags = u.input_noise_lags;  // at least the declared input noise's reach
+        const Eigen::MatrixXd meat = long_run_score_covariance(js, r, outputs, window_samples, u.robust_lags) *
                                      (static_cast<double>(n) / dof);
         const Eigen::MatrixXd half = bread.lazyProduct(meat);  // unthreaded products: the same bits on any thread count
         const Eigen::MatrixXd sandwich = half.lazyProduct(bread);
@@ -180,6 +296,11 @@ ParameterUncertainty estimate_uncertainty(const IdentificationProblem& problem, 
             if (u.determined[j])
                 u.robust_std_error[j] =
                     scale[j] * std::sqrt(std::max(sandwich(static_cast<Eigen::Index>(j), static_cast<Eigen::Index>(j)), 0.0));
+        // With a declared input noise, at least the noise model's: Newey–West's few lags miss a
+        // memory as long as the one a vehicle's inertia gives its speed's noise.
+        if (u.input_noise)
+            for (std::size_t j = 0; j < m; ++j)
+                if (u.determined[j]) u.robust_std_error[j] = std::max(u.robust_std_error[j], u.std_error[j]);
     }
     return u;
 }

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "tvid/analysis/input_noise.hpp"
 #include "tvid/estimation/identification_problem.hpp"
 
 namespace tvid {
@@ -57,9 +58,20 @@ struct ParameterUncertainty {
     /// long-run covariance, g_t = Σ_k J_tkᵀ r_tk per scored sample t (the outputs of one
     /// sample together), Bartlett weights over `robust_lags` lags within each window (Andrews'
     /// AR(1) plug-in bandwidth). For white residuals of one common variance it is the usual
-    /// standard error, up to the estimates' noise.
+    /// standard error, up to the estimates' noise. With a declared input noise (input_noise),
+    /// at least std_error: the noise model's sandwich.
     std::vector<double> robust_std_error;
     std::size_t robust_lags = 0;
+    /// Whether an input declares its noise (`noise:`). Then std_error, the intervals, the
+    /// covariance and the correlations hold for a residual of white measurement noise per
+    /// output plus the declared input noise carried through the model (analysis/input_noise.hpp):
+    /// the sandwich (JᵀJ)⁻¹ Jᵀ Σ J (JᵀJ)⁻¹ with Σ = σ_m,k² I + the carried noise's covariance
+    /// between samples and outputs (its lags up to twice its reach, tapered linearly over
+    /// the second half), σ_m,k² = output k's residual variance less its carried noise (at
+    /// least kWhiteShareFloor of it). Without: s²(JᵀJ)⁻¹, white residuals of one variance.
+    bool input_noise = false;
+    std::size_t input_noise_lags = 0;          ///< the carried noise's reach (its correlation_lags)
+    std::vector<double> propagated_noise_rms;  ///< per measured output, in its unit (after its filter, if any)
 };
 
 /// The residuals' Jacobian at the optimum as the optimizer left it: ∂r/∂p over the free
@@ -68,6 +80,9 @@ struct ParameterUncertainty {
 struct JacobianAtOptimum {
     const Eigen::MatrixXd* jacobian = nullptr;  ///< none: computed here
     double sum_of_squares = 0.0;
+    /// The declared input noise carried to the estimation windows at the point, in their
+    /// order (input_noise_responses); none or empty: computed here when an input declares noise.
+    const InputNoiseResponses* input_noise = nullptr;
 };
 
 /// The uncertainty at `free_best`. `known` (the Jacobian the least-squares fit took there

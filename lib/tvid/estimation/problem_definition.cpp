@@ -124,6 +124,7 @@ static void read_time_inputs(ProblemDefinition& d, const Experiment& experiment,
         values.push_back(shifted(recorded.back(), time, d.recordings, delay_value(in, experiment)));
         unshifted.inputs.push_back(recorded.back());
         delay_parameter.push_back(in.delay.parameter);
+        d.input_noise.push_back(in.noise);
     }
     for (int k : experiment.network.input_rates) {  // after the inputs, as NetworkSpec::input_rates places them
         const auto from = static_cast<std::size_t>(k);
@@ -142,6 +143,7 @@ static void read_time_inputs(ProblemDefinition& d, const Experiment& experiment,
             std::vector<double> slope = sample_slopes(recorded[k], time, d.recordings);
             d.delayed_inputs.push_back({k, delay_parameter[k], std::move(recorded[k]), std::move(slope)});
         }
+    d.input_noise.resize(values.size(), 0.0);  // the rates follow their inputs' noise (analysis/input_noise.hpp)
     d.inputs = InputChannels(time, std::move(values));
 }
 

@@ -24,6 +24,9 @@ struct ProblemDefinition {
     /// are shifted, differentiated and held within it (channels/recording_spans.hpp).
     std::vector<RowSpan> recordings;
     InputChannels inputs;                        ///< the network's inputs by time
+    /// Per input of `inputs` (a rate after the inputs: 0): its declared noise's standard
+    /// deviation (ChannelBinding::noise), 0 when none.
+    std::vector<double> input_noise;
     CrankAngleChannels angle_inputs;             ///< and by crank angle (cylinder pressures)
     std::vector<std::vector<double>> measured;   ///< the measured outputs [output][sample]
     std::vector<int> output_indices;             ///< the network output of each measured one

@@ -275,6 +275,23 @@ double unit_to_si(const std::string& unit) {
     return 0.0;
 }
 
+// An input's `noise:`: the standard deviation of the white noise it was logged with, in the
+// channel's unit (before unit: or scale:), > 0; stored in SI.
+static void read_input_noise(const YamlMap& inputs, const std::string& name, ChannelBinding& b) {
+    const YAML::Node value = inputs.get(name);
+    if (!value.IsMap()) return;
+    const YamlMap m(inputs.source(), value, inputs.key_path(name));
+    if (!m.has("noise")) return;
+    const double noise = m.number("noise");
+    if (!(noise > 0.0) || !std::isfinite(noise))
+        m.fail("noise", "the standard deviation of the input's noise must be a positive number (in the column's unit); "
+                        "leave it out for an input logged without noise");
+    if (b.by_angle)
+        m.fail("noise", "a cylinder pressure is read by crank angle, and its noise is not propagated: declare "
+                        "noise on a torque or speed input");
+    b.noise = noise * std::abs(b.scale);
+}
+
 std::vector<ChannelBinding> read_inputs(const YamlMap& inputs, NetworkSpec& network,
                                         const std::vector<RecordingRead>& recordings,
                                         const std::vector<std::string>& declared) {
@@ -285,8 +302,9 @@ std::vector<ChannelBinding> read_inputs(const YamlMap& inputs, NetworkSpec& netw
     for (std::size_t i = 0; i < names.size(); ++i) {
         const std::string& name = names[i];
         if (!inputs.has(name)) inputs.fail_missing(name, "(the CSV column of model input " + name + ")");
-        out.push_back(read_binding(inputs, name, recordings, network, declared, {}));
+        out.push_back(read_binding(inputs, name, recordings, network, declared, {"noise"}));
         out.back().by_angle = i >= network.input_names.size();
+        read_input_noise(inputs, name, out.back());
         if (out.back().by_angle) {
             check_unit_quantity(inputs, name, "Pa", "");
         } else {
@@ -328,6 +346,10 @@ OutputBindings read_outputs(const YamlMap& outputs, NetworkSpec& network, const 
     }
     for (const std::string& name : outputs.keys()) {
         if (const std::string why = plain_name_problem(name); !why.empty()) outputs.fail(name, why);
+        if (const YAML::Node v = outputs.get(name); v.IsMap() && YamlMap(outputs.source(), v, outputs.key_path(name)).has("noise"))
+            YamlMap(outputs.source(), v, outputs.key_path(name))
+                .fail("noise", "noise: is declared on an input (the noise the simulation reads and the line never felt); "
+                               "an output's measurement noise is taken from its residual");
         if (custom) {
             if (network.output_index(name) >= 0) outputs.fail(name, "output defined twice");
             network.outputs.push_back(read_custom_output(outputs, name, network));

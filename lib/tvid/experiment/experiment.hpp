@@ -73,6 +73,10 @@ struct ChannelBinding {
     double weight = 1.0;     ///< an output's weight in the cost (its residuals are multiplied by it)
     ScoringFilter scoring;   ///< an output's detrend and high-pass in the cost
     bool by_angle = false;   ///< a crank-angle channel (cylinder pressure), read against data.angle
+    /// Inputs only: the standard deviation of the white noise the channel was logged with, in
+    /// SI (`noise:` times the unit's factor); 0 when none is declared. The fit propagates it
+    /// to the outputs (analysis/input_noise.hpp).
+    double noise = 0.0;
     SourceLocation where;
 };
 

@@ -71,9 +71,16 @@ FitResult run_fit(const IdentificationProblem& problem, const FitOptions& option
             known.jacobian = &r.run.jacobian_at_best;
             known.sum_of_squares = r.run.best_cost;
         }
+        if (declares_input_noise(problem.definition())) {
+            std::vector<const Window*> windows;
+            for (const Window& w : problem.definition().estimation) windows.push_back(&w);
+            r.input_noise = input_noise_responses(problem, r.best_params, windows, kInputNoiseDraws,
+                                                  options.budget ? options.budget->team() : resolve_thread_count(options.threads));
+            known.input_noise = &r.input_noise;
+        }
         r.uncertainty = estimate_uncertainty(problem, r.best_free, known, options.threads);
     }
-    judge_fit(problem, r);
+    judge_fit(problem, r, options.budget ? options.budget->team() : resolve_thread_count(options.threads));
     r.wall_seconds = std::chrono::duration<double>(clock::now() - t0).count();
     return r;
 }

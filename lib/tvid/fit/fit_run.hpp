@@ -95,6 +95,9 @@ struct FitResult {
     std::vector<double> best_params;        ///< full model parameter vector
     Evaluation evaluation;
     ParameterUncertainty uncertainty;
+    /// The declared input noise carried to the estimation windows at the optimum
+    /// (analysis/input_noise.hpp), for the uncertainty and the verdict; empty without.
+    InputNoiseResponses input_noise;
     /// Per output: whether the residuals are noise, in the estimation and validation windows.
     std::vector<ResidualWhiteness> whiteness_estimation, whiteness_validation;
     /// Per split: the residuals' autocorrelation and their cross-correlation with each input

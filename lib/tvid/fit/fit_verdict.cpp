@@ -6,8 +6,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 
 #include "tvid/analysis/determined_combinations.hpp"
+#include "tvid/analysis/input_noise.hpp"
 #include "tvid/channels/recording_spans.hpp"
 #include "tvid/experiment/smoothing_speeds.hpp"
 #include "tvid/analysis/identifiability.hpp"
@@ -30,8 +32,10 @@ std::string pct(double fraction) {
 
 // ---- the figures ----------------------------------------------------------------------
 
-// Per output, the residual (measured − simulated) of each simulated window of a split.
-std::vector<ResidualWhiteness> split_whiteness(const SplitEvaluation& split, std::size_t outputs) {
+// Per output, the residual (measured − simulated) of each simulated window of a split;
+// against the noise model of the declared input noise where it is given.
+std::vector<ResidualWhiteness> split_whiteness(const SplitEvaluation& split, std::size_t outputs,
+                                               const PropagatedInputNoise& noise) {
     std::vector<ResidualWhiteness> out(outputs);
     for (std::size_t k = 0; k < outputs; ++k) {
         std::vector<std::vector<double>> segments;
@@ -41,8 +45,35 @@ std::vector<ResidualWhiteness> split_whiteness(const SplitEvaluation& split, std
             for (std::size_t i = 0; i < e.size(); ++i) e[i] = w.trace.measured[k][i] - w.trace.simulated[k][i];
             segments.push_back(std::move(e));
         }
-        out[k] = assess_whiteness(segments);
+        out[k] = noise.available && k < noise.covariance.size() ? assess_whiteness_against(segments, noise.covariance[k][k])
+                                                                : assess_whiteness(segments);
     }
+    return out;
+}
+
+// The declared input noise carried to the outputs of a split's simulated windows at the
+// optimum (analysis/input_noise.hpp): its covariances between outputs, and its cross-
+// covariances with each input's noise; unavailable when no input declares noise.
+struct SplitInputNoise {
+    PropagatedInputNoise propagated;
+    std::vector<std::vector<std::vector<double>>> cross;  ///< InputNoiseResponses::input_cross
+};
+
+// `known`: the responses of the split's windows taken before (the fit's, of the estimation
+// windows, for its standard errors), used when every window simulated.
+SplitInputNoise split_input_noise(const IdentificationProblem& problem, const SplitEvaluation& split,
+                                  const std::vector<double>& params, int threads, const InputNoiseResponses* known = nullptr) {
+    SplitInputNoise out;
+    if (!declares_input_noise(problem.definition())) return out;
+    std::vector<const Window*> windows;
+    for (const WindowEvaluation& w : split.windows)
+        if (w.trace.status == SimulationStatus::ok) windows.push_back(w.trace.window);
+    if (windows.empty()) return out;
+    const bool taken = known && !known->delta.empty() && known->delta.front().size() == windows.size() &&
+                       windows.size() == split.windows.size();
+    InputNoiseResponses responses = taken ? *known : input_noise_responses(problem, params, windows, kInputNoiseDraws, threads);
+    out.propagated = propagated_covariance(responses, problem.experiment().outputs.size(), std::numeric_limits<int>::max());
+    out.cross = std::move(responses.input_cross);
     return out;
 }
 
@@ -50,7 +81,7 @@ std::vector<ResidualWhiteness> split_whiteness(const SplitEvaluation& split, std
 // the scored samples of every simulated window; the inputs as the parameters read them (a
 // delay parameter's channel shifted by its fitted delay).
 ResidualCorrelation split_correlation(const IdentificationProblem& problem, const SplitEvaluation& split,
-                                      const std::vector<double>& params) {
+                                      const std::vector<double>& params, const SplitInputNoise& noise) {
     const Experiment& ex = problem.experiment();
     const std::unique_ptr<ProblemWorkspace> ws = problem.make_workspace();
     problem.use_parameters(params, *ws);
@@ -70,7 +101,13 @@ ResidualCorrelation split_correlation(const IdentificationProblem& problem, cons
             input_values[q].push_back(std::move(u));
         }
     }
-    return analyse_residual_correlation(residuals, input_values);
+    // The time inputs are the first channels, so input q's declared noise is channel q's.
+    std::vector<std::vector<std::vector<double>>> noise_covariance(inputs.size());
+    for (std::size_t q = 0; q < inputs.size() && q < noise.cross.size(); ++q) noise_covariance[q] = noise.cross[q];
+    // And the cross-correlations' bands over a quarter of the window: the carried noise's
+    // memory can be as long (a vehicle's speed wanders with its torque's noise).
+    std::vector<int> band_lags(ex.outputs.size(), noise.propagated.available ? std::numeric_limits<int>::max() : 0);
+    return analyse_residual_correlation(residuals, input_values, kCorrelationLags, noise_covariance, band_lags);
 }
 
 // The N × n_y prediction errors of the estimation windows.
@@ -259,15 +296,22 @@ void judge_correlations(const Experiment& ex, const FitResult& fit, Verdict& v) 
             const CorrelationTest& t = c.cross_correlation[q][k];
             const int outside = t.outside_from(0), tested = t.tested(0);
             if (!t.available || !correlation_beyond_chance(outside, tested)) continue;
-            // The largest |r| at τ ≥ 0 (the lags run from −M, so τ = 0 is at index M).
+            // The largest |r − expected| at τ ≥ 0 (the lags run from −M, so τ = 0 is at index M).
+            const auto departure = [&](std::size_t i) {
+                return std::abs(t.values[i] - (i < t.expected.size() ? t.expected[i] : 0.0));
+            };
             std::size_t largest = static_cast<std::size_t>(c.lags);
             for (std::size_t i = largest; i < t.values.size(); ++i)
-                if (std::abs(t.values[i]) > std::abs(t.values[largest])) largest = i;
+                if (departure(i) > departure(largest)) largest = i;
             const std::string& input = ex.inputs[inputs[q]].model_name;
+            const std::string beyond =
+                t.expected.empty() ? "" : " (beyond " + num(t.values[largest] - departure(largest) *
+                                              (t.values[largest] >= t.expected[largest] ? 1.0 : -1.0)) +
+                                              ", what the declared noise of " + input + " leaves)";
             v.add({"missing_input_dynamic", Severity::warning, input,
                    output + "'s residual follows input " + input + ": their cross-correlation lies outside its 99 % band "
                        "at " + std::to_string(outside) + " of the " + std::to_string(tested) + " lags tau = 0 to " +
-                       std::to_string(c.lags) + " samples (largest " + num(t.values[largest]) + " at tau = " +
+                       std::to_string(c.lags) + " samples (largest " + num(t.values[largest]) + beyond + " at tau = " +
                        std::to_string(t.lags[largest]) + ", band +-" + num(t.band) + "): a dynamic from " + input +
                        " is missing from the model",
                    "model how " + input + " reaches " + output + ": a missing element or mode on its path, a wrong "
@@ -276,6 +320,8 @@ void judge_correlations(const Experiment& ex, const FitResult& fit, Verdict& v) 
         }
         const CorrelationTest& a = c.autocorrelation[k];
         if (!a.available || !correlation_beyond_chance(a.outside_from(1), a.tested(1))) continue;
+        // A declared input noise colours the residual: its whiteness was judged against it.
+        if (k < fit.whiteness_estimation.size() && fit.whiteness_estimation[k].propagated_noise_rms > 0) continue;
         const bool said = std::any_of(v.findings.begin(), v.findings.end(), [&](const Finding& f) {
             return f.code == "residuals_not_white" && f.subject == output;
         });
@@ -310,11 +356,16 @@ void judge_residuals(const Experiment& ex, const FitResult& fit, Verdict& v) {
         if (!error && !(w.systematic_share >= kSystematicShareWarning && w.p_value < kWhitenessP)) continue;
         char p[32];
         std::snprintf(p, sizeof p, w.p_value < 1e-16 ? "< 1e-16" : "%.2g", w.p_value);
+        const std::string beyond =
+            w.propagated_noise_rms > 0 ? " beyond the declared input noise (RMSE " + num(w.rms) + ", of which the input "
+                                             "noise carried to it is " + num(w.propagated_noise_rms) + "; Ljung-Box p "
+                                       : " (RMSE " + num(w.rms) + " against an unpredictable part (noise) of " +
+                                             num(w.noise_rms) + "; Ljung-Box p ";
         v.add({"residuals_not_white", error ? Severity::error : Severity::warning, name,
-               name + ": " + pct(w.systematic_share) + " of the residual variance is systematic (RMSE " + num(w.rms) +
-                   " against an unpredictable part (noise) of " + num(w.noise_rms) + "; Ljung-Box p " + p + ")",
+               name + ": " + pct(w.systematic_share) + " of the residual variance is systematic" + beyond + p + ")",
                "the model misses what the data hold: another start or optimizer, wider bounds, scale: log on wide "
-               "boxes, or a model element (a delay, a mode)"});
+               "boxes, or a model element (a delay, a mode); a logged input's noise is declared with noise: under "
+               "inputs"});
     }
     judge_correlations(ex, fit, v);
     for (std::size_t k = 0; k < ex.outputs.size() && k < fit.whiteness_validation.size(); ++k) {
@@ -526,17 +577,20 @@ std::vector<std::size_t> correlated_inputs(const Experiment& experiment) {
     return out;
 }
 
-void judge_fit(const IdentificationProblem& problem, FitResult& fit) {
+void judge_fit(const IdentificationProblem& problem, FitResult& fit, int threads) {
     const Experiment& ex = problem.experiment();
     const std::size_t outputs = ex.outputs.size();
     Verdict v;
     judge_run(fit, v);
     if (fit.success) judge_swarm(problem, fit, v);
     if (fit.success) {
-        fit.whiteness_estimation = split_whiteness(fit.evaluation.estimation, outputs);
-        fit.whiteness_validation = split_whiteness(fit.evaluation.validation, outputs);
-        fit.correlation_estimation = split_correlation(problem, fit.evaluation.estimation, fit.best_params);
-        fit.correlation_validation = split_correlation(problem, fit.evaluation.validation, fit.best_params);
+        const SplitInputNoise noise_estimation = split_input_noise(problem, fit.evaluation.estimation, fit.best_params,
+                                                                   threads, &fit.input_noise);
+        const SplitInputNoise noise_validation = split_input_noise(problem, fit.evaluation.validation, fit.best_params, threads);
+        fit.whiteness_estimation = split_whiteness(fit.evaluation.estimation, outputs, noise_estimation.propagated);
+        fit.whiteness_validation = split_whiteness(fit.evaluation.validation, outputs, noise_validation.propagated);
+        fit.correlation_estimation = split_correlation(problem, fit.evaluation.estimation, fit.best_params, noise_estimation);
+        fit.correlation_validation = split_correlation(problem, fit.evaluation.validation, fit.best_params, noise_validation);
         fit.criteria = estimation_criteria(fit.evaluation.estimation, outputs, static_cast<int>(problem.dimension()));
         if (!fit.interrupted)
             fit.stability = assess_step_stability(

@@ -84,6 +84,7 @@ bool residual_is_white(const ResidualWhiteness& w);
 std::vector<std::size_t> correlated_inputs(const Experiment& experiment);
 
 /// Fills fit's whiteness, residual correlations, criteria, stability, interval kinds and verdict.
-void judge_fit(const IdentificationProblem& problem, FitResult& fit);
+/// `threads`: for the simulations of a declared input noise (analysis/input_noise.hpp).
+void judge_fit(const IdentificationProblem& problem, FitResult& fit, int threads = 1);
 
 }  // namespace tvid

@@ -239,6 +239,10 @@ json whiteness_json(const Experiment& ex, const std::vector<ResidualWhiteness>& 
                                          {"ljung_box_lags", w.lags},
                                          {"ljung_box_p", json_number(w.p_value)},
                                          {"white", residual_is_white(w)}};
+        if (w.propagated_noise_rms > 0) {  // judged against the declared input noise carried to it
+            out[ex.outputs[k].model_name]["input_noise_rms"] = json_number(w.propagated_noise_rms);
+            out[ex.outputs[k].model_name]["input_noise_level"] = json_number(w.propagated_noise_level);
+        }
     }
     return out;
 }
@@ -335,6 +339,24 @@ json identifiability_json(const IdentifiabilityReport& report) {
                 {"warning", report.warning()}};
 }
 
+// What the standard errors assume (analysis/uncertainty.hpp, docs/report-format.md).
+static json standard_errors_json(const Experiment& ex, const ParameterUncertainty& u) {
+    json out{{"std_error", u.input_noise ? "white measurement noise per output plus the declared input noise carried "
+                                           "through the model (the sandwich with the noise model's covariance)"
+                                         : "white residuals of one variance, s^2 (J'J)^-1"},
+             {"robust_std_error", u.input_noise ? "Newey-West sandwich, at least std_error" : "Newey-West sandwich"},
+             {"robust_lags", u.robust_lags}};
+    if (u.input_noise) {
+        json carried = json::object();
+        for (std::size_t k = 0; k < ex.outputs.size() && k < u.propagated_noise_rms.size(); ++k)
+            carried[ex.outputs[k].model_name] = json_number(u.propagated_noise_rms[k]);
+        out["input_noise"] = {{"draws", kInputNoiseDraws},
+                              {"memory_samples", u.input_noise_lags},
+                              {"carried_rms", carried}};
+    }
+    return out;
+}
+
 json fit_summary_json(const IdentificationProblem& problem, const FitResult& fit, const RunContext& context) {
     const Experiment& ex = problem.experiment();
     const json identifiability =
@@ -369,6 +391,7 @@ json fit_summary_json(const IdentificationProblem& problem, const FitResult& fit
            {"estimation", split_json(ex, fit.evaluation.estimation)},
            {"validation", split_json(ex, fit.evaluation.validation)},
            {"identifiability", identifiability},
+           {"standard_errors", standard_errors_json(ex, fit.uncertainty)},
            // The result itself, as params.json lists it: `fit --json` is the whole fit in one document.
            {"parameters", parameters_json(problem, fit)["parameters"]},
            {"residuals", {{"estimation", whiteness_json(ex, fit.whiteness_estimation)},
