@@ -28,6 +28,7 @@ packages=(
   python3-numpy          # scripts/fir_reference.py: the black-box reference of a measured bench
   clang libclang-rt-14-dev libomp-dev  # the asan preset and the libFuzzer targets (scripts/fuzz.sh)
   libopenmpi-dev openmpi-bin           # Open MPI: the mpi preset (tvid fit / batch under mpirun)
+  universal-ctags        # scripts/long_functions.py: each function's first and last line (the layers test)
 )
 
 missing=()

@@ -122,52 +122,43 @@ std::string evaluation_summary_text(const std::string& command, const Experiment
     return line + split_lines(ex, ev.estimation) + split_lines(ex, ev.validation);
 }
 
-std::string fit_summary_text(const IdentificationProblem& problem, const FitResult& fit, const std::string& report_dir) {
+// Where the residuals are correlated (or their variance differs between outputs), the
+// sandwich's standard errors differ from the table's: said when by more than half. With a
+// declared input noise, the noise each output carries.
+static std::string standard_error_notes(const IdentificationProblem& problem, const ParameterUncertainty& u) {
+    const Experiment& ex = problem.experiment();
+    std::string robust, out;
+    bool differs = false;
+    char buf[96];
+    for (std::size_t j = 0; j < u.robust_std_error.size() && j < u.std_error.size(); ++j) {
+        const double a = u.std_error[j], b = u.robust_std_error[j];
+        if (!(a > 0) || !std::isfinite(b)) continue;
+        differs = differs || b > 1.5 * a || b < a / 1.5;
+        std::snprintf(buf, sizeof buf, "%s%s %.3g (%.2gx)", robust.empty() ? "" : ", ",
+                      ex.parameters[problem.free_indices()[j]].name.c_str(), b, b / a);
+        robust += buf;
+    }
+    if (differs)
+        out += "  standard errors with correlated residuals (Newey-West, " + std::to_string(u.robust_lags) + " lags" +
+               (u.input_noise ? ", at least the table's" : "") + "): " + robust + "\n";
+    if (!u.input_noise) return out;
+    std::string carried;
+    for (std::size_t k = 0; k < ex.outputs.size() && k < u.propagated_noise_rms.size(); ++k) {
+        std::snprintf(buf, sizeof buf, "%s%s %.3g", carried.empty() ? "" : ", ", ex.outputs[k].model_name.c_str(),
+                      u.propagated_noise_rms[k]);
+        carried += buf;
+    }
+    return out + "  the standard errors hold the declared input noise, carried to " + carried + " (RMS; its memory " +
+           std::to_string(u.input_noise_lags) + " samples)\n";
+}
+
+// The parameters' table: value, standard error and relative error (a formula's by the delta
+// method), then an estimated start's coordinates with their seeds.
+static std::string parameter_table(const IdentificationProblem& problem, const FitResult& fit,
+                                   const IdentifiabilityReport& identifiability) {
     const Experiment& ex = problem.experiment();
     std::ostringstream out;
     char line[512];
-    const OptimizerEntry* optimizer = find_optimizer(fit.run.name);
-    const std::string method = optimizer && optimizer->headline ? optimizer->headline(fit)
-                                                                : fit.run.name + " (" + fit.run.termination + ")";
-    std::snprintf(line, sizeof line,
-                  "tvid fit %s: %s, %d iterations, %lld evaluations (%lld failed), %.2f s on %d thread%s%s\n",
-                  ex.name.c_str(), method.c_str(), fit.run.iterations, fit.run.evaluations, fit.run.failed_evaluations,
-                  fit.wall_seconds, fit.threads, fit.threads == 1 ? "" : "s",
-                  fit.processes > 1 ? (" × " + std::to_string(fit.processes) + " processes").c_str() : "");
-    out << line;
-    if (!fit.run.first_failure.empty())
-        out << "  " << fit.run.failed_evaluations << " evaluation" << (fit.run.failed_evaluations == 1 ? "" : "s")
-            << " failed; the first: " << fit.run.first_failure << "\n";
-    if (fit.interrupted && fit.success)
-        out << "  interrupted: the report holds the best parameters after iteration " << fit.run.iterations
-            << " (no uncertainty estimate)\n";
-    if (fit.interrupted && !fit.success) {
-        out << "  interrupted before a candidate was evaluated: no parameters were identified\n";
-    } else if (!fit.success) {
-        out << (fit.run.termination_type == TerminationType::start_failed
-                    ? "  the simulation at the start failed: no parameters were identified\n"
-                                     : "  every candidate failed to simulate: no parameters were identified\n");
-    } else {
-        std::snprintf(line, sizeof line, "  cost (%s%s) %.6g\n", ex.estimation_settings.cost == CostKind::l1 ? "l1" : "l2",
-                      fit.evaluation.normalized ? ", each output's residual over its measured spread" : "",
-                      fit.evaluation.cost);
-        out << line;
-    }
-    if (const long long stiff = problem.subdivided_starts(); stiff > 0)
-        out << "  " << stiff << " window simulation" << (stiff == 1 ? "" : "s")
-            << " of stiff candidates took a smaller step than the experiment's, within RK4's stability limit\n";
-    out << split_lines(ex, fit.evaluation.estimation) << split_lines(ex, fit.evaluation.validation);
-    // Where the estimation residual's variance lies: its dominant band, or order for an engine.
-    // A white residual (the whiteness test passes) has no band to name, and the line says so.
-    if (fit.success) {
-        const std::vector<ResidualSpectrumSummary> spectra = residual_spectrum_summary(ex, fit.evaluation.estimation);
-        for (std::size_t k = 0; k < spectra.size(); ++k) {
-            const ResidualWhiteness* w = k < fit.whiteness_estimation.size() ? &fit.whiteness_estimation[k] : nullptr;
-            if (const std::string text = residual_spectrum_line(spectra[k], w); !text.empty()) out << "  " << text << '\n';
-        }
-    }
-    const IdentifiabilityReport identifiability =
-        assess_identifiability(problem, fit.uncertainty, fit.best_free);
     out << "  parameter        value            std error    relative\n";
     std::string starts;  // an estimated start's coordinates, after the model's parameters
     for (std::size_t i = 0; i < ex.parameters.size(); ++i) {
@@ -223,52 +214,78 @@ std::string fit_summary_text(const IdentificationProblem& problem, const FitResu
         out << row << '\n';
     }
     if (!starts.empty()) out << "  estimated start        value            std error\n" << starts;
-    // Where the residuals are correlated (or their variance differs between outputs), the
-    // sandwich's standard errors differ from the table's: said when by more than half.
-    {
-        const ParameterUncertainty& u = fit.uncertainty;
-        std::string robust;
-        bool differs = false;
-        for (std::size_t j = 0; j < u.robust_std_error.size() && j < u.std_error.size(); ++j) {
-            const double a = u.std_error[j], b = u.robust_std_error[j];
-            if (!(a > 0) || !std::isfinite(b)) continue;
-            differs = differs || b > 1.5 * a || b < a / 1.5;
-            char buf[96];
-            std::snprintf(buf, sizeof buf, "%s%s %.3g (%.2gx)", robust.empty() ? "" : ", ",
-                          ex.parameters[problem.free_indices()[j]].name.c_str(), b, b / a);
-            robust += buf;
-        }
-        if (differs)
-            out << "  standard errors with correlated residuals (Newey-West, " << u.robust_lags << " lags"
-                << (u.input_noise ? ", at least the table's" : "") << "): " << robust << '\n';
-        if (u.input_noise) {
-            std::string carried;
-            for (std::size_t k = 0; k < ex.outputs.size() && k < u.propagated_noise_rms.size(); ++k) {
-                char buf[96];
-                std::snprintf(buf, sizeof buf, "%s%s %.3g", carried.empty() ? "" : ", ", ex.outputs[k].model_name.c_str(),
-                              u.propagated_noise_rms[k]);
-                carried += buf;
-            }
-            out << "  the standard errors hold the declared input noise, carried to " << carried << " (RMS; its memory " << u.input_noise_lags << " samples)\n";
+    return out.str();
+}
+
+// Strongly correlated parameters (|r| > kStrongCorrelation): summary.json's correlated_pairs.
+static std::string correlated_pairs_line(const IdentifiabilityReport& identifiability) {
+    if (identifiability.correlated_pairs.empty()) return "";
+    char line[512];
+    std::vector<CorrelatedPair> pairs = identifiability.correlated_pairs;
+    std::stable_sort(pairs.begin(), pairs.end(), [](const CorrelatedPair& a, const CorrelatedPair& b) {
+        return std::abs(a.correlation) > std::abs(b.correlation);
+    });
+    constexpr std::size_t kShownPairs = 8;
+    std::snprintf(line, sizeof line, "  correlated parameters (|r| > %.2g):", kStrongCorrelation);
+    std::string text = line;
+    for (std::size_t i = 0; i < pairs.size() && i < kShownPairs; ++i) {
+        std::snprintf(line, sizeof line, "%s %s and %s %+.3f", i ? "," : "", pairs[i].first.c_str(),
+                      pairs[i].second.c_str(), pairs[i].correlation);
+        text += line;
+    }
+    if (pairs.size() > kShownPairs) text += ", and " + std::to_string(pairs.size() - kShownPairs) + " more";
+    return text + '\n';
+}
+
+std::string fit_summary_text(const IdentificationProblem& problem, const FitResult& fit, const std::string& report_dir) {
+    const Experiment& ex = problem.experiment();
+    std::ostringstream out;
+    char line[512];
+    const OptimizerEntry* optimizer = find_optimizer(fit.run.name);
+    const std::string method = optimizer && optimizer->headline ? optimizer->headline(fit)
+                                                                : fit.run.name + " (" + fit.run.termination + ")";
+    std::snprintf(line, sizeof line,
+                  "tvid fit %s: %s, %d iterations, %lld evaluations (%lld failed), %.2f s on %d thread%s%s\n",
+                  ex.name.c_str(), method.c_str(), fit.run.iterations, fit.run.evaluations, fit.run.failed_evaluations,
+                  fit.wall_seconds, fit.threads, fit.threads == 1 ? "" : "s",
+                  fit.processes > 1 ? (" × " + std::to_string(fit.processes) + " processes").c_str() : "");
+    out << line;
+    if (!fit.run.first_failure.empty())
+        out << "  " << fit.run.failed_evaluations << " evaluation" << (fit.run.failed_evaluations == 1 ? "" : "s")
+            << " failed; the first: " << fit.run.first_failure << "\n";
+    if (fit.interrupted && fit.success)
+        out << "  interrupted: the report holds the best parameters after iteration " << fit.run.iterations
+            << " (no uncertainty estimate)\n";
+    if (fit.interrupted && !fit.success) {
+        out << "  interrupted before a candidate was evaluated: no parameters were identified\n";
+    } else if (!fit.success) {
+        out << (fit.run.termination_type == TerminationType::start_failed
+                    ? "  the simulation at the start failed: no parameters were identified\n"
+                                     : "  every candidate failed to simulate: no parameters were identified\n");
+    } else {
+        std::snprintf(line, sizeof line, "  cost (%s%s) %.6g\n", ex.estimation_settings.cost == CostKind::l1 ? "l1" : "l2",
+                      fit.evaluation.normalized ? ", each output's residual over its measured spread" : "",
+                      fit.evaluation.cost);
+        out << line;
+    }
+    if (const long long stiff = problem.subdivided_starts(); stiff > 0)
+        out << "  " << stiff << " window simulation" << (stiff == 1 ? "" : "s")
+            << " of stiff candidates took a smaller step than the experiment's, within RK4's stability limit\n";
+    out << split_lines(ex, fit.evaluation.estimation) << split_lines(ex, fit.evaluation.validation);
+    // Where the estimation residual's variance lies: its dominant band, or order for an engine.
+    // A white residual (the whiteness test passes) has no band to name, and the line says so.
+    if (fit.success) {
+        const std::vector<ResidualSpectrumSummary> spectra = residual_spectrum_summary(ex, fit.evaluation.estimation);
+        for (std::size_t k = 0; k < spectra.size(); ++k) {
+            const ResidualWhiteness* w = k < fit.whiteness_estimation.size() ? &fit.whiteness_estimation[k] : nullptr;
+            if (const std::string text = residual_spectrum_line(spectra[k], w); !text.empty()) out << "  " << text << '\n';
         }
     }
-    // Strongly correlated parameters (|r| > kStrongCorrelation): summary.json's correlated_pairs.
-    if (!identifiability.correlated_pairs.empty()) {
-        std::vector<CorrelatedPair> pairs = identifiability.correlated_pairs;
-        std::stable_sort(pairs.begin(), pairs.end(), [](const CorrelatedPair& a, const CorrelatedPair& b) {
-            return std::abs(a.correlation) > std::abs(b.correlation);
-        });
-        constexpr std::size_t kShownPairs = 8;
-        std::snprintf(line, sizeof line, "  correlated parameters (|r| > %.2g):", kStrongCorrelation);
-        std::string text = line;
-        for (std::size_t i = 0; i < pairs.size() && i < kShownPairs; ++i) {
-            std::snprintf(line, sizeof line, "%s %s and %s %+.3f", i ? "," : "", pairs[i].first.c_str(),
-                          pairs[i].second.c_str(), pairs[i].correlation);
-            text += line;
-        }
-        if (pairs.size() > kShownPairs) text += ", and " + std::to_string(pairs.size() - kShownPairs) + " more";
-        out << text << '\n';
-    }
+    const IdentifiabilityReport identifiability =
+        assess_identifiability(problem, fit.uncertainty, fit.best_free);
+    out << parameter_table(problem, fit, identifiability);
+    out << standard_error_notes(problem, fit.uncertainty);
+    out << correlated_pairs_line(identifiability);
     if (fit.criteria.available) {
         std::snprintf(line, sizeof line, "  AIC %.6g  BIC %.6g  FPE %.4g  (%zu samples, %d parameters)\n", fit.criteria.aic,
                       fit.criteria.bic, fit.criteria.fpe, fit.criteria.samples, fit.criteria.parameters);

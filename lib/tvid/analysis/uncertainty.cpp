@@ -153,6 +153,118 @@ Eigen::MatrixXd noise_model_meat(const Eigen::MatrixXd& js, const PropagatedInpu
     return meat;
 }
 
+// The scaled Jacobian's null directions into u (rank, condition number, null_directions);
+// per parameter, whether it takes part in one.
+std::vector<bool> null_directions(const Eigen::VectorXd& sv, const Eigen::MatrixXd& v, ParameterUncertainty& u) {
+    const auto m = static_cast<std::size_t>(v.rows());
+    const double smax = sv[0];
+    u.rank = 0;
+    for (Eigen::Index k = 0; k < sv.size(); ++k)
+        if (sv[k] > kRankTolerance * smax) ++u.rank;
+    const double smin = sv[sv.size() - 1];
+    u.condition_number = u.rank == static_cast<int>(m) ? (smax / smin) * (smax / smin) : std::numeric_limits<double>::infinity();
+    std::vector<bool> in_null(m, false);
+    for (Eigen::Index k = u.rank; k < sv.size(); ++k) {
+        std::vector<double> dir(m);
+        // Signed so that the first component of at least half the largest magnitude is
+        // positive: a choice that near-equal components (a scaling symmetry) do not flip.
+        const double largest = v.col(k).cwiseAbs().maxCoeff();
+        Eigen::Index lead = 0;
+        while (std::abs(v(lead, k)) < 0.5 * largest) ++lead;
+        const double sign = v(lead, k) < 0 ? -1.0 : 1.0;
+        for (std::size_t j = 0; j < m; ++j) {
+            dir[j] = sign * v(static_cast<Eigen::Index>(j), k);
+            if (std::abs(dir[j]) > kNullDirectionComponent) in_null[j] = true;
+        }
+        u.null_directions.push_back(dir);
+    }
+    return in_null;
+}
+
+// With a declared input noise: the covariance of the scaled parameters by the sandwich
+// bread·Jᵀ Σ J·bread with the noise model's Σ (each output's white part: its residual
+// variance less the carried noise's); false, and nothing set, when it cannot be formed.
+bool noise_model_covariance(const IdentificationProblem& problem, const std::vector<double>& free_best,
+                            const JacobianAtOptimum& known, int threads, const Eigen::MatrixXd& js,
+                            const std::vector<double>& r, const Eigen::MatrixXd& bread,
+                            const std::vector<std::size_t>& window_samples, double dof, ParameterUncertainty& u,
+                            Eigen::MatrixXd& cov) {
+    const std::size_t outputs = problem.definition().measured.size();
+    if (!declares_input_noise(problem.definition()) || r.size() != static_cast<std::size_t>(js.rows()) || outputs == 0)
+        return false;
+    const PropagatedInputNoise noise = residual_input_noise(problem, free_best, r.size(), known.input_noise, threads);
+    if (!noise.available) return false;
+    const double n = static_cast<double>(r.size());
+    std::vector<double> white(outputs, 0.0);
+    for (std::size_t i = 0; i < r.size(); ++i) white[i % outputs] += r[i] * r[i];
+    const double per_output = static_cast<double>(r.size() / outputs);
+    for (std::size_t a = 0; a < outputs; ++a) {
+        const double variance = white[a] / per_output * (n / dof);
+        white[a] = std::max(variance - noise.covariance[a][a][0], kWhiteShareFloor * variance);
+        const double scale_a = problem.definition().output_scale[a];
+        u.propagated_noise_rms.push_back(scale_a != 0.0 ? noise.rms(a) / std::abs(scale_a) : noise.rms(a));
+    }
+    u.input_noise = true;
+    u.input_noise_lags = static_cast<std::size_t>(noise.correlation_lags);
+    const Eigen::MatrixXd meat = noise_model_meat(js, noise, white, window_samples, outputs, u.input_noise_lags);
+    cov = bread.lazyProduct(meat).lazyProduct(bread);  // unthreaded products: the same bits on any thread count
+    return true;
+}
+
+// Standard errors, intervals, correlations and covariance from `cov`, the covariance of the
+// scaled parameters, for the parameters outside every null direction.
+void fill_errors(const IdentificationProblem& problem, const std::vector<double>& free_best,
+                 const std::vector<double>& scale, const std::vector<bool>& in_null, const Eigen::MatrixXd& cov,
+                 double dof, ParameterUncertainty& u) {
+    const std::size_t m = free_best.size();
+    const boost::math::students_t t_dist(dof);
+    const double t975 = boost::math::quantile(t_dist, 0.975);
+    for (std::size_t j = 0; j < m; ++j) {
+        u.determined[j] = !in_null[j];
+        if (!u.determined[j]) continue;
+        const auto jj = static_cast<Eigen::Index>(j);
+        const double sigma = std::sqrt(std::max(cov(jj, jj), 0.0));
+        u.std_error[j] = scale[j] * sigma;
+        if (problem.scales()[j] == ParameterScale::log && free_best[j] > 0) {
+            // A log-scaled parameter's scaled column is ∂r/∂ln p: the interval is symmetric in
+            // ln p, so p·exp(∓t·σ), asymmetric in p and positive.
+            u.ci_low[j] = free_best[j] * std::exp(-t975 * sigma);
+            u.ci_high[j] = free_best[j] * std::exp(t975 * sigma);
+            continue;
+        }
+        u.ci_low[j] = free_best[j] - t975 * u.std_error[j];
+        u.ci_high[j] = free_best[j] + t975 * u.std_error[j];
+    }
+    for (std::size_t a = 0; a < m; ++a)
+        for (std::size_t b = 0; b < m; ++b) {
+            if (!u.determined[a] || !u.determined[b]) continue;
+            const auto ia = static_cast<Eigen::Index>(a), ib = static_cast<Eigen::Index>(b);
+            u.correlation[a][b] = cov(ia, ib) / std::sqrt(cov(ia, ia) * cov(ib, ib));
+            u.covariance[a][b] = scale[a] * scale[b] * cov(ia, ib);
+        }
+}
+
+// The sandwich bread·S·bread with S the Newey–West long-run covariance of the scores, scaled
+// by N/(N − M) as s² is; with a declared input noise, at least std_error: Newey–West's few
+// lags miss a memory as long as the one a vehicle's inertia gives its speed's noise.
+void fill_robust_errors(const Eigen::MatrixXd& js, const std::vector<double>& r, const Eigen::MatrixXd& bread,
+                        const std::vector<double>& scale, std::size_t outputs,
+                        const std::vector<std::size_t>& window_samples, double dof, ParameterUncertainty& u) {
+    const std::size_t m = scale.size();
+    const auto n = js.rows();
+    u.robust_std_error.assign(m, std::numeric_limits<double>::quiet_NaN());
+    if (r.size() != static_cast<std::size_t>(n) || n == 0) return;
+    const Eigen::MatrixXd meat =
+        long_run_score_covariance(js, r, outputs, window_samples, u.robust_lags) * (static_cast<double>(n) / dof);
+    const Eigen::MatrixXd sandwich = bread.lazyProduct(meat).lazyProduct(bread);  // the same bits on any thread count
+    for (std::size_t j = 0; j < m; ++j) {
+        if (!u.determined[j]) continue;
+        const auto jj = static_cast<Eigen::Index>(j);
+        u.robust_std_error[j] = scale[j] * std::sqrt(std::max(sandwich(jj, jj), 0.0));
+        if (u.input_noise) u.robust_std_error[j] = std::max(u.robust_std_error[j], u.std_error[j]);
+    }
+}
+
 }  // namespace
 
 ParameterUncertainty estimate_uncertainty(const IdentificationProblem& problem, const std::vector<double>& free_best,
@@ -200,108 +312,25 @@ ParameterUncertainty estimate_uncertainty(const IdentificationProblem& problem, 
     const auto n = js.rows();
     u.residuals = static_cast<std::size_t>(n);
     const double dof = static_cast<double>(n) - static_cast<double>(m);
-    const double s2 = ssr / dof;
 
     const Eigen::JacobiSVD<Eigen::MatrixXd> svd(js, Eigen::ComputeThinV);
     const Eigen::VectorXd& sv = svd.singularValues();
     const Eigen::MatrixXd& v = svd.matrixV();
-    const double smax = sv.size() > 0 ? sv[0] : 0.0;
-    if (!(smax > 0.0)) { u.problem = "the output does not depend on any free parameter"; return u; }
+    if (!(sv.size() > 0 && sv[0] > 0.0)) { u.problem = "the output does not depend on any free parameter"; return u; }
     u.available = true;
-    u.rank = 0;
-    for (Eigen::Index k = 0; k < sv.size(); ++k)
-        if (sv[k] > kRankTolerance * smax) ++u.rank;
-    const double smin = sv[sv.size() - 1];
-    u.condition_number = u.rank == static_cast<int>(m) ? (smax / smin) * (smax / smin) : std::numeric_limits<double>::infinity();
+    const std::vector<bool> in_null = null_directions(sv, v, u);
 
-    std::vector<bool> in_null(m, false);
-    for (Eigen::Index k = u.rank; k < sv.size(); ++k) {
-        std::vector<double> dir(m);
-        // Signed so that the first component of at least half the largest magnitude is
-        // positive: a choice that near-equal components (a scaling symmetry) do not flip.
-        const double largest = v.col(k).cwiseAbs().maxCoeff();
-        Eigen::Index lead = 0;
-        while (std::abs(v(lead, k)) < 0.5 * largest) ++lead;
-        const double sign = v(lead, k) < 0 ? -1.0 : 1.0;
-        for (std::size_t j = 0; j < m; ++j) {
-            dir[j] = sign * v(static_cast<Eigen::Index>(j), k);
-            if (std::abs(dir[j]) > kNullDirectionComponent) in_null[j] = true;
-        }
-        u.null_directions.push_back(dir);
-    }
-
-    // Covariance of the scaled parameters on the determined subspace: s² V Σ⁻² Vᵀ.
-    Eigen::MatrixXd cov = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(m), static_cast<Eigen::Index>(m));
-    for (Eigen::Index k = 0; k < u.rank; ++k) cov += (s2 / (sv[k] * sv[k])) * v.col(k) * v.col(k).transpose();
+    // The covariance of the scaled parameters on the determined subspace: s² V Σ⁻² Vᵀ, or with
+    // a declared input noise the noise model's sandwich; bread = (JᵀJ)⁺ = V Σ⁻² Vᵀ.
     Eigen::MatrixXd bread = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(m), static_cast<Eigen::Index>(m));
     for (Eigen::Index k = 0; k < u.rank; ++k) bread += v.col(k) * v.col(k).transpose() / (sv[k] * sv[k]);
     std::vector<std::size_t> window_samples;
     for (const Window& w : problem.definition().estimation) window_samples.push_back(scored_sample_count(w));
-    const std::size_t outputs = problem.definition().measured.size();
-    // With a declared input noise: the sandwich with the noise model's covariance as its middle.
-    if (declares_input_noise(problem.definition()) && r.size() == static_cast<std::size_t>(n) && outputs > 0) {
-        const PropagatedInputNoise noise = residual_input_noise(problem, free_best, r.size(), known.input_noise, threads);
-        if (noise.available) {
-            std::vector<double> white(outputs, 0.0);
-            for (std::size_t i = 0; i < r.size(); ++i) white[i % outputs] += r[i] * r[i];
-            const double per_output = static_cast<double>(r.size() / outputs);
-            for (std::size_t a = 0; a < outputs; ++a) {
-                const double variance = white[a] / per_output * (static_cast<double>(n) / dof);
-                white[a] = std::max(variance - noise.covariance[a][a][0], kWhiteShareFloor * variance);
-                const double scale_a = problem.definition().output_scale[a];
-                u.propagated_noise_rms.push_back(scale_a != 0.0 ? noise.rms(a) / std::abs(scale_a) : noise.rms(a));
-            }
-            u.input_noise = true;
-            u.input_noise_lags = static_cast<std::size_t>(noise.correlation_lags);
-            const Eigen::MatrixXd meat =
-                noise_model_meat(js, noise, white, window_samples, outputs, u.input_noise_lags);
-            cov = bread.lazyProduct(meat).lazyProduct(bread);
-        }
-    }
-    const boost::math::students_t t_dist(dof);
-    const double t975 = boost::math::quantile(t_dist, 0.975);
-    for (std::size_t j = 0; j < m; ++j) {
-        u.determined[j] = !in_null[j];
-        if (!u.determined[j]) continue;
-        const auto jj = static_cast<Eigen::Index>(j);
-        u.std_error[j] = scale[j] * std::sqrt(std::max(cov(jj, jj), 0.0));
-        if (problem.scales()[j] == ParameterScale::log && free_best[j] > 0) {
-            // A log-scaled parameter's scaled column is ∂r/∂ln p: the interval is symmetric in
-            // ln p, so p·exp(∓t·σ), asymmetric in p and positive.
-            const double half = t975 * std::sqrt(std::max(cov(jj, jj), 0.0));
-            u.ci_low[j] = free_best[j] * std::exp(-half);
-            u.ci_high[j] = free_best[j] * std::exp(half);
-            continue;
-        }
-        u.ci_low[j] = free_best[j] - t975 * u.std_error[j];
-        u.ci_high[j] = free_best[j] + t975 * u.std_error[j];
-    }
-    for (std::size_t a = 0; a < m; ++a)
-        for (std::size_t b = 0; b < m; ++b) {
-            if (!u.determined[a] || !u.determined[b]) continue;
-            const auto ia = static_cast<Eigen::Index>(a), ib = static_cast<Eigen::Index>(b);
-            u.correlation[a][b] = cov(ia, ib) / std::sqrt(cov(ia, ia) * cov(ib, ib));
-            u.covariance[a][b] = scale[a] * scale[b] * cov(ia, ib);
-        }
-
-    // The sandwich: (JᵀJ)⁺ S (JᵀJ)⁺ on the determined subspace, S scaled by N/(N − M) as s² is.
-    u.robust_std_error.assign(m, nan);
-    if (r.size() == static_cast<std::size_t>(n) && n > 0) {
-        u.robust_lags = u.input_noise_lags;  // at least the declared input noise's reach
-        const Eigen::MatrixXd meat = long_run_score_covariance(js, r, outputs, window_samples, u.robust_lags) *
-                                     (static_cast<double>(n) / dof);
-        const Eigen::MatrixXd half = bread.lazyProduct(meat);  // unthreaded products: the same bits on any thread count
-        const Eigen::MatrixXd sandwich = half.lazyProduct(bread);
-        for (std::size_t j = 0; j < m; ++j)
-            if (u.determined[j])
-                u.robust_std_error[j] =
-                    scale[j] * std::sqrt(std::max(sandwich(static_cast<Eigen::Index>(j), static_cast<Eigen::Index>(j)), 0.0));
-        // With a declared input noise, at least the noise model's: Newey–West's few lags miss a
-        // memory as long as the one a vehicle's inertia gives its speed's noise.
-        if (u.input_noise)
-            for (std::size_t j = 0; j < m; ++j)
-                if (u.determined[j]) u.robust_std_error[j] = std::max(u.robust_std_error[j], u.std_error[j]);
-    }
+    Eigen::MatrixXd cov;
+    if (!noise_model_covariance(problem, free_best, known, threads, js, r, bread, window_samples, dof, u, cov))
+        cov = (ssr / dof) * bread;
+    fill_errors(problem, free_best, scale, in_null, cov, dof, u);
+    fill_robust_errors(js, r, bread, scale, problem.definition().measured.size(), window_samples, dof, u);
     return u;
 }
 
