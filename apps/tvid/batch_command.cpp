@@ -10,6 +10,8 @@
 #include <memory>
 #include <optional>
 
+#include "command_options.hpp"
+#include "command_table.hpp"
 #include "commands.hpp"
 #include "terminal.hpp"
 #include "tvid/report/report_directory.hpp"
@@ -399,6 +401,32 @@ int run_batch_command(const BatchCommand& cmd) {
         }
     }
     return kExitDone;
+}
+
+CommandRow batch_command_row() {
+    return {"batch", "fit the experiment to many recordings and/or cycles, one row per job", true,
+            [](CLI::App& sub) -> CommandRunner {
+                auto batch = std::make_shared<BatchCommand>();
+                add_common(sub, batch->common);
+                sub.add_option("-o,--output-dir,--output", batch->output_dir,
+                               "output directory (default: the report directory + -batch)")
+                    ->check(kNonEmptyPath);
+                sub.add_option("--seed", batch->seed, "random seed of the optimizer, the same for every job")->check(kSeed);
+                sub.add_option("--data", batch->data_globs, "recordings: files, or globs such as 'recordings/*.csv'");
+                sub.add_option("--data-list", batch->data_list, "file with one recording per line (relative to it)");
+                sub.add_option("--cycles", batch->cycles, "fit each cycle on its own: 3-9 or 3,5,7");
+                sub.add_flag("--no-validation", batch->no_validation, "no validation (else the next cycle validates)");
+                auto* resume =
+                    sub.add_flag("--resume", batch->resume, "continue an interrupted batch: skip the jobs in batch.csv");
+                sub.add_flag("--force", batch->force, "replace an existing batch.csv")->excludes(resume);
+                sub.add_flag("--strict", batch->strict, "exit 1 when a job's verdict has an error (for CI)");
+                sub.add_flag("--cross", batch->cross, "validate each job's parameters on every job's data (matrix.csv)");
+                return [batch](const CommandContext& context) {
+                    batch->common.command_line = context.command_line;
+                    batch->processes = context.processes;
+                    return run_batch_command(*batch);
+                };
+            }};
 }
 
 }  // namespace tvid::cli

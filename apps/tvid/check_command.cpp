@@ -9,6 +9,10 @@
 #include <iostream>
 #include <sstream>
 
+#include <memory>
+
+#include "command_options.hpp"
+#include "command_table.hpp"
 #include "commands.hpp"
 #include "tvid/io/atomic_file.hpp"
 #include "tvid/check/reference_check.hpp"
@@ -202,6 +206,33 @@ int run_check_command(const CheckCommand& cmd) {
         std::cout << final_line(result) << std::endl;
     }
     return result.passed() ? 0 : 1;
+}
+
+CommandRow check_command_row() {
+    return {"check", "compare a fit report with a reference of expected values (CI)", false,
+            [](CLI::App& sub) -> CommandRunner {
+                auto check = std::make_shared<CheckCommand>();
+                sub.add_option("report", check->report_dir, "report directory written by tvid fit")->required();
+                auto* reference = sub.add_option("--reference", check->reference, "reference file (JSON) to check against");
+                auto* write = sub.add_option("--write-reference", check->write_reference,
+                                             "write a reference from this known-good report instead");
+                reference->excludes(write);
+                sub.add_option("--rel", check->rel,
+                               "relative tolerance written: the default, and the least a parameter, the cost and Q "
+                               "get (default 0.01)")
+                    ->needs(write)
+                    ->check(kTolerance);
+                sub.add_option("--sigmas", check->sigmas,
+                               "tolerance written for each parameter in its standard errors, and for the cost, Q and "
+                               "the residual ratio in their spread over the noise (default 5)")
+                    ->needs(write)
+                    ->check(kTolerance);
+                sub.add_flag("--force", check->force, "replace a --write-reference file that tvid did not write")
+                    ->needs(write);
+                sub.add_flag("-q,--quiet", check->quiet, "print only the final line");
+                sub.add_flag("--json", check->json, "print the checks as JSON");
+                return [check](const CommandContext&) { return run_check_command(*check); };
+            }};
 }
 
 }  // namespace tvid::cli

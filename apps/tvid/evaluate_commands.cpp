@@ -3,6 +3,10 @@
 #include <iostream>
 #include <sstream>
 
+#include <memory>
+
+#include "command_options.hpp"
+#include "command_table.hpp"
 #include "commands.hpp"
 #include "tvid/experiment/overrides.hpp"
 #include "terminal.hpp"
@@ -134,6 +138,34 @@ int run_validate_command(const EvaluateCommand& cmd) {
     if (cmd.common.json) std::cout << json_text(j) << std::endl;
     else if (!cmd.common.quiet) std::cout << evaluation_summary_text("validate", ex, ev) << std::flush;
     return report_failed_windows(ev);
+}
+
+CommandRow simulate_command_row() {
+    return {"simulate", "simulate every window and print measured vs simulated as CSV", false,
+            [](CLI::App& sub) -> CommandRunner {
+                auto simulate = std::make_shared<EvaluateCommand>();
+                add_common(sub, simulate->common);
+                sub.add_option("--params", simulate->params_file, "parameter file (params.json of a fit, or {name: value})");
+                add_file_output(sub, *simulate, "the CSV", "simulation.csv");
+                return [simulate](const CommandContext& context) {
+                    simulate->common.command_line = context.command_line;
+                    return run_simulate_command(*simulate);
+                };
+            }};
+}
+
+CommandRow validate_command_row() {
+    return {"validate", "score a parameter set on the estimation and validation windows", false,
+            [](CLI::App& sub) -> CommandRunner {
+                auto validate = std::make_shared<EvaluateCommand>();
+                add_common(sub, validate->common);
+                sub.add_option("--params", validate->params_file, "parameter file")->required();
+                add_file_output(sub, *validate, "the JSON", "validation.json");
+                return [validate](const CommandContext& context) {
+                    validate->common.command_line = context.command_line;
+                    return run_validate_command(*validate);
+                };
+            }};
 }
 
 }  // namespace tvid::cli

@@ -5,6 +5,8 @@
 #include <iostream>
 #include <memory>
 
+#include "command_options.hpp"
+#include "command_table.hpp"
 #include "commands.hpp"
 #include "tvid/experiment/overrides.hpp"
 #include "terminal.hpp"
@@ -122,6 +124,27 @@ int run_fit_command(const FitCommand& cmd) {
         return kExitNotSucceeded;
     }
     return kExitDone;
+}
+
+CommandRow fit_command_row() {
+    return {"fit", "identify the free parameters and write a report directory", true, [](CLI::App& sub) -> CommandRunner {
+        auto fit = std::make_shared<FitCommand>();
+        add_common(sub, fit->common);
+        sub.add_option("-o,--output-dir,--output", fit->output_dir, "report directory (default: report.dir or results/NAME)")
+            ->check(kNonEmptyPath);
+        sub.add_option("--seed", fit->seed, "random seed of the optimizer")->check(kSeed);
+        std::vector<std::string> optimizers;
+        for (const OptimizerKindRow& row : optimizer_kinds()) optimizers.emplace_back(row.name);
+        sub.add_option("--optimizer", fit->optimizer, optimizer_names() + " (overrides estimation.optimizer)")
+            ->check(CLI::IsMember(optimizers));  // the error names the flag the user typed
+        sub.add_flag("--force", fit->force, "replace a report already in the report directory");
+        sub.add_flag("--strict", fit->strict, "exit 1 when the verdict has an error (for CI)");
+        return [fit](const CommandContext& context) {
+            fit->common.command_line = context.command_line;
+            fit->processes = context.processes;
+            return run_fit_command(*fit);
+        };
+    }};
 }
 
 }  // namespace tvid::cli

@@ -5,6 +5,10 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
+#include <memory>
+
+#include "command_options.hpp"
+#include "command_table.hpp"
 #include "commands.hpp"
 #include "tvid/model/element_catalogue.hpp"
 #include "tvid/model/presets.hpp"
@@ -81,6 +85,15 @@ int run_models_command(bool json) {
     }
     print_element_kinds();
     return kExitDone;
+}
+
+CommandRow models_command_row() {
+    return {"models", "list the preset models with their parameters, inputs, outputs", false,
+            [](CLI::App& sub) -> CommandRunner {
+                auto json = std::make_shared<bool>(false);
+                sub.add_flag("--json", *json, "as JSON");
+                return [json](const CommandContext&) { return run_models_command(*json); };
+            }};
 }
 
 }  // namespace tvid::cli

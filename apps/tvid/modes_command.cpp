@@ -4,6 +4,10 @@
 
 #include <iostream>
 
+#include <memory>
+
+#include "command_options.hpp"
+#include "command_table.hpp"
 #include "commands.hpp"
 #include "terminal.hpp"
 #include "tvid/report/report_directory.hpp"
@@ -123,6 +127,53 @@ int run_frf_command(const FrfCommand& cmd) {
     else if (!cmd.modes.common.quiet)
         std::cout << frf_summary_text(frf) << "report: " << dir.string() << "\n" << std::flush;
     return kExitDone;
+}
+
+// The options of modes and frf: the operating point and where the files go.
+static void add_linearised_options(CLI::App& sub, ModesCommand& o, const std::string& folder) {
+    add_common(sub, o.common);
+    sub.add_option("--params", o.params_file, "parameter file (default: the experiment's init values)");
+    sub.add_option("-o,--output-dir", o.output_dir,
+                   "output directory (default: report.dir or results/NAME, then /" + folder + ")")
+        ->check(kNonEmptyPath);
+    sub.add_flag("--force", o.force, "replace files in the output directory that tvid did not write");
+    sub.add_option("--window", o.window, "the estimation window (0, 1, ...) whose start is the operating point");
+    sub.add_option("--angles", o.angle_dependence,
+                   "angle-dependent elements (cylinders, order torques): revolution_mean (default) or operating_point")
+        ->check(CLI::IsMember({"revolution_mean", "operating_point"}));
+}
+
+CommandRow modes_command_row() {
+    return {"modes", "torsional modes of the model linearised at an estimation window's start", false,
+            [](CLI::App& sub) -> CommandRunner {
+                auto modes = std::make_shared<ModesCommand>();
+                add_linearised_options(sub, *modes, "modes");
+                return [modes](const CommandContext& context) {
+                    modes->common.command_line = context.command_line;
+                    return run_modes_command(*modes);
+                };
+            }};
+}
+
+CommandRow frf_command_row() {
+    return {"frf", "the model's frequency response from an input to an output, beside the measured H1", false,
+            [](CLI::App& sub) -> CommandRunner {
+                auto frf = std::make_shared<FrfCommand>();
+                add_linearised_options(sub, frf->modes, "frf");
+                sub.add_option("--input", frf->input, "the model input (or its CSV column)")->required();
+                sub.add_option("--output", frf->output, "the measured output (or its CSV column)")->required();
+                auto* segment = sub.add_option("--segment", frf->segment,
+                                               "Welch's segment in samples (default: from the window lengths)")
+                                    ->check(CLI::Range(std::size_t{8}, std::size_t{1} << 30));
+                sub.add_option("--resolution", frf->resolution_hz,
+                               "the frequency resolution in Hz: the segment is fs/HZ samples, rounded up")
+                    ->check(CLI::PositiveNumber)
+                    ->excludes(segment);
+                return [frf](const CommandContext& context) {
+                    frf->modes.common.command_line = context.command_line;
+                    return run_frf_command(*frf);
+                };
+            }};
 }
 
 }  // namespace tvid::cli

@@ -5,6 +5,10 @@
 #include <cstdio>
 #include <iostream>
 
+#include <memory>
+
+#include "command_options.hpp"
+#include "command_table.hpp"
 #include "commands.hpp"
 #include "terminal.hpp"
 #include "tvid/report/report_directory.hpp"
@@ -91,6 +95,28 @@ int run_profile_command(const ProfileCommand& cmd) {
     if (cmd.common.json) std::cout << json_with_report(profile_json(profile, run), dir) << std::endl;
     else if (!cmd.common.quiet) std::cout << profile_text(profile, dir.string()) << std::flush;
     return kExitDone;
+}
+
+CommandRow profile_command_row() {
+    return {"profile", "profile likelihood of one parameter: the others refitted on a grid of its values", false,
+            [](CLI::App& sub) -> CommandRunner {
+                auto profile = std::make_shared<ProfileCommand>();
+                add_common(sub, profile->common);
+                sub.add_option("--param", profile->parameter, "the free parameter to profile")->required();
+                sub.add_option("--points", profile->points, "grid points (default 21)")->check(CLI::Range(3, 1001));
+                sub.add_option("--from", profile->from, "the grid's lower end (default: optimum - 4 standard errors)");
+                sub.add_option("--to", profile->to, "the grid's upper end (default: optimum + 4 standard errors)");
+                sub.add_option("--params", profile->params_file,
+                               "start of the fit to the optimum (default: the init values)");
+                sub.add_option("-o,--output-dir,--output", profile->output_dir,
+                               "output directory (default: report.dir or results/NAME, then /profile-PARAM)")
+                    ->check(kNonEmptyPath);
+                sub.add_flag("--force", profile->force, "replace files in the output directory that tvid did not write");
+                return [profile](const CommandContext& context) {
+                    profile->common.command_line = context.command_line;
+                    return run_profile_command(*profile);
+                };
+            }};
 }
 
 }  // namespace tvid::cli

@@ -8,6 +8,8 @@
 #include <iostream>
 #include <memory>
 
+#include "command_options.hpp"
+#include "command_table.hpp"
 #include "commands.hpp"
 #include "tvid/report/report_directory.hpp"
 #include "tvid/experiment/overrides.hpp"
@@ -86,6 +88,25 @@ int run_sensitivity_command(const SensitivityCommand& cmd) {
         std::cout << sensitivity_summary_text(study, rankings, run, dir.string()) << std::flush;
     }
     return kExitDone;
+}
+
+CommandRow sensitivity_command_row() {
+    return {"sensitivity", "forward sensitivities dy/dp of the outputs to each free parameter, and their ranking", false,
+            [](CLI::App& sub) -> CommandRunner {
+                auto sensitivity = std::make_shared<SensitivityCommand>();
+                add_common(sub, sensitivity->common);
+                sub.add_option("--params", sensitivity->params_file,
+                               "parameter file (default: the experiment's init values)");
+                sub.add_option("-o,--output-dir,--output", sensitivity->output_dir,
+                               "output directory (default: report.dir or results/NAME, then /sensitivity)")
+                    ->check(kNonEmptyPath);
+                sub.add_flag("--force", sensitivity->force, "replace files in the output directory that tvid did not write");
+                sub.add_flag("--validation", sensitivity->validation, "include the validation windows");
+                return [sensitivity](const CommandContext& context) {
+                    sensitivity->common.command_line = context.command_line;
+                    return run_sensitivity_command(*sensitivity);
+                };
+            }};
 }
 
 }  // namespace tvid::cli
