@@ -124,10 +124,7 @@ void one_draw(const IdentificationProblem& problem, const std::vector<double>& p
                     }
         }
     }
-    // The workspace's channels back as the parameters read them.
-    for (std::size_t k = 0; k < base.size(); ++k)
-        if (!z[k].empty()) z[k].assign(samples, 0.0);
-    perturb_inputs(d, base, z, 0.0, ws);
+    perturb_inputs(d, base, z, 0.0, ws);  // the workspace's channels back as the parameters read them
     result.ok = ok;
 }
 

@@ -71,9 +71,11 @@ SplitInputNoise split_input_noise(const IdentificationProblem& problem, const Sp
     if (windows.empty()) return out;
     const bool taken = known && !known->delta.empty() && known->delta.front().size() == windows.size() &&
                        windows.size() == split.windows.size();
-    InputNoiseResponses responses = taken ? *known : input_noise_responses(problem, params, windows, kInputNoiseDraws, threads);
+    InputNoiseResponses computed;
+    if (!taken) computed = input_noise_responses(problem, params, windows, kInputNoiseDraws, threads);
+    const InputNoiseResponses& responses = taken ? *known : computed;
     out.propagated = propagated_covariance(responses, problem.experiment().outputs.size(), std::numeric_limits<int>::max());
-    out.cross = std::move(responses.input_cross);
+    out.cross = responses.input_cross;
     return out;
 }
 
