@@ -279,6 +279,71 @@ std::unique_ptr<PreparedBatch> prepare_batch(const BatchCommand& cmd, const Batc
                                                          std::move(appender), std::move(lock)});
 }
 
+/// After the jobs: the cross matrix if asked for, the parameters' stability, the summary
+/// (batch_summary.json last: it marks the batch complete), the terminal's report, and the
+/// exit status (--strict: a verdict with an error fails the batch).
+int finish_batch(const BatchCommand& cmd, const BatchSettings& settings, PreparedBatch& batch,
+                 const std::vector<BatchRow>& ordered, int threads, int processes,
+                 std::chrono::steady_clock::time_point start) {
+    using clock = std::chrono::steady_clock;
+    const std::vector<BatchJob>& jobs = batch.jobs;
+    const BatchColumns& columns = batch.columns;
+    const std::filesystem::path& dir = batch.dir;
+    const double seconds = std::chrono::duration<double>(clock::now() - start).count();  // the fits
+    // --cross: every job's parameters on every job's estimation windows (on the root alone).
+    std::vector<BatchRow> by_job(jobs.size(), columns.row("", "", ""));
+    for (const auto& [job, row] : batch.rows) by_job[job] = row;
+    std::optional<CrossMatrix> cross;
+    if (cmd.cross) {
+        if (!cmd.common.quiet)
+            std::cerr << "tvid batch: cross-validating the ok jobs on each other's data\n";
+        cross = compute_cross_matrix(settings, jobs, by_job, columns, cmd.common.threads);
+        if (!cross->complete || stop_requested()) {
+            if (!cmd.common.quiet)
+                std::cerr << "tvid batch: interrupted during the cross-validation; batch.csv is complete: run "
+                             "again with --resume to compute the matrix\n";
+            return kExitInterrupted;
+        }
+        write_output_file(dir, "matrix.csv", cross_matrix_csv(*cross));
+        write_output_file(dir, "matrix_long.csv", cross_matrix_long_csv(*cross));
+    }
+    const BatchStability stability = batch_stability(columns, ordered, batch.units, cross ? &*cross : nullptr);
+    write_output_file(dir, "parameter_stability.csv", parameter_stability_csv(stability));
+
+    const double cross_seconds = std::chrono::duration<double>(clock::now() - start).count() - seconds;
+    BatchSummary summary = summarize_batch(columns, ordered, batch.pending.size(), seconds, threads);
+    summary.processes = processes;
+    const BatchRunContext context{TVID_VERSION, cmd.common.command_line, cmd.common.experiment, batch.name,
+                                  dir.string()};
+    nlohmann::json json = batch_summary_json(summary, context);
+    json["parameter_stability"] = parameter_stability_json(stability);
+    json["outliers"] = outliers_json(stability);
+    json["cross"] = cross ? cross_matrix_json(*cross) : nlohmann::json(nullptr);
+    if (cross) json["cross"]["wall_time_s"] = cross_seconds;
+    write_output_file(dir, batch.summary_file.filename().string(), json_text(json) + "\n");
+
+    if (cmd.common.json) {
+        std::cout << json_with_report(json, dir) << std::endl;
+    } else if (!cmd.common.quiet) {
+        std::cout << batch_summary_text(summary, batch.name, dir);
+        if (cross) std::cout << cross_summary_text(json["cross"], dir);
+        std::cout << outliers_text(stability) << std::flush;
+    }
+    if (summary.failed + summary.bad_input > 0) return kExitNotSucceeded;
+    if (cmd.strict) {
+        // A job whose verdict has an error (batch.csv's verdict column says so).
+        const std::size_t verdict = columns.index("verdict");
+        int poor = 0;
+        for (const BatchRow& row : ordered) poor += row[verdict].find("error") != std::string::npos ? 1 : 0;
+        if (poor > 0) {
+            std::cerr << "tvid: --strict: " << poor << " job" << (poor == 1 ? "'s" : "s'")
+                      << " verdict has an error (batch.csv, column verdict)\n";
+            return kExitNotSucceeded;
+        }
+    }
+    return kExitDone;
+}
+
 }  // namespace
 
 int run_batch_command(const BatchCommand& cmd) {
@@ -348,59 +413,7 @@ int run_batch_command(const BatchCommand& cmd) {
                       << " jobs; batch.csv holds the finished ones: run again with --resume to complete it\n";
         return kExitInterrupted;
     }
-    const double seconds = std::chrono::duration<double>(clock::now() - start).count();  // the fits
-    // --cross: every job's parameters on every job's estimation windows (on the root alone).
-    std::vector<BatchRow> by_job(jobs.size(), columns.row("", "", ""));
-    for (const auto& [job, row] : rows) by_job[job] = row;
-    std::optional<CrossMatrix> cross;
-    if (cmd.cross) {
-        if (!cmd.common.quiet)
-            std::cerr << "tvid batch: cross-validating the ok jobs on each other's data\n";
-        cross = compute_cross_matrix(settings, jobs, by_job, columns, cmd.common.threads);
-        if (!cross->complete || stop_requested()) {
-            if (!cmd.common.quiet)
-                std::cerr << "tvid batch: interrupted during the cross-validation; batch.csv is complete: run "
-                             "again with --resume to compute the matrix\n";
-            return kExitInterrupted;
-        }
-        write_output_file(dir, "matrix.csv", cross_matrix_csv(*cross));
-        write_output_file(dir, "matrix_long.csv", cross_matrix_long_csv(*cross));
-    }
-    const BatchStability stability = batch_stability(columns, ordered, prepared->units, cross ? &*cross : nullptr);
-    write_output_file(dir, "parameter_stability.csv", parameter_stability_csv(stability));
-
-    const double cross_seconds = std::chrono::duration<double>(clock::now() - start).count() - seconds;
-    BatchSummary summary = summarize_batch(columns, ordered, pending.size(), seconds, threads);
-    summary.processes = group.size();
-    const BatchRunContext context{TVID_VERSION, cmd.common.command_line, cmd.common.experiment, prepared->name,
-                                  dir.string()};
-    nlohmann::json json = batch_summary_json(summary, context);
-    json["parameter_stability"] = parameter_stability_json(stability);
-    json["outliers"] = outliers_json(stability);
-    json["cross"] = cross ? cross_matrix_json(*cross) : nlohmann::json(nullptr);
-    if (cross) json["cross"]["wall_time_s"] = cross_seconds;
-    write_output_file(dir, prepared->summary_file.filename().string(), json_text(json) + "\n");
-
-    if (cmd.common.json) {
-        std::cout << json_with_report(json, dir) << std::endl;
-    } else if (!cmd.common.quiet) {
-        std::cout << batch_summary_text(summary, prepared->name, dir);
-        if (cross) std::cout << cross_summary_text(json["cross"], dir);
-        std::cout << outliers_text(stability) << std::flush;
-    }
-    if (summary.failed + summary.bad_input > 0) return kExitNotSucceeded;
-    if (cmd.strict) {
-        // A job whose verdict has an error (batch.csv's verdict column says so).
-        const std::size_t verdict = columns.index("verdict");
-        int poor = 0;
-        for (const BatchRow& row : ordered) poor += row[verdict].find("error") != std::string::npos ? 1 : 0;
-        if (poor > 0) {
-            std::cerr << "tvid: --strict: " << poor << " job" << (poor == 1 ? "'s" : "s'")
-                      << " verdict has an error (batch.csv, column verdict)\n";
-            return kExitNotSucceeded;
-        }
-    }
-    return kExitDone;
+    return finish_batch(cmd, settings, *prepared, ordered, threads, group.size(), start);
 }
 
 CommandRow batch_command_row() {

@@ -61,24 +61,23 @@ std::size_t LinearNetwork::angle_state(std::size_t node) const {
     return states.size();
 }
 
-LinearNetwork linearise_network(const NetworkSpec& spec, const std::vector<double>& params,
-                                const CrankAngleChannels* angle_inputs, const std::vector<double>& x,
-                                const std::vector<double>& u, AngleDependence angle_dependence) {
-    LinearNetwork sys;
-    sys.x = x;
-    sys.u = u;
-    sys.angle_dependence = angle_dependence;
+namespace {
+
+/// A kept column's perturbation moves its node and every node tied to it: ∂/∂q = Σ f_m ∂/∂x_m.
+/// The weight of full state `full_state` in kept column `kept` (n nodes).
+double tied_column_weight(const NetworkModel<double>& model, std::size_t n, std::size_t kept, std::size_t full_state) {
+    const std::size_t node = full_state % n, own = kept % n;
+    if (full_state / n != kept / n || model.tie_root(node) != own) return 0.0;
+    return model.tie_factor(node);
+}
+
+/// The kept states (a node an ideal gear ties keeps none of its own: its group's root's
+/// coordinate moves it, θ_i = factor_i·θ_root, so the linear system is the reduced line's),
+/// and the names of the states, inputs (with the speed channels' slopes) and outputs.
+void name_states_and_channels(const NetworkSpec& spec, const NetworkModel<double>& model, std::size_t input_count,
+                              LinearNetwork& sys) {
     const std::size_t n = spec.nodes.size();
-    const std::size_t full = 2 * n;
-    const NetworkSpec lin = linearisation_spec(spec, params, angle_dependence, x, sys.elements, sys.prescribed);
-
-    NetworkModel<double> model(lin);
-    model.set_crank_angle_inputs(angle_inputs);
-    model.set_parameters(params.data());
-
     for (const NodeSpec& s : spec.nodes) sys.node_names.push_back(s.name);
-    // A node an ideal gear ties keeps no state of its own: its group's root's coordinate
-    // moves it (θ_i = factor_i·θ_root), so the linear system is the reduced line's.
     for (std::size_t i = 0; i < n; ++i) {
         sys.angle_factor.push_back(model.tie_factor(i));
         if (model.tied_to_other(i)) continue;
@@ -93,27 +92,24 @@ LinearNetwork linearise_network(const NetworkSpec& spec, const std::vector<doubl
     }
     sys.angle_root.resize(n);
     for (std::size_t i = 0; i < n; ++i) sys.angle_root[i] = model.tie_root(i);
-    // A kept column's perturbation moves its node and every node tied to it: ∂/∂q = Σ f_m ∂/∂x_m.
-    const auto column_weight = [&](std::size_t kept, std::size_t full_state) {
-        const std::size_t node = full_state % n, own = kept % n;
-        if (full_state / n != kept / n || model.tie_root(node) != own) return 0.0;
-        return model.tie_factor(node);
-    };
     sys.input_names = spec.input_names;
-    sys.rate_of.assign(u.size(), -1);
+    sys.rate_of.assign(input_count, -1);
     for (std::size_t j = 0; j < spec.input_rates.size(); ++j) {
         const auto of = static_cast<std::size_t>(spec.input_rates[j]);
         sys.rate_of[of] = static_cast<int>(spec.input_names.size() + j);
         sys.input_names.push_back("d(" + spec.input_names[of] + ")/dt");
     }
-    sys.input_names.resize(u.size());
+    sys.input_names.resize(input_count);
     for (const OutputSpec& o : spec.outputs) sys.output_names.push_back(o.name);
+}
 
-    // A = ∂f/∂x at the operating point, the kept rows and columns.
+/// A = ∂f/∂x at the operating point, the kept rows and columns.
+void state_matrix(NetworkModel<double>& model, std::size_t n, LinearNetwork& sys) {
+    const std::size_t full = 2 * n;
     StateJacobian jacobian;
     jacobian.bind(model);
     std::vector<double> a_full(full * full), f0(full);
-    jacobian.evaluate(x.data(), u.data(), a_full.data(), f0.data());
+    jacobian.evaluate(sys.x.data(), sys.u.data(), a_full.data(), f0.data());
     const auto ns = static_cast<Eigen::Index>(sys.states.size());
     sys.A.resize(ns, ns);
     for (Eigen::Index r = 0; r < ns; ++r)
@@ -125,13 +121,19 @@ LinearNetwork linearise_network(const NetworkSpec& spec, const std::vector<doubl
             }
             double sum = 0.0;
             for (std::size_t m = 0; m < full; ++m)
-                if (const double w = column_weight(col, m); w != 0.0) sum += w * a_full[row * full + m];
+                if (const double w = tied_column_weight(model, n, col, m); w != 0.0) sum += w * a_full[row * full + m];
             sys.A(r, c) = sum;
         }
+}
 
-    // B = ∂f/∂u and D = ∂y/∂u by central differences (the inputs enter linearly).
+/// B = ∂f/∂u and D = ∂y/∂u by central differences (the inputs enter linearly).
+void input_matrices(NetworkModel<double>& model, std::size_t n, std::size_t output_count, LinearNetwork& sys) {
+    const std::size_t full = 2 * n;
+    const std::vector<double>& x = sys.x;
+    const std::vector<double>& u = sys.u;
+    const auto ns = static_cast<Eigen::Index>(sys.states.size());
     const auto ni = static_cast<Eigen::Index>(u.size());
-    const auto no = static_cast<Eigen::Index>(spec.outputs.size());
+    const auto no = static_cast<Eigen::Index>(output_count);
     sys.B = Eigen::MatrixXd::Zero(ns, ni);
     sys.D = Eigen::MatrixXd::Zero(no, ni);
     std::vector<double> up = u, fp(full), fm(full);
@@ -153,35 +155,64 @@ LinearNetwork linearise_network(const NetworkSpec& spec, const std::vector<doubl
         for (Eigen::Index k = 0; k < no; ++k)
             sys.D(k, j) = (yp[static_cast<std::size_t>(k)] - ym[static_cast<std::size_t>(k)]) / (2 * h);
     }
+}
 
-    // C = ∂y/∂x by dual numbers, the states seeded in chunks.
+/// C = ∂y/∂x by dual numbers, the states seeded in chunks.
+void output_matrix(const NetworkSpec& lin, const NetworkModel<double>& model, const std::vector<double>& params,
+                   const CrankAngleChannels* angle_inputs, LinearNetwork& sys) {
+    const std::size_t n = lin.nodes.size(), full = 2 * n;
+    const std::vector<double>& x = sys.x;
+    const std::vector<double>& u = sys.u;
+    const auto ns = static_cast<Eigen::Index>(sys.states.size());
+    const auto no = static_cast<Eigen::Index>(lin.outputs.size());
     sys.C = Eigen::MatrixXd::Zero(no, ns);
-    if (no > 0) {
-        NetworkModel<Dual> dual_model(lin);
-        dual_model.set_crank_angle_inputs(angle_inputs);
-        std::vector<Dual> dp(params.size()), xd(full);
-        for (std::size_t j = 0; j < params.size(); ++j) dp[j] = Dual(params[j]);
-        dual_model.set_parameters(dp.data());
-        std::vector<Dual> scratch(full);
-        for (std::size_t first = 0; first < full; first += kDualCapacity) {
-            const std::size_t width = std::min<std::size_t>(kDualCapacity, full - first);
-            for (std::size_t j = 0; j < full; ++j)
-                xd[j] = j >= first && j < first + width
-                            ? Dual::variable(x[j], static_cast<int>(j - first), static_cast<int>(width))
-                            : Dual(x[j]);
-            // The element torques an output reads are those of a derivative at the state.
-            dual_model.derivative(xd.data(), u.data(), scratch.data());
-            for (Eigen::Index k = 0; k < no; ++k) {
-                const Dual y = dual_model.output(static_cast<std::size_t>(k), xd.data(), u.data());
-                for (Eigen::Index c = 0; c < ns; ++c) {
-                    const std::size_t s = sys.states[static_cast<std::size_t>(c)];
-                    for (std::size_t m = first; m < first + width; ++m)  // the column's own state and its tied ones
-                        if (const double w = m == s ? 1.0 : column_weight(s, m); w != 0.0)
-                            sys.C(k, c) += w * y.derivative(static_cast<int>(m - first));
-                }
+    if (no == 0) return;
+    NetworkModel<Dual> dual_model(lin);
+    dual_model.set_crank_angle_inputs(angle_inputs);
+    std::vector<Dual> dp(params.size()), xd(full);
+    for (std::size_t j = 0; j < params.size(); ++j) dp[j] = Dual(params[j]);
+    dual_model.set_parameters(dp.data());
+    std::vector<Dual> scratch(full);
+    for (std::size_t first = 0; first < full; first += kDualCapacity) {
+        const std::size_t width = std::min<std::size_t>(kDualCapacity, full - first);
+        for (std::size_t j = 0; j < full; ++j)
+            xd[j] = j >= first && j < first + width
+                        ? Dual::variable(x[j], static_cast<int>(j - first), static_cast<int>(width))
+                        : Dual(x[j]);
+        // The element torques an output reads are those of a derivative at the state.
+        dual_model.derivative(xd.data(), u.data(), scratch.data());
+        for (Eigen::Index k = 0; k < no; ++k) {
+            const Dual y = dual_model.output(static_cast<std::size_t>(k), xd.data(), u.data());
+            for (Eigen::Index c = 0; c < ns; ++c) {
+                const std::size_t s = sys.states[static_cast<std::size_t>(c)];
+                for (std::size_t m = first; m < first + width; ++m)  // the column's own state and its tied ones
+                    if (const double w = m == s ? 1.0 : tied_column_weight(model, n, s, m); w != 0.0)
+                        sys.C(k, c) += w * y.derivative(static_cast<int>(m - first));
             }
         }
     }
+}
+
+}  // namespace
+
+LinearNetwork linearise_network(const NetworkSpec& spec, const std::vector<double>& params,
+                                const CrankAngleChannels* angle_inputs, const std::vector<double>& x,
+                                const std::vector<double>& u, AngleDependence angle_dependence) {
+    LinearNetwork sys;
+    sys.x = x;
+    sys.u = u;
+    sys.angle_dependence = angle_dependence;
+    const std::size_t n = spec.nodes.size();
+    const NetworkSpec lin = linearisation_spec(spec, params, angle_dependence, x, sys.elements, sys.prescribed);
+
+    NetworkModel<double> model(lin);
+    model.set_crank_angle_inputs(angle_inputs);
+    model.set_parameters(params.data());
+
+    name_states_and_channels(spec, model, u.size(), sys);
+    state_matrix(model, n, sys);
+    input_matrices(model, n, spec.outputs.size(), sys);
+    output_matrix(lin, model, params, angle_inputs, sys);
     return sys;
 }
 

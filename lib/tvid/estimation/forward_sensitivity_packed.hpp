@@ -7,12 +7,46 @@
 #include <array>
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include "tvid/estimation/forward_sensitivity.hpp"
 #include "tvid/estimation/stable_step.hpp"
 #include "tvid/sim/fixed_state_rk4.hpp"
 
 namespace tvid {
+
+/// After a shot warm-up: G = (θ_node(mid), θ_node(first)) − measured gives
+/// d(a, s)/dp = −(∂G/∂(a, s))⁻¹ ∂G/∂p, and every state's derivative becomes the total
+/// S_p + S_(a,s)·d(a,s)/dp (directions cols and cols + 1 are a and s, zeroed after). The
+/// slopes are kept in `slopes` (a, s per column). False when the shooting is singular.
+template <std::size_t N, int D>
+bool correct_for_shooting(std::array<PackedDual<D>, N>& x, const PackedDual<D>& at_mid, std::size_t node,
+                          std::size_t cols, std::vector<double>& slopes) {
+    const auto a_dir = static_cast<int>(cols), s_dir = static_cast<int>(cols + 1);
+    const PackedDual<D>& at_first = x[node];
+    const ShootingSensitivity shooting(at_mid.derivative(a_dir), at_mid.derivative(s_dir),
+                                       at_first.derivative(a_dir), at_first.derivative(s_dir));
+    if (!shooting.regular()) return false;
+    Pack<D> da(0.0), ds(0.0);
+    for (std::size_t j = 0; j < cols; ++j) {
+        const double mid_j = at_mid.derivative(static_cast<int>(j)), first_j = at_first.derivative(static_cast<int>(j));
+        da.set(static_cast<int>(j), shooting.offset_slope(mid_j, first_j));
+        ds.set(static_cast<int>(j), shooting.speed_slope(mid_j, first_j));
+    }
+    slopes.resize(2 * cols);
+    for (std::size_t j = 0; j < cols; ++j) {
+        slopes[2 * j] = da[static_cast<int>(j)];
+        slopes[2 * j + 1] = ds[static_cast<int>(j)];
+    }
+    for (std::size_t i = 0; i < N; ++i) {
+        const Pack<D>& row = x[i].derivatives();
+        Pack<D> total = row + Pack<D>(row[a_dir]) * da + Pack<D>(row[s_dir]) * ds;
+        total.set(a_dir, 0.0);
+        total.set(s_dir, 0.0);
+        x[i].set_derivatives(total);
+    }
+    return true;
+}
 
 template <std::size_t N, int D>
 SimulationStatus ForwardSensitivity::simulate_packed(const double* free, const Window& w, std::size_t j0,
@@ -73,34 +107,9 @@ SimulationStatus ForwardSensitivity::simulate_packed(const double* free, const W
             if (problem) *problem = std::string("warm-up simulation ") + to_string(status);
             return status;
         }
-        if (start.shot) {
-            // G = (θ_node(mid), θ_node(first)) − measured: d(a, s)/dp = −(∂G/∂(a, s))⁻¹ ∂G/∂p,
-            // and every state's derivative becomes the total S_p + S_(a,s)·d(a,s)/dp.
-            const T& at_first = x[start.node];
-            const ShootingSensitivity shooting(at_mid.derivative(a_dir), at_mid.derivative(s_dir),
-                                               at_first.derivative(a_dir), at_first.derivative(s_dir));
-            if (!shooting.regular()) {
-                if (problem) *problem = ShootingSensitivity::kSingular;
-                return SimulationStatus::not_finite;
-            }
-            Pack<D> da(0.0), ds(0.0);
-            for (std::size_t j = 0; j < cols; ++j) {
-                const double mid_j = at_mid.derivative(static_cast<int>(j)), first_j = at_first.derivative(static_cast<int>(j));
-                da.set(static_cast<int>(j), shooting.offset_slope(mid_j, first_j));
-                ds.set(static_cast<int>(j), shooting.speed_slope(mid_j, first_j));
-            }
-            ws.start_slopes.resize(2 * cols);
-            for (std::size_t j = 0; j < cols; ++j) {
-                ws.start_slopes[2 * j] = da[static_cast<int>(j)];
-                ws.start_slopes[2 * j + 1] = ds[static_cast<int>(j)];
-            }
-            for (std::size_t i = 0; i < N; ++i) {
-                const Pack<D>& row = x[i].derivatives();
-                Pack<D> total = row + Pack<D>(row[a_dir]) * da + Pack<D>(row[s_dir]) * ds;
-                total.set(a_dir, 0.0);
-                total.set(s_dir, 0.0);
-                x[i].set_derivatives(total);
-            }
+        if (start.shot && !correct_for_shooting<N, D>(x, at_mid, start.node, cols, ws.start_slopes)) {
+            if (problem) *problem = ShootingSensitivity::kSingular;
+            return SimulationStatus::not_finite;
         }
         // After a warm-up the first sample is a prediction too: score it.
         std::size_t hint = w.first;

@@ -5,6 +5,7 @@
 #include <limits>
 #include <random>
 #include <stdexcept>
+#include <utility>
 
 namespace tvid {
 
@@ -106,38 +107,32 @@ PsoConvergence swarm_convergence(const std::vector<double>& personal, const std:
     return c;
 }
 
-}  // namespace
+/// The swarm's state: n particles in m dimensions, their velocities and personal bests, and
+/// the global best.
+struct Swarm {
+    std::size_t n, m;
+    std::vector<double> p;                    // positions
+    std::vector<double> v;                    // velocities, zero at the start
+    std::vector<double> personal;             // P_i
+    std::vector<double> personal_cost;
+    std::vector<double> cost;
+    std::vector<double> batch, batch_cost, batch_bound;
+    std::vector<std::size_t> batch_index;
+    std::vector<char> moved;
+    std::vector<double> global;               // G
+    double global_cost = std::numeric_limits<double>::infinity();
 
-PsoSummary run_pso(const PsoSettings& options, const SearchBox& box, CandidateEvaluator& evaluator,
-                   const PsoProgress& progress) {
-    const std::size_t m = box.lower.size();
-    if (m == 0) throw std::invalid_argument("particle swarm: no free parameters");
-    std::size_t n = 0;
-    // The start positions use their own stream so that they do not shift the η draws.
-    std::vector<double> p = pso_initial_positions(options, box, n, options.seed ^ 0x9E3779B97F4A7C15ull);
-    for (std::size_t i = 0; i < n * m; ++i) p[i] = std::clamp(p[i], box.lower[i % m], box.upper[i % m]);
-    UniformSource rng(options.seed);
+    Swarm(std::vector<double> start, std::size_t particles, std::size_t dimensions)
+        : n(particles), m(dimensions), p(std::move(start)), v(n * m, 0.0), personal(p),
+          personal_cost(n, std::numeric_limits<double>::infinity()), cost(n, std::numeric_limits<double>::infinity()),
+          batch(n * m), batch_cost(n), batch_bound(n), batch_index(n), moved(n, 1), global(m, 0.0) {}
 
-    const double inf = std::numeric_limits<double>::infinity();
-    std::vector<double> v(n * m, 0.0);          // zero initial velocities
-    std::vector<double> personal = p;           // P_i
-    std::vector<double> personal_cost(n, inf);
-    std::vector<double> cost(n, inf);
-    std::vector<double> batch(n * m);
-    std::vector<double> batch_cost(n);
-    std::vector<double> batch_bound(n);
-    std::vector<std::size_t> batch_index(n);
-    std::vector<char> moved(n, 1);
-    std::vector<double> global(m, 0.0);          // G
-    double global_cost = inf;
-
-    PsoSummary s;
-    s.particles = static_cast<int>(n);
-    s.termination_type = TerminationType::iteration_limit;
-    s.termination = "iteration limit";
-    for (int k = 0;; ++k) {
-        // Score the particles that moved (an unmoved particle keeps its cost: the model is deterministic).
-        // Only "better than its personal best?" is asked of a particle: its best is the bound.
+    /// Scores the particles that moved (an unmoved particle keeps its cost: the model is
+    /// deterministic). Only "better than its personal best?" is asked of a particle: its
+    /// best is the bound. False when a stop request cut the batch short: it is discarded
+    /// whole, and the best stays the best of the last complete iteration.
+    bool score_moved(CandidateEvaluator& evaluator, PsoSummary& s) {
+        const double inf = std::numeric_limits<double>::infinity();
         std::size_t count = 0;
         for (std::size_t i = 0; i < n; ++i) {
             if (!moved[i]) continue;
@@ -146,13 +141,7 @@ PsoSummary run_pso(const PsoSettings& options, const SearchBox& box, CandidateEv
             batch_index[count++] = i;
         }
         if (count > 0) evaluator.evaluate_bounded(batch.data(), count, m, batch_bound.data(), batch_cost.data());
-        // A batch cut short by a stop request is discarded whole: the best stays the best
-        // of the last complete iteration, a fully evaluated point.
-        if (count > 0 && evaluator.stopped()) {
-            s.termination_type = TerminationType::stopped;
-            s.termination = "stopped";
-            break;
-        }
+        if (count > 0 && evaluator.stopped()) return false;
         s.evaluations += static_cast<long long>(count);
         for (std::size_t c = 0; c < count; ++c) {
             const double e = std::isfinite(batch_cost[c]) ? batch_cost[c] : inf;
@@ -160,7 +149,11 @@ PsoSummary run_pso(const PsoSettings& options, const SearchBox& box, CandidateEv
                 s.first_failed.assign(&batch[c * m], &batch[c * m] + m);
             cost[batch_index[c]] = e;
         }
-        // Personal and global bests, in particle order (ties keep the earlier one).
+        return true;
+    }
+
+    /// Personal and global bests, in particle order (ties keep the earlier one).
+    void update_bests() {
         for (std::size_t i = 0; i < n; ++i) {
             if (cost[i] < personal_cost[i]) {
                 personal_cost[i] = cost[i];
@@ -171,16 +164,10 @@ PsoSummary run_pso(const PsoSettings& options, const SearchBox& box, CandidateEv
                 std::copy_n(&personal[i * m], m, global.begin());
             }
         }
-        s.history.push_back(HistoryRow{k, s.evaluations, global_cost});
-        s.iterations = k;
-        if (progress && !progress(s.history.back())) {
-            s.termination_type = TerminationType::stopped;
-            s.termination = "stopped";
-            break;
-        }
-        if (k >= options.iterations) break;
+    }
 
-        // Eq. 24.
+    /// Eq. 24: the velocities and positions of the next iteration.
+    void move(const PsoSettings& options, const SearchBox& box, UniformSource& rng) {
         double eta0 = 0, eta1 = 0, eta2 = 0;
         auto draw = [&] {
             eta0 = rng.between(0.0, options.w);
@@ -207,10 +194,46 @@ PsoSummary run_pso(const PsoSettings& options, const SearchBox& box, CandidateEv
             moved[i] = any_move ? 1 : 0;
         }
     }
-    s.best = global;
-    s.best_cost = global_cost;
-    s.convergence = swarm_convergence(personal, personal_cost, n, m, box, s.history);
-    if (!std::isfinite(global_cost) && s.termination_type != TerminationType::stopped) {
+};
+
+}  // namespace
+
+PsoSummary run_pso(const PsoSettings& options, const SearchBox& box, CandidateEvaluator& evaluator,
+                   const PsoProgress& progress) {
+    const std::size_t m = box.lower.size();
+    if (m == 0) throw std::invalid_argument("particle swarm: no free parameters");
+    std::size_t n = 0;
+    // The start positions use their own stream so that they do not shift the η draws.
+    std::vector<double> p = pso_initial_positions(options, box, n, options.seed ^ 0x9E3779B97F4A7C15ull);
+    for (std::size_t i = 0; i < n * m; ++i) p[i] = std::clamp(p[i], box.lower[i % m], box.upper[i % m]);
+    UniformSource rng(options.seed);
+    Swarm swarm(std::move(p), n, m);
+
+    PsoSummary s;
+    s.particles = static_cast<int>(n);
+    s.termination_type = TerminationType::iteration_limit;
+    s.termination = "iteration limit";
+    for (int k = 0;; ++k) {
+        if (!swarm.score_moved(evaluator, s)) {
+            s.termination_type = TerminationType::stopped;
+            s.termination = "stopped";
+            break;
+        }
+        swarm.update_bests();
+        s.history.push_back(HistoryRow{k, s.evaluations, swarm.global_cost});
+        s.iterations = k;
+        if (progress && !progress(s.history.back())) {
+            s.termination_type = TerminationType::stopped;
+            s.termination = "stopped";
+            break;
+        }
+        if (k >= options.iterations) break;
+        swarm.move(options, box, rng);
+    }
+    s.best = swarm.global;
+    s.best_cost = swarm.global_cost;
+    s.convergence = swarm_convergence(swarm.personal, swarm.personal_cost, n, m, box, s.history);
+    if (!std::isfinite(swarm.global_cost) && s.termination_type != TerminationType::stopped) {
         s.termination_type = TerminationType::all_failed;
         s.termination = "all candidates failed";
     }
