@@ -279,7 +279,7 @@ SimulationStatus ForwardSensitivity::simulate(const double* free, const Window& 
     const ProblemDefinition& def = problem_->definition();
     const std::size_t state = ws.model.state_size(), directions = j1 - j0 + 2;
     const auto augmented = [&] { return simulate_augmented(free, w, j0, j1, ws, problem, on_scored, solved); };
-    if (!packed_ || def.simulation.method != IntegrationMethod::rk4 || def.measured.size() > 8 || directions > 16)
+    if (!packed_ || !takes_fixed_steps(def.simulation.method) || def.measured.size() > 8 || directions > 16)
         return augmented();
     const auto packed = [&]<std::size_t N>(std::integral_constant<std::size_t, N>) {
         return directions <= 8 ? simulate_packed<N, 8>(free, w, j0, j1, ws, problem, on_scored, solved)

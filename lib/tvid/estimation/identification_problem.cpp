@@ -236,20 +236,13 @@ std::string IdentificationProblem::failure_account(SimulationStatus status, std:
     for (std::size_t i = 0; i < x.size() && i < 2 * n; ++i) {
         if (std::isfinite(x[i]) && std::abs(x[i]) <= kDivergenceLimit) continue;
         const NodeSpec& node = definition_.network.nodes[i % n];
-        text += ": node " + node.name + "'s " + (i < n ? "angle" : "speed") + " reached " + number_text(x[i]) +
-                (i < n ? " rad" : " rad/s");
+        text += ": node " + node.name + "'s " + (i < n ? "angle" : "speed") + " reached " + number_text(x[i]) + " " +
+                output_kind_unit(i < n ? OutputKind::angle : OutputKind::speed, node.linear);
         break;
     }
     text += " after t = " + number_text(time[reached]) + " s";
     if (reached + 1 < time.size()) text += " (by t = " + number_text(time[reached + 1]) + " s)";
-    switch (definition_.simulation.method) {
-        case IntegrationMethod::rk4:
-            text += "; a stiff candidate (a large stiffness or damping on a small inertia) needs a smaller "
-                    "simulation.step, or method: rosenbrock4";
-            break;
-        case IntegrationMethod::dopri5: text += "; for a stiff candidate try method: rosenbrock4"; break;
-        case IntegrationMethod::rosenbrock4: break;
-    }
+    text += integration_method_row(definition_.simulation.method).failure_hint;
     return text;
 }
 

@@ -59,7 +59,7 @@ std::vector<double> node_speed_limits(const ProblemDefinition& d, const Experime
         for (double x : v) largest[static_cast<std::size_t>(node)] = std::max(largest[static_cast<std::size_t>(node)], std::abs(x));
     };
     for (std::size_t k = 0; k < d.measured.size(); ++k)
-        if (const OutputSpec& o = d.network.outputs[static_cast<std::size_t>(d.output_indices[k])]; o.kind == OutputKind::speed)
+        if (const OutputSpec& o = d.network.outputs[static_cast<std::size_t>(d.output_indices[k])]; output_is_speed(o.kind))
             take(o.node, u.outputs[k]);
     // The measured speeds the model reads (a speed source's channel).
     for (const auto& source : d.network.speed_sources)

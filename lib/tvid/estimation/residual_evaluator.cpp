@@ -170,7 +170,7 @@ bool ResidualEvaluator::sensitivity_jacobian(const double* x, const double* r,
     // Column blocks: one per thread with fixed-step RK4 (a column does not depend on its
     // block), otherwise blocks as large as the dual numbers carry.
     const std::size_t m = problem_->dimension();
-    const bool fixed_step = problem_->definition().simulation.method == IntegrationMethod::rk4;
+    const bool fixed_step = takes_fixed_steps(problem_->definition().simulation.method);
     std::size_t blocks = (m + ForwardSensitivity::kMaxBlock - 1) / ForwardSensitivity::kMaxBlock;
     const int team = this->team();
     if (fixed_step) blocks = std::max(blocks, std::min(m, static_cast<std::size_t>(team)));

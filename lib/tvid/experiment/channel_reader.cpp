@@ -34,15 +34,19 @@ const UnitFactor kUnits[] = {
     {"m/s", 1.0, "m/s"},      {"mm/s", 1e-3, "m/s"},
 };
 
-// What an SI unit measures, in words.
+// What each SI unit of the table measures, in words.
+struct SiQuantity {
+    const char* si;
+    const char* words;
+};
+const SiQuantity kQuantities[] = {
+    {"Pa", "a pressure"}, {"N m", "a torque"},         {"N", "a force"},           {"rad", "an angle"},
+    {"m", "a position"},  {"rad/s", "an angular speed"}, {"m/s", "a linear speed"}, {"1", "a pure number"},
+};
+
 std::string quantity_of(const std::string& si) {
-    if (si == "Pa") return "a pressure";
-    if (si == "N m") return "a torque";
-    if (si == "N") return "a force";
-    if (si == "rad") return "an angle";
-    if (si == "m") return "a position";
-    if (si == "rad/s") return "an angular speed";
-    if (si == "m/s") return "a linear speed";
+    for (const SiQuantity& q : kQuantities)
+        if (si == q.si) return q.words;
     return "a pure number";
 }
 
@@ -308,12 +312,12 @@ std::vector<ChannelBinding> read_inputs(const YamlMap& inputs, NetworkSpec& netw
         if (out.back().by_angle) {
             check_unit_quantity(inputs, name, "Pa", "");
         } else {
-            const std::string unit = input_unit(network, i);
-            const bool linear = unit == "N" || unit == "m" || unit == "m/s";
-            const bool rotational = unit == "N m" || unit == "rad" || unit == "rad/s";
-            check_unit_quantity(inputs, name, unit,
-                                linear ? " (read on a node with motion: linear)"
-                                       : rotational ? " (read on a rotational node)" : "");
+            const int node = input_node(network, i);
+            const bool linear = node >= 0 && network.nodes[static_cast<std::size_t>(node)].linear;
+            check_unit_quantity(inputs, name, input_unit(network, i),
+                                node < 0  ? ""
+                                : linear ? " (read on a node with motion: linear)"
+                                         : " (read on a rotational node)");
         }
         if (out.back().by_angle && out.back().delay.is_parameter())
             YamlMap(inputs.source(), inputs.get(name), inputs.key_path(name))
@@ -388,7 +392,7 @@ OutputBindings read_outputs(const YamlMap& outputs, NetworkSpec& network, const 
         out.indices.push_back(network.output_index(name));
         if (out.indices.back() >= 0) {
             const OutputSpec& o = network.outputs[static_cast<std::size_t>(out.indices.back())];
-            const bool on_node = o.kind == OutputKind::speed || o.kind == OutputKind::angle;
+            const bool on_node = output_reads_node(o.kind);
             const NodeSpec* node =
                 on_node && o.node >= 0 && static_cast<std::size_t>(o.node) < network.nodes.size()
                     ? &network.nodes[static_cast<std::size_t>(o.node)]

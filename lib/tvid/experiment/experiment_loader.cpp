@@ -142,10 +142,9 @@ SimulationSettings read_simulation(const YamlMap& m) {
     m.allow_only({"method", "step", "rtol", "atol", "max_steps"});
     SimulationSettings s;
     if (m.has("method")) {
-        const std::string method = m.choice("method", {"rk4", "dopri5", "rosenbrock4"});
-        s.method = method == "rk4"      ? IntegrationMethod::rk4
-                   : method == "dopri5" ? IntegrationMethod::dopri5
-                                        : IntegrationMethod::rosenbrock4;
+        std::vector<std::string> names;
+        for (const IntegrationMethodRow& row : kIntegrationMethods) names.emplace_back(row.name);
+        s.method = find_integration_method(m.choice("method", names))->method;
     }
     if (m.has("step")) {
         const YAML::Node step = m.get("step");
@@ -361,7 +360,7 @@ void read_initial_state(const YamlMap& top, const YamlMap& data, const DataSecti
         if (ex.angle_column.empty() && engine)
             top.fail("initial_state", "measured needs the crank-angle channel: give data.angle");
         for (std::size_t k = 0; k < ex.outputs.size() && ex.initial_speed_output < 0; ++k)
-            if (ex.network.outputs[static_cast<std::size_t>(ex.output_indices[k])].kind == OutputKind::speed)
+            if (output_is_speed(ex.network.outputs[static_cast<std::size_t>(ex.output_indices[k])].kind))
                 ex.initial_speed_output = static_cast<int>(k);
         if (ex.initial_speed_output < 0) top.fail("initial_state", "measured needs a measured speed among the outputs");
         if (ex.angle_node < 0 && !ex.angle_column.empty() && (ex.warmup > 0 || ex.warmup_cycles > 0))
@@ -376,7 +375,7 @@ void read_simulation_and_report(const YamlMap& top, const std::filesystem::path&
     if (top.has("simulation")) {
         const YamlMap simulation = top.map("simulation");
         ex.simulation = read_simulation(simulation);
-        if (ex.simulation.method == IntegrationMethod::rk4 && ex.simulation.max_step > 0)
+        if (takes_fixed_steps(ex.simulation.method) && ex.simulation.max_step > 0)
             for (const RecordingRead& r : recorded.recordings) check_fixed_step_count(simulation, r, ex.simulation.max_step);
     }
     if (top.has("report")) {

@@ -18,7 +18,7 @@ std::vector<std::vector<double>> measured_node_speeds(const Experiment& ex) {
     };
     for (std::size_t k = 0; k < ex.outputs.size(); ++k) {
         const OutputSpec& o = ex.network.outputs[static_cast<std::size_t>(ex.output_indices[k])];
-        if (o.kind == OutputKind::speed) take(o.node, ex.data.column(ex.outputs[k].column), ex.outputs[k].scale);
+        if (output_is_speed(o.kind)) take(o.node, ex.data.column(ex.outputs[k].column), ex.outputs[k].scale);
     }
     for (const SpeedSourceSpec& s : ex.network.speed_sources)
         if (s.input >= 0 && static_cast<std::size_t>(s.input) < ex.inputs.size() && !s.scale.is_parameter())

@@ -62,7 +62,7 @@ std::vector<double> joined_angle_offsets(const DataSection& data) {
 void refuse_moved_angle(const DataSection& data, const std::vector<double>& angle_offsets, const Experiment& ex) {
     std::string angle_output;
     for (std::size_t k = 0; k < ex.outputs.size() && angle_output.empty(); ++k)
-        if (ex.network.outputs[static_cast<std::size_t>(ex.output_indices[k])].kind == OutputKind::angle)
+        if (output_is_angle(ex.network.outputs[static_cast<std::size_t>(ex.output_indices[k])].kind))
             angle_output = ex.outputs[k].model_name;
     if (angle_output.empty()) return;
     for (std::size_t k = 0; k < angle_offsets.size(); ++k) {

@@ -46,7 +46,9 @@ void choose_smoothing_speeds(Experiment& ex) {
     std::vector<double> p;
     for (const ParameterSetting& s : ex.parameters) p.push_back(s.init);
     const std::vector<double> scale = node_speed_scales(ex, p);
-    const auto unit_of = [&](int node) { return net.nodes[static_cast<std::size_t>(node)].linear ? "m/s" : "rad/s"; };
+    const auto unit_of = [&](int node) {
+        return output_kind_unit(OutputKind::speed, net.nodes[static_cast<std::size_t>(node)].linear);
+    };
     const auto node_name = [&](int node) { return net.nodes[static_cast<std::size_t>(node)].name; };
 
     // One element across nodes a and b (b: ground): its speed per sample where measured, the

@@ -94,20 +94,38 @@ std::vector<std::string> state_nodes(const NetworkSpec& n) {
     return names;
 }
 
-const char* output_kind_key(OutputKind kind) {
-    const char* key = "";
+namespace {
+
+/// trait(K{}) of output kind `kind`'s row.
+template <class Trait>
+auto output_trait(OutputKind kind, Trait&& trait) {
+    decltype(trait(outputs::Speed{})) value{};
     for_each_output_kind([&](auto k) {
-        if (OutputRow<decltype(k)>::kind == kind) key = decltype(k)::key;
+        if (OutputRow<decltype(k)>::kind == kind) value = trait(k);
     });
-    return key;
+    return value;
 }
 
-const char* output_kind_unit(OutputKind kind) {
-    const char* unit = "";
-    for_each_output_kind([&](auto k) {
-        if (OutputRow<decltype(k)>::kind == kind) unit = decltype(k)::unit;
-    });
-    return unit;
+}  // namespace
+
+const char* output_kind_key(OutputKind kind) {
+    return output_trait(kind, []<class K>(K) { return K::key; });
+}
+
+const char* output_kind_unit(OutputKind kind, bool linear) {
+    return output_trait(kind, [linear]<class K>(K) { return linear ? K::linear_unit : K::unit; });
+}
+
+bool output_is_speed(OutputKind kind) {
+    return output_trait(kind, []<class K>(K) { return K::is_speed; });
+}
+
+bool output_is_angle(OutputKind kind) {
+    return output_trait(kind, []<class K>(K) { return K::is_angle; });
+}
+
+bool output_reads_node(OutputKind kind) {
+    return output_trait(kind, []<class K>(K) { return K::target == outputs::Target::node; });
 }
 
 }  // namespace tvid

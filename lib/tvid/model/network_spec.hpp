@@ -110,6 +110,18 @@ using OutputTypes = decltype(std::tuple_cat(
 #undef TVID_OUTPUT_TYPE
         std::tuple<>{}));
 
+/// What every output kind declares (model/output_kinds.hpp): its key, its unit on a rotational
+/// and on a linear node, whether it is a speed or an angle, what it reads, and its value.
+template <class K>
+concept OutputKindTraits = requires {
+    { K::key } -> std::convertible_to<const char*>;
+    { K::unit } -> std::convertible_to<const char*>;
+    { K::linear_unit } -> std::convertible_to<const char*>;
+    { K::is_speed } -> std::convertible_to<bool>;
+    { K::is_angle } -> std::convertible_to<bool>;
+    { K::target } -> std::convertible_to<outputs::Target>;
+};
+
 /// The table row of output type K: its OutputKind.
 template <class K>
 struct OutputRow;
@@ -118,7 +130,8 @@ struct OutputRow;
     struct OutputRow<outputs::Type> {                                                    \
         static constexpr OutputKind kind = OutputKind::kind_;                            \
     };                                                                                   \
-    static_assert(std::string_view(#kind_) == outputs::Type::key, #kind_ ": its row and its key differ");
+    static_assert(std::string_view(#kind_) == outputs::Type::key, #kind_ ": its row and its key differ"); \
+    static_assert(OutputKindTraits<outputs::Type>, #kind_ ": declare every trait of an output kind");
 TVID_OUTPUT_KINDS(TVID_OUTPUT_ROW)
 #undef TVID_OUTPUT_ROW
 
@@ -128,9 +141,14 @@ template <class F>
     std::apply([&](auto... kind) __attribute__((always_inline)) { (f(kind), ...); }, OutputTypes{});
 }
 
-/// The experiment file's key of an output kind ("speed", …) and its SI unit ("rad/s", …).
+/// The experiment file's key of an output kind ("speed", …) and its SI unit ("rad/s", …)
+/// on a rotational node, or on a linear one ("m/s", …).
 const char* output_kind_key(OutputKind kind);
-const char* output_kind_unit(OutputKind kind);
+const char* output_kind_unit(OutputKind kind, bool linear = false);
+/// Its traits, from its row: a speed, an angle, read on a node (else on an element).
+bool output_is_speed(OutputKind kind);
+bool output_is_angle(OutputKind kind);
+bool output_reads_node(OutputKind kind);
 
 /// A model output compared with a measured channel: y = gain · quantity + offset
 /// (`offset` is the measurement's amplitude shift, e.g. Δds of Yoshida & Takamatsu eq. 15c;

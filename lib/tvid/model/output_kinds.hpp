@@ -1,7 +1,9 @@
 #pragma once
 // The output kinds of a network, one row each: what a model output measures, the key
-// that names it in the experiment file (`speed: NODE`), its SI unit, whether it reads a
-// node or an element, and its value in the simulation. OutputKind, the reader of the
+// that names it in the experiment file (`speed: NODE`), its SI unit on a rotational and on
+// a linear node (motion: linear), whether it is a speed or an angle (what the loader's
+// checks and the starts read from measured channels), whether it reads a node or an
+// element, and its value in the simulation. OutputKind, the reader of the
 // `outputs:` section, the units of the reports and of the FRF, and NetworkModel's
 // outputs all walk this table.
 //
@@ -22,6 +24,8 @@ enum class Target { node, element };
 struct Speed {
     static constexpr const char* key = "speed";
     static constexpr const char* unit = "rad/s";
+    static constexpr const char* linear_unit = "m/s";
+    static constexpr bool is_speed = true, is_angle = false;
     static constexpr Target target = Target::node;
     /// o: the OutputSpec; element_torque(ref, side): an element's torque on that side.
     template <class T, class O, class ElementTorque>
@@ -34,6 +38,8 @@ struct Speed {
 struct Angle {
     static constexpr const char* key = "angle";
     static constexpr const char* unit = "rad";
+    static constexpr const char* linear_unit = "m";
+    static constexpr bool is_speed = false, is_angle = true;
     static constexpr Target target = Target::node;
     template <class T, class O, class ElementTorque>
     [[gnu::always_inline]] static T value(const O& o, const T* theta, const T*, ElementTorque&&) {
@@ -45,6 +51,8 @@ struct Angle {
 struct Torque {
     static constexpr const char* key = "torque";
     static constexpr const char* unit = "N m";
+    static constexpr const char* linear_unit = "N";  ///< a force, on a linear node
+    static constexpr bool is_speed = false, is_angle = false;
     static constexpr Target target = Target::element;
     template <class T, class O, class ElementTorque>
     [[gnu::always_inline]] static T value(const O& o, const T*, const T*, ElementTorque&& element_torque) {

@@ -41,7 +41,7 @@ std::string translational_unit(const std::string& rotational) {
 
 std::string output_unit(const NetworkSpec& network, const OutputSpec& output) {
     int node = output.node;
-    if (output.kind == OutputKind::torque) {
+    if (!output_reads_node(output.kind)) {
         // An element's torque: on its first node, or on its output shaft b (a gear mesh's side: output).
         for_each_element(network, [&](auto kind, const auto& e) {
             using Kind = decltype(kind);
@@ -52,18 +52,39 @@ std::string output_unit(const NetworkSpec& network, const OutputSpec& output) {
                 if (output.side == TorqueSide::output) node = e.b;
         });
     }
-    return unit_on(network, node, output_kind_unit(output.kind));
+    return output_kind_unit(output.kind, is_linear(network, node));
 }
+
+namespace {
+
+/// f(Kind, element) for the first element that reads the network's input by time `input`.
+template <class F>
+void with_input_reader(const NetworkSpec& network, std::size_t input, F&& f) {
+    bool found = false;
+    for_each_element(network, [&](auto kind, const auto& e) {
+        using Kind = decltype(kind);
+        if (!found && Kind::channel.unit != nullptr && !Kind::channel.by_angle && Kind::channel_of(e) >= 0 &&
+            static_cast<std::size_t>(Kind::channel_of(e)) == input) {
+            found = true;
+            f(kind, e);
+        }
+    });
+}
+
+}  // namespace
 
 std::string input_unit(const NetworkSpec& network, std::size_t input) {
     std::string unit;
-    for_each_element(network, [&](auto kind, const auto& e) {
-        using Kind = decltype(kind);
-        if (unit.empty() && Kind::channel.unit != nullptr && !Kind::channel.by_angle && Kind::channel_of(e) >= 0 &&
-            static_cast<std::size_t>(Kind::channel_of(e)) == input)
-            unit = unit_on(network, element_node(e), Kind::channel.unit);
+    with_input_reader(network, input, [&](auto kind, const auto& e) {
+        unit = unit_on(network, element_node(e), decltype(kind)::channel.unit);
     });
     return unit;
+}
+
+int input_node(const NetworkSpec& network, std::size_t input) {
+    int node = -1;
+    with_input_reader(network, input, [&](auto, const auto& e) { node = element_node(e); });
+    return node;
 }
 
 std::vector<std::string> parameter_units(const NetworkSpec& network) {
@@ -72,8 +93,8 @@ std::vector<std::string> parameter_units(const NetworkSpec& network) {
     const std::size_t n = network.nodes.size();
     for (const NetworkSpec::StartCoordinate& c : network.start_coordinates) {
         const NodeSpec& node = network.nodes[c.state % n];
-        const std::string unit = c.state < n ? "rad" : "rad/s";
-        assign(units, Field::param(c.parameter), node.linear ? translational_unit(unit) : unit);
+        assign(units, Field::param(c.parameter),
+               output_kind_unit(c.state < n ? OutputKind::angle : OutputKind::speed, node.linear));
     }
     if (const PresetInfo* preset = find_preset(network.preset);
         preset && preset->parameter_units.size() <= network.parameter_names.size()) {

@@ -26,6 +26,10 @@ std::string output_unit(const NetworkSpec& network, const OutputSpec& output);
 /// linear node "N", "m/s"); "" if no element reads it.
 std::string input_unit(const NetworkSpec& network, std::size_t input);
 
+/// The node of the element that reads the network's input by time `input`, whose motion
+/// (rotational or linear) gives the input's unit; -1 if no element reads it.
+int input_node(const NetworkSpec& network, std::size_t input);
+
 /// A rotational SI unit as its translational analogue reads it: N m → N, rad → m,
 /// kg m^2 → kg (N m/rad → N/m, N m s/rad → N s/m, rad/s → m/s, …); other units unchanged.
 std::string translational_unit(const std::string& rotational);

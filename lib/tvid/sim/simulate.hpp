@@ -114,7 +114,7 @@ SimulationStatus march_samples(System& system, const InputChannels& inputs, std:
         if constexpr (sampled) system.sample(inputs.time()[i], x, buffers.u);
         return observer(i, x, buffers.u) ? SimulationStatus::ok : SimulationStatus::stopped_by_observer;
     };
-    if (settings.method == IntegrationMethod::rk4) {
+    if (takes_fixed_steps(settings.method)) {
         const auto step = [&](const FixedStep& s) { buffers.rk4.do_step(std::ref(system), x, s.t, s.dt); };
         const auto observe = [&](std::size_t i) {
             SimulationStatus status = SimulationStatus::ok;
@@ -196,7 +196,7 @@ SimulationStatus simulate_samples(NetworkModel<double>& model, const InputChanne
                                   const SimulationSettings& settings, SimulationBuffers& buffers,
                                   Observer&& observer) {
     buffers.u.resize(inputs.count());
-    if (settings.method == IntegrationMethod::rosenbrock4) {
+    if (integration_method_row(settings.method).uses_jacobian) {
         StiffNetworkSystem stiff(model, inputs, buffers.u, buffers.stiff);
         const SimulationStatus status =
             march_samples_stiff(stiff, inputs, start, last, x, settings, buffers, std::forward<Observer>(observer));
@@ -211,7 +211,7 @@ SimulationStatus simulate_samples(NetworkModel<double>& model, const InputChanne
         buffers.rhs_evaluations += system.evaluations;
         return status;
     };
-    if (settings.method != IntegrationMethod::rk4) return odeint_march();
+    if (!takes_fixed_steps(settings.method)) return odeint_march();
     // Small models (every preset): RK4 over a fixed-size state, the same arithmetic.
     const auto fixed = [&]<std::size_t N>(std::integral_constant<std::size_t, N>) {
         return march_fixed_state_rk4<N>(model, inputs, start, last, x, settings.max_step, buffers.u, buffers.u_stages,

@@ -4,9 +4,9 @@
 
 #include <cstddef>
 
-namespace tvid {
+#include "tvid/sim/integration_methods.hpp"
 
-enum class IntegrationMethod { rk4, dopri5, rosenbrock4 };
+namespace tvid {
 
 struct SimulationSettings {
     IntegrationMethod method = IntegrationMethod::rk4;

@@ -1,0 +1,57 @@
+#pragma once
+// The integration methods, one row each, as elements and optimizers have theirs: the name
+// that `simulation.method` gives, whether the method takes fixed steps on the sample grid
+// (split by `simulation.step`; what the SIMD lanes, the packed sensitivities, the shooting's
+// Newton warm-up and the RK4 step-stability check need), whether it uses the model's
+// state Jacobian, and what a failed candidate's message suggests. How each steps is in
+// sim/simulate.hpp (simulate_samples dispatches on the method).
+//
+// Adding a method: its enumerator, its row here, and its march in simulate_samples.
+
+#include <array>
+#include <cstddef>
+#include <string_view>
+
+namespace tvid {
+
+enum class IntegrationMethod { rk4, dopri5, rosenbrock4 };
+
+struct IntegrationMethodRow {
+    IntegrationMethod method;
+    const char* name;         ///< `simulation.method: NAME`
+    bool fixed_step;          ///< steps of the sample interval (or of `step`), no error control
+    bool uses_jacobian;       ///< the model's state Jacobian at every step (a stiff method)
+    const char* failure_hint; ///< appended to a diverged candidate's message ("" for none)
+};
+
+inline constexpr std::array<IntegrationMethodRow, 3> kIntegrationMethods{{
+    {IntegrationMethod::rk4, "rk4", true, false,
+     "; a stiff candidate (a large stiffness or damping on a small inertia) needs a smaller simulation.step, or "
+     "method: rosenbrock4"},
+    {IntegrationMethod::dopri5, "dopri5", false, false, "; for a stiff candidate try method: rosenbrock4"},
+    {IntegrationMethod::rosenbrock4, "rosenbrock4", false, true, ""},
+}};
+
+/// Every enumerator has its row, at its own index.
+consteval bool integration_method_table_complete() {
+    for (std::size_t i = 0; i < kIntegrationMethods.size(); ++i)
+        if (static_cast<std::size_t>(kIntegrationMethods[i].method) != i) return false;
+    return static_cast<std::size_t>(IntegrationMethod::rosenbrock4) + 1 == kIntegrationMethods.size();
+}
+static_assert(integration_method_table_complete(), "every IntegrationMethod needs its row, in enumerator order");
+
+constexpr const IntegrationMethodRow& integration_method_row(IntegrationMethod method) {
+    return kIntegrationMethods[static_cast<std::size_t>(method)];
+}
+
+/// Whether the method takes fixed steps on the sample grid (rk4).
+constexpr bool takes_fixed_steps(IntegrationMethod method) { return integration_method_row(method).fixed_step; }
+
+/// The row named `name`, or nullptr.
+constexpr const IntegrationMethodRow* find_integration_method(std::string_view name) {
+    for (const IntegrationMethodRow& row : kIntegrationMethods)
+        if (name == row.name) return &row;
+    return nullptr;
+}
+
+}  // namespace tvid
