@@ -37,13 +37,13 @@ TEST_CASE("least squares whose share of the cores grows mid-fit ends on the sing
     settings.max_iterations = 12;
     const std::vector<double> lower = problem.lower(), upper = problem.upper();
 
-    ResidualEvaluator one(problem, 1, JacobianKind::sensitivity);
+    ResidualEvaluator one(problem, {.threads = 1, .jacobian = JacobianKind::sensitivity});
     const LmSummary alone = run_levenberg_marquardt(settings, problem.initial(), lower, upper, one);
 
     ThreadBudget budget(2);
     budget.job_started();
     budget.job_started();  // two jobs: this one runs on one core
-    ResidualEvaluator shared(problem, 1, JacobianKind::sensitivity, nullptr, &budget);
+    ResidualEvaluator shared(problem, {.threads = 1, .jacobian = JacobianKind::sensitivity, .stop = nullptr, .budget = &budget});
     CHECK(shared.threads() == 2);
     CHECK(shared.team() == 1);
     int iteration = 0;

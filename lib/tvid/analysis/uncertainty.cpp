@@ -23,11 +23,12 @@ constexpr double kRankTolerance = 1e-6;
 // The residuals at free_best (Σe² into ssr) and their Jacobian from the problem's one
 // evaluator (every column kind: sensitivities, delays, differences) in scaled parameters
 // into js; false with `problem_text` set when they cannot be computed.
-bool scaled_jacobian(const IdentificationProblem& problem, const std::vector<double>& free_best, int threads,
+bool scaled_jacobian(const IdentificationProblem& problem, const std::vector<double>& free_best,
+                     const EvaluatorOptions& evaluators,
                      const std::vector<double>& scale, Eigen::MatrixXd& js, std::vector<double>& r, double& ssr,
                      std::string& problem_text) {
     const std::size_t m = problem.dimension();
-    ResidualEvaluator evaluator(problem, threads, problem.experiment().estimation_settings.jacobian);
+    ResidualEvaluator evaluator(problem, evaluators);
     const std::size_t n = evaluator.residual_count();
     if (n <= m) { problem_text = "fewer residuals than free parameters"; return false; }
     r.assign(n, 0.0);
@@ -66,14 +67,15 @@ double gauss_newton_decrease(const IdentificationProblem& problem, const std::ve
 // residual vector holds them: each output's scale and filter applied, window by window. Its
 // covariance between samples and outputs, at lags up to twice its reach.
 PropagatedInputNoise residual_input_noise(const IdentificationProblem& problem, const std::vector<double>& free_best,
-                                          std::size_t rows, const InputNoiseResponses* known, int threads) {
+                                          std::size_t rows, const InputNoiseResponses* known,
+                                          const EvaluatorOptions& evaluators) {
     const ProblemDefinition& d = problem.definition();
     std::vector<const Window*> windows;
     for (const Window& w : d.estimation) windows.push_back(&w);
     InputNoiseResponses responses =
         known && !known->delta.empty()
             ? *known
-            : input_noise_responses(problem, problem.full_parameters(free_best), windows, kInputNoiseDraws, threads);
+            : input_noise_responses(problem, problem.full_parameters(free_best), windows, kInputNoiseDraws, evaluators.team());
     const std::size_t outputs = d.measured.size();
     std::vector<double> block;
     for (auto& draw : responses.delta) {
@@ -185,14 +187,14 @@ std::vector<bool> null_directions(const Eigen::VectorXd& sv, const Eigen::Matrix
 // bread·Jᵀ Σ J·bread with the noise model's Σ (each output's white part: its residual
 // variance less the carried noise's); false, and nothing set, when it cannot be formed.
 bool noise_model_covariance(const IdentificationProblem& problem, const std::vector<double>& free_best,
-                            const JacobianAtOptimum& known, int threads, const Eigen::MatrixXd& js,
+                            const JacobianAtOptimum& known, const EvaluatorOptions& evaluators, const Eigen::MatrixXd& js,
                             const std::vector<double>& r, const Eigen::MatrixXd& bread,
                             const std::vector<std::size_t>& window_samples, double dof, ParameterUncertainty& u,
                             Eigen::MatrixXd& cov) {
     const std::size_t outputs = problem.definition().measured.size();
     if (!declares_input_noise(problem.definition()) || r.size() != static_cast<std::size_t>(js.rows()) || outputs == 0)
         return false;
-    const PropagatedInputNoise noise = residual_input_noise(problem, free_best, r.size(), known.input_noise, threads);
+    const PropagatedInputNoise noise = residual_input_noise(problem, free_best, r.size(), known.input_noise, evaluators);
     if (!noise.available) return false;
     const double n = static_cast<double>(r.size());
     std::vector<double> white(outputs, 0.0);
@@ -268,7 +270,7 @@ void fill_robust_errors(const Eigen::MatrixXd& js, const std::vector<double>& r,
 }  // namespace
 
 ParameterUncertainty estimate_uncertainty(const IdentificationProblem& problem, const std::vector<double>& free_best,
-                                          const JacobianAtOptimum& known, int threads) {
+                                          const JacobianAtOptimum& known, const EvaluatorOptions& evaluators) {
     ParameterUncertainty u;
     const std::size_t m = problem.dimension();
     const double nan = std::numeric_limits<double>::quiet_NaN();
@@ -301,11 +303,11 @@ ParameterUncertainty estimate_uncertainty(const IdentificationProblem& problem, 
         ssr = known.sum_of_squares;
         for (std::size_t j = 0; j < m; ++j) js.col(static_cast<Eigen::Index>(j)) *= scale[j];
         // The residuals themselves, for the robust standard errors: one simulation.
-        ResidualEvaluator evaluator(problem, threads, problem.experiment().estimation_settings.jacobian);
+        ResidualEvaluator evaluator(problem, evaluators);
         r.assign(evaluator.residual_count(), 0.0);
         if (r.size() != static_cast<std::size_t>(js.rows()) || !evaluator.residuals(free_best.data(), r.data())) r.clear();
     } else {
-        if (!scaled_jacobian(problem, free_best, threads, scale, js, r, ssr, u.problem)) return u;
+        if (!scaled_jacobian(problem, free_best, evaluators, scale, js, r, ssr, u.problem)) return u;
         u.gauss_newton_decrease = gauss_newton_decrease(problem, free_best, js, r);
     }
     u.sum_of_squares = ssr;
@@ -327,7 +329,7 @@ ParameterUncertainty estimate_uncertainty(const IdentificationProblem& problem, 
     std::vector<std::size_t> window_samples;
     for (const Window& w : problem.definition().estimation) window_samples.push_back(scored_sample_count(w));
     Eigen::MatrixXd cov;
-    if (!noise_model_covariance(problem, free_best, known, threads, js, r, bread, window_samples, dof, u, cov))
+    if (!noise_model_covariance(problem, free_best, known, evaluators, js, r, bread, window_samples, dof, u, cov))
         cov = (ssr / dof) * bread;
     fill_errors(problem, free_best, scale, in_null, cov, dof, u);
     fill_robust_errors(js, r, bread, scale, problem.definition().measured.size(), window_samples, dof, u);

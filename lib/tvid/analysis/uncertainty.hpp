@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "tvid/analysis/input_noise.hpp"
+#include "tvid/estimation/evaluator_options.hpp"
 #include "tvid/estimation/identification_problem.hpp"
 
 namespace tvid {
@@ -88,8 +89,10 @@ struct JacobianAtOptimum {
 /// The uncertainty at `free_best`. `known` (the Jacobian the least-squares fit took there
 /// from the problem's ResidualEvaluator) is used when it has M columns and more than M
 /// finite rows; otherwise a ResidualEvaluator computes the residuals and the Jacobian here,
-/// on `threads` threads (<= 0: all), with every column kind the fit's own would have.
+/// with `evaluators` (a fit's: its threads and share of a batch's cores), with every column
+/// kind the fit's own would have.
 ParameterUncertainty estimate_uncertainty(const IdentificationProblem& problem, const std::vector<double>& free_best,
-                                          const JacobianAtOptimum& known = {}, int threads = 1);
+                                          const JacobianAtOptimum& known = {},
+                                          const EvaluatorOptions& evaluators = EvaluatorOptions{.threads = 1});
 
 }  // namespace tvid

@@ -15,8 +15,8 @@ int resolve_thread_count(int threads) {
     return hw > 0 ? static_cast<int>(hw) : 1;
 }
 
-ParallelEvaluator::ParallelEvaluator(const IdentificationProblem& problem, int threads, const std::atomic<bool>* stop)
-    : problem_(&problem), threads_(resolve_thread_count(threads)), stop_(stop) {
+ParallelEvaluator::ParallelEvaluator(const IdentificationProblem& problem, const EvaluatorOptions& options)
+    : problem_(&problem), threads_(options.team()), stop_(options.stop) {
     for (int t = 0; t < threads_; ++t) workspaces_.push_back(problem.make_workspace());
     if (batch_supported(problem))
         for (int t = 0; t < threads_; ++t) {

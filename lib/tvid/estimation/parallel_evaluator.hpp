@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "tvid/estimation/batch_cost.hpp"
+#include "tvid/estimation/evaluator_options.hpp"
 #include "tvid/estimation/identification_problem.hpp"
 #include "tvid/optim/candidate_evaluator.hpp"
 
@@ -20,8 +21,9 @@ namespace tvid {
 
 class ParallelEvaluator : public CandidateEvaluator {
 public:
-    /// threads <= 0: all hardware threads. `stop` (may be null): skip the rest of a batch once set.
-    ParallelEvaluator(const IdentificationProblem& problem, int threads, const std::atomic<bool>* stop = nullptr);
+    /// On options.team() threads (all hardware threads by default, a batch job's share of
+    /// the cores under its budget); options.stop (may be null): skip the rest of a batch once set.
+    explicit ParallelEvaluator(const IdentificationProblem& problem, const EvaluatorOptions& options = {});
 
     void evaluate(const double* candidates, std::size_t count, std::size_t dimension, double* costs) override;
     /// Each candidate's simulation stops once its partial cost reaches its bound
@@ -53,8 +55,6 @@ private:
     bool batching_ = false;
 };
 
-/// The number of threads `threads` means (<= 0: all hardware threads).
-int resolve_thread_count(int threads);
 
 /// The most threads a run may ask for (the command line refuses more; the library clamps):
 /// far beyond any machine's cores, and below what the OpenMP runtime can start.

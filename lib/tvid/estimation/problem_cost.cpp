@@ -12,8 +12,8 @@ namespace {
 double sign(double e) { return e > 0 ? 1.0 : (e < 0 ? -1.0 : 0.0); }
 }  // namespace
 
-ProblemCost::ProblemCost(const IdentificationProblem& problem, int threads)
-    : least_squares_(problem, threads, problem.definition().jacobian),
+ProblemCost::ProblemCost(const IdentificationProblem& problem, const EvaluatorOptions& options)
+    : least_squares_(problem, options),
       cost_(problem.definition().cost),
       outputs_(problem.definition().measured.size()) {
     for (const Window& w : problem.definition().estimation) window_samples_.push_back(scored_sample_count(w));

@@ -18,8 +18,8 @@ namespace tvid {
 
 class ProblemCost : public DifferentiableCost {
 public:
-    /// threads <= 0: all hardware threads (the Jacobian's simulations run in parallel).
-    ProblemCost(const IdentificationProblem& problem, int threads);
+    /// Its residuals' evaluator runs with `options` (the Jacobian's simulations in parallel).
+    explicit ProblemCost(const IdentificationProblem& problem, const EvaluatorOptions& options = {});
 
     double value(const double* x) override;
     double value_and_gradient(const double* x, double* gradient) override;

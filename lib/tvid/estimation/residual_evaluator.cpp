@@ -22,18 +22,17 @@ std::size_t estimation_residual_count(const Experiment& experiment) {
     return estimation_residual_count(experiment.estimation, experiment.outputs.size());
 }
 
-ResidualEvaluator::ResidualEvaluator(const IdentificationProblem& problem, int threads, JacobianKind kind,
-                                     const std::atomic<bool>* stop, const ThreadBudget* budget)
-    : problem_(&problem), kind_(kind), sensitivity_(problem),
-      threads_(budget ? budget->cores() : resolve_thread_count(threads)), budget_(budget),
+ResidualEvaluator::ResidualEvaluator(const IdentificationProblem& problem, const EvaluatorOptions& options)
+    : problem_(&problem), kind_(options.jacobian.value_or(problem.definition().jacobian)), sensitivity_(problem),
+      threads_(options.most_threads()), budget_(options.budget),
       residual_count_(estimation_residual_count(problem.definition().estimation, problem.definition().measured.size())),
-      stop_(stop) {
+      stop_(options.stop) {
     for (int t = 0; t < threads_; ++t) {
         workspaces_.push_back(problem.make_workspace());
-        workspaces_.back()->stop = stop;  // an interrupt ends the simulations in flight, not only the next ones
+        workspaces_.back()->stop = stop_;  // an interrupt ends the simulations in flight, not only the next ones
         if (kind_ == JacobianKind::sensitivity) {
             sensitivity_workspaces_.push_back(sensitivity_.make_workspace());
-            sensitivity_workspaces_.back()->plain->stop = stop;
+            sensitivity_workspaces_.back()->plain->stop = stop_;
         }
     }
     const std::size_t m = problem.dimension();

@@ -26,6 +26,7 @@
 #include <memory>
 #include <vector>
 
+#include "tvid/estimation/evaluator_options.hpp"
 #include "tvid/estimation/forward_sensitivity.hpp"
 #include "tvid/estimation/identification_problem.hpp"
 #include "tvid/optim/levenberg_marquardt.hpp"
@@ -35,11 +36,9 @@ namespace tvid {
 
 class ResidualEvaluator : public LeastSquaresProblem {
 public:
-    /// threads <= 0: all hardware threads. `stop` (may be null): give up evaluations once set.
-    /// With `budget` (a batch job's), each parallel region takes the budget's current team
-    /// of at most its cores, and `threads` is ignored.
-    ResidualEvaluator(const IdentificationProblem& problem, int threads, JacobianKind kind,
-                      const std::atomic<bool>* stop = nullptr, const ThreadBudget* budget = nullptr);
+    /// Its threads, share of a batch's cores, Jacobian kind (unset: the problem's) and stop
+    /// request from `options` (estimation/evaluator_options.hpp).
+    explicit ResidualEvaluator(const IdentificationProblem& problem, const EvaluatorOptions& options = {});
 
     std::size_t residual_count() const override { return residual_count_; }
     bool residuals(const double* x, double* r) override;

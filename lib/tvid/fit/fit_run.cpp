@@ -55,13 +55,15 @@ FitResult run_fit(const IdentificationProblem& problem, const FitOptions& option
     if (!r.success) r.run.converged = false;  // nothing converged: no candidate had a finite cost
     r.best_free = r.success ? r.run.best : problem.initial();
     r.best_params = problem.full_parameters(r.best_free);
+    // The evaluation after the fit runs whole (no stop request) on the fit's threads.
+    EvaluatorOptions after = evaluator_options(options);
+    after.stop = nullptr;
     {
         // After a stop request the report's evaluation gets a few seconds; a simulation
         // still running then is cut short and its window reported as stopped.
         std::optional<SimulationGracePeriod> grace;
         if (r.interrupted) grace.emplace(kStopGraceSeconds);
-        r.evaluation = evaluate_parameters(problem, r.best_params,
-                                           options.budget ? options.budget->team() : resolve_thread_count(options.threads));
+        r.evaluation = evaluate_parameters(problem, r.best_params, after.team());
     }
     if (r.interrupted) r.uncertainty.problem = "skipped: interrupted";  // the user wants out: no extra Jacobian
     else if (r.success) {
@@ -74,13 +76,12 @@ FitResult run_fit(const IdentificationProblem& problem, const FitOptions& option
         if (declares_input_noise(problem.definition())) {
             std::vector<const Window*> windows;
             for (const Window& w : problem.definition().estimation) windows.push_back(&w);
-            r.input_noise = input_noise_responses(problem, r.best_params, windows, kInputNoiseDraws,
-                                                  options.budget ? options.budget->team() : resolve_thread_count(options.threads));
+            r.input_noise = input_noise_responses(problem, r.best_params, windows, kInputNoiseDraws, after.team());
             known.input_noise = &r.input_noise;
         }
-        r.uncertainty = estimate_uncertainty(problem, r.best_free, known, options.threads);
+        r.uncertainty = estimate_uncertainty(problem, r.best_free, known, after);
     }
-    judge_fit(problem, r, options.budget ? options.budget->team() : resolve_thread_count(options.threads));
+    judge_fit(problem, r, after.team());
     r.wall_seconds = std::chrono::duration<double>(clock::now() - t0).count();
     return r;
 }

@@ -22,6 +22,7 @@
 #include "tvid/analysis/uncertainty.hpp"
 #include "tvid/optim/levenberg_marquardt.hpp"
 #include "tvid/optim/multistart.hpp"
+#include "tvid/estimation/evaluator_options.hpp"
 #include "tvid/optim/nlopt_minimizer.hpp"
 #include "tvid/optim/pso.hpp"
 
@@ -44,6 +45,13 @@ struct FitOptions {
     /// `threads`. Least squares and the evaluation after the fit take their team from it.
     const ThreadBudget* budget = nullptr;
 };
+
+/// The options of every evaluator of the fit (its optimizer's, the uncertainty's, the input
+/// noise's draws), from the fit's: the same threads, share of a batch's cores, stop request
+/// and the experiment's Jacobian kind for all of them.
+inline EvaluatorOptions evaluator_options(const FitOptions& options) {
+    return EvaluatorOptions{.threads = options.threads, .jacobian = {}, .stop = options.stop, .budget = options.budget};
+}
 
 /// What every optimizer reports, whichever ran.
 struct OptimizerRun {

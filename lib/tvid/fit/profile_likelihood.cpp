@@ -9,6 +9,7 @@
 #include "tvid/estimation/residual_evaluator.hpp"
 #include "tvid/estimation/identification_problem.hpp"
 #include "tvid/estimation/parallel_evaluator.hpp"
+#include "tvid/fit/optimizer_table.hpp"
 #include "tvid/model/parameter_units.hpp"
 #include "tvid/util/input_error.hpp"
 #include "tvid/util/parallel_region.hpp"
@@ -33,33 +34,45 @@ Experiment restarted(const Experiment& ex, const IdentificationProblem& problem,
 }
 
 struct LeastSquaresFit {
-    LmSummary lm;
+    std::vector<double> best;
+    double best_cost = std::numeric_limits<double>::infinity();
+    std::string termination;
+    bool converged = false;
+    Eigen::MatrixXd jacobian_at_best;  ///< in the parameters' own coordinates
     std::size_t residuals = 0;
 };
 
+// Levenberg–Marquardt as `tvid fit` runs it: the optimizer table's lm row (in the
+// parameters' scales, within their bounds), from the problem's init.
 LeastSquaresFit fit_least_squares(const IdentificationProblem& problem, int threads, const std::atomic<bool>* stop) {
-    ResidualEvaluator least_squares(problem, threads, problem.experiment().estimation_settings.jacobian, stop);
     LeastSquaresFit f;
+    const ProblemDefinition& d = problem.definition();
+    f.residuals = estimation_residual_count(d.estimation, d.measured.size());
     if (problem.dimension() == 0) {
         // The profiled parameter was the only free one: nothing is left to fit, and the
         // point's cost is the simulation's at the held value.
-        f.residuals = least_squares.residual_count();
+        ResidualEvaluator least_squares(problem, {.threads = threads, .jacobian = {}, .stop = stop});
         std::vector<double> r(f.residuals);
         const double none = 0.0;  // no parameter: a valid pointer to nothing used
         const bool ok = least_squares.residuals(&none, r.data());
         const double half = 0.5 * Eigen::Map<const Eigen::VectorXd>(r.data(), static_cast<Eigen::Index>(r.size())).squaredNorm();
-        f.lm.best_cost = f.lm.initial_cost = ok && std::isfinite(half) ? 2.0 * half : std::numeric_limits<double>::infinity();
-        f.lm.success = std::isfinite(f.lm.best_cost);
-        f.lm.termination_type = f.lm.success ? TerminationType::converged
-                                             : (least_squares.stopped() ? TerminationType::stopped : TerminationType::start_failed);
-        f.lm.termination = f.lm.success ? "nothing else to fit"
-                                        : (least_squares.stopped() ? "stopped" : "simulation failed: " + least_squares.failure(&none));
+        f.best_cost = ok && std::isfinite(half) ? 2.0 * half : std::numeric_limits<double>::infinity();
+        f.converged = std::isfinite(f.best_cost);
+        f.termination = f.converged ? "nothing else to fit"
+                                    : (least_squares.stopped() ? "stopped" : "simulation failed: " + least_squares.failure(&none));
         return f;
     }
-    f.lm = run_levenberg_marquardt(problem.experiment().estimation_settings.lm, problem.initial(), problem.lower(),
-                                   problem.upper(), least_squares,
-                                   [stop](const HistoryRow&) { return !(stop && stop->load()); });
-    f.residuals = least_squares.residual_count();
+    FitOptions options;
+    options.threads = threads;
+    options.stop = stop;
+    options.progress = [stop](const HistoryRow&) { return !(stop && stop->load()); };
+    FitResult scratch;
+    OptimizerRun run = optimizer_entry(OptimizerKind::lm).run(problem, options, scratch);
+    f.best = std::move(run.best);
+    f.best_cost = run.best_cost;
+    f.termination = std::move(run.termination);
+    f.converged = run.termination_type == TerminationType::converged;
+    f.jacobian_at_best = std::move(run.jacobian_at_best);
     return f;
 }
 
@@ -108,11 +121,11 @@ ProfileResult profile_likelihood(const Experiment& ex, const std::vector<double>
         if (!ex.parameters[i].fixed) at_start.parameters[i].init = start[i];
     const IdentificationProblem problem(at_start);
     const LeastSquaresFit best = fit_least_squares(problem, r.threads, options.stop);
-    if (!std::isfinite(best.lm.best_cost))
-        throw std::runtime_error("the fit to the optimum failed (" + best.lm.termination + "): there is nothing to profile");
-    r.optimum = best.lm.best;
-    r.best_cost = best.lm.best_cost;
-    r.optimum_termination = best.lm.termination;
+    if (!std::isfinite(best.best_cost))
+        throw std::runtime_error("the fit to the optimum failed (" + best.termination + "): there is nothing to profile");
+    r.optimum = best.best;
+    r.best_cost = best.best_cost;
+    r.optimum_termination = best.termination;
     r.residuals = best.residuals;
     const std::size_t m = problem.dimension();
     const std::size_t j_held = static_cast<std::size_t>(
@@ -123,7 +136,7 @@ ProfileResult profile_likelihood(const Experiment& ex, const std::vector<double>
     r.s2 = r.best_cost / (static_cast<double>(r.residuals) - static_cast<double>(m));
     // The standard error from the Jacobian LM ended on (the one evaluator's).
     const ParameterUncertainty u =
-        estimate_uncertainty(problem, r.optimum, {&best.lm.jacobian_at_best, best.lm.best_cost}, r.threads);
+        estimate_uncertainty(problem, r.optimum, {&best.jacobian_at_best, best.best_cost}, {.threads = r.threads});
     r.std_error = u.available ? u.std_error[j_held] : std::numeric_limits<double>::quiet_NaN();
 
     // The grid: θ̂ ∓ 4 standard errors (or ∓ 50 % without one), within the bounds.
@@ -148,10 +161,10 @@ ProfileResult profile_likelihood(const Experiment& ex, const std::vector<double>
             const Experiment held_here = restarted(ex, problem, r.optimum, held, p.value);
             const IdentificationProblem sub(held_here);
             const LeastSquaresFit f = fit_least_squares(sub, 1, options.stop);
-            p.cost = f.lm.best_cost;
-            p.others = f.lm.best;
-            p.termination = f.lm.termination;
-            p.converged = f.lm.termination_type == TerminationType::converged;
+            p.cost = f.best_cost;
+            p.others = f.best;
+            p.termination = f.termination;
+            p.converged = f.converged;
             p.delta_chi2 = std::isfinite(p.cost) ? (p.cost - r.best_cost) / r.s2 : std::numeric_limits<double>::infinity();
         }
     };

@@ -12,8 +12,7 @@ namespace {
 
 OptimizerRun run_least_squares(const IdentificationProblem& problem, const FitOptions& options, FitResult& r) {
     const LmSettings& settings = problem.experiment().estimation_settings.lm;
-    ResidualEvaluator least_squares(problem, options.threads, problem.experiment().estimation_settings.jacobian,
-                                    options.stop, options.budget);
+    ResidualEvaluator least_squares(problem, evaluator_options(options));
     r.threads = least_squares.threads();
     // The history counts simulations, as for the swarm.
     std::vector<HistoryRow> history;

@@ -26,15 +26,16 @@ OptimizerRun run_multistart_fit(const IdentificationProblem& problem, const FitO
     MultistartRunSettings settings{estimation.multistart, estimation.lm};
     if (options.seed) settings.multistart.seed = *options.seed;
     if (settings.multistart.max_iterations) settings.lm.max_iterations = *settings.multistart.max_iterations;
-    const JacobianKind jacobian = estimation.jacobian;
-    const std::atomic<bool>* stop = options.stop;
+    const EvaluatorOptions evaluators = evaluator_options(options);
     const ParameterScaling scaling = search_scaling(problem);
-    const LeastSquaresFactory make = [&problem, &scaling, jacobian, stop](int threads) {
+    // The starts share the fit's team (a batch job's share of the cores), each start's
+    // evaluator on its part of it.
+    const LeastSquaresFactory make = [&problem, &scaling, &evaluators](int threads) {
         return std::make_unique<ScaledLeastSquares>(
-            std::make_unique<ResidualEvaluator>(problem, threads, jacobian, stop), scaling);
+            std::make_unique<ResidualEvaluator>(problem, evaluators.on_threads(threads)), scaling);
     };
-    MultistartSummary m = run_multistart(settings.multistart, settings.lm, search_box(problem),
-                                         resolve_thread_count(options.threads), make, options.progress);
+    MultistartSummary m = run_multistart(settings.multistart, settings.lm, search_box(problem), evaluators.team(),
+                                         make, options.progress);
     scaling.to_parameters(m);
     r.threads = m.threads * m.threads_per_start;
     OptimizerRun run{.name = {},  // run_fit names it after its row

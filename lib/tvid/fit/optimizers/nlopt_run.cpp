@@ -15,7 +15,7 @@ namespace {
 OptimizerRun run_nlopt_fit(const IdentificationProblem& problem, const FitOptions& options, FitResult& r) {
     NloptSettings settings = problem.experiment().estimation_settings.nlopt;
     if (options.seed) settings.seed = *options.seed;
-    ProblemCost cost(problem, options.threads);
+    ProblemCost cost(problem, evaluator_options(options));
     r.threads = cost.threads();
     const ParameterScaling scaling = search_scaling(problem);
     ScaledCost search(cost, scaling);

@@ -19,9 +19,9 @@ OptimizerRun run_hybrid_fit(const IdentificationProblem& problem, const FitOptio
     if (options.seed) settings.pso.seed = *options.seed;
     // The swarm's candidates are scored by every process under mpirun, as for pso alone;
     // the polish runs on the root.
-    ParallelEvaluator local(problem, options.threads, options.stop);
+    ParallelEvaluator local(problem, evaluator_options(options));
     DistributedEvaluator swarm_cost(options.processes, local);
-    ResidualEvaluator residuals(problem, options.threads, estimation.jacobian, options.stop);
+    ResidualEvaluator residuals(problem, evaluator_options(options));
     r.threads = local.threads();
     r.processes = swarm_cost.processes();
     const ParameterScaling scaling = search_scaling(problem);

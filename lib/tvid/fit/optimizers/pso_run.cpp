@@ -14,7 +14,7 @@ namespace {
 OptimizerRun run_swarm(const IdentificationProblem& problem, const FitOptions& options, FitResult& r) {
     PsoSettings settings = problem.experiment().estimation_settings.pso;
     if (options.seed) settings.seed = *options.seed;
-    ParallelEvaluator local(problem, options.threads, options.stop);
+    ParallelEvaluator local(problem, evaluator_options(options));
     DistributedEvaluator evaluator(options.processes, local);
     r.threads = local.threads();
     r.processes = evaluator.processes();
