@@ -374,7 +374,6 @@ int run_batch_command(const BatchCommand& cmd) {
     const std::vector<BatchJob>& jobs = prepared->jobs;
     const BatchColumns& columns = prepared->columns;
     const std::vector<std::string>& outputs = prepared->outputs;
-    const std::filesystem::path& dir = prepared->dir;
     std::map<std::size_t, BatchRow>& rows = prepared->rows;
     const std::vector<std::size_t>& pending = prepared->pending;
     const int threads = group.size() > 1

@@ -58,7 +58,7 @@ int run_fit_command(const FitCommand& cmd) {
     const Experiment& ex = loaded->experiment;
     const IdentificationProblem& problem = loaded->problem;
     if (!group.is_root()) {  // score the root's swarm candidates until it is done
-        ParallelEvaluator local(problem, {.threads = cmd.common.threads});
+        ParallelEvaluator local(problem, EvaluatorOptions(cmd.common.threads));
         serve_candidate_evaluations(group, local, problem.dimension());
         return kExitDone;
     }

@@ -51,7 +51,7 @@ int run_sensitivity_command(const SensitivityCommand& cmd) {
     // One window per task, each thread with its own workspace of the one evaluator: a
     // window's sensitivities do not depend on the thread count.
     const int threads = std::max(1, std::min(resolve_thread_count(cmd.common.threads), static_cast<int>(windows.size())));
-    ResidualEvaluator evaluator(problem, {.threads = threads, .jacobian = JacobianKind::sensitivity});
+    ResidualEvaluator evaluator(problem, EvaluatorOptions(threads).with_jacobian(JacobianKind::sensitivity));
     std::vector<WindowSensitivity> results(windows.size());
     const auto start = std::chrono::steady_clock::now();
     const auto n = static_cast<long long>(windows.size());

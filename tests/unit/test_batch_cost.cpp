@@ -297,7 +297,7 @@ TEST_CASE("the swarm takes the same path with and without SIMD groups, on 1 and 
     const IdentificationProblem problem(ex);
     const SearchBox box{problem.lower(), problem.upper(), problem.range_lower(), problem.range_upper()};
     auto run = [&](int threads, bool groups) {
-        ParallelEvaluator evaluator(problem, {.threads = threads});
+        ParallelEvaluator evaluator(problem, EvaluatorOptions(threads));
         evaluator.set_batching(groups);
         REQUIRE(evaluator.batching() == groups);
         return run_pso(ex.estimation_settings.pso, box, evaluator);

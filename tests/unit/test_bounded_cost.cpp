@@ -78,12 +78,12 @@ TEST_CASE("the swarm's path is bit-identical with and without bounded costs, on 
     for (const char* config : {"cvt_tipin.yaml", "cvt_tipin_clean.yaml"}) {
         const Experiment ex = small_swarm_experiment(config);
         const IdentificationProblem problem(ex);
-        ParallelEvaluator plain_inner(problem, {.threads = 1});
+        ParallelEvaluator plain_inner(problem, EvaluatorOptions(1));
         RecordingEvaluator plain(plain_inner, false);
         const PsoSummary reference = run_pso(ex.estimation_settings.pso, box_of(problem), plain);
         for (int threads : {1, 2}) {
             INFO(config << " on " << threads << " thread(s)");
-            ParallelEvaluator bounded_inner(problem, {.threads = threads});
+            ParallelEvaluator bounded_inner(problem, EvaluatorOptions(threads));
             RecordingEvaluator bounded(bounded_inner, true);
             const PsoSummary s = run_pso(ex.estimation_settings.pso, box_of(problem), bounded);
             CHECK(s.best == reference.best);

@@ -155,7 +155,7 @@ TEST_CASE("a delay parameter's Jacobian column matches central differences", "[d
     REQUIRE(problem.dimension() == 3);
     const std::vector<double> x{55.0, 0.0013, 0.0024};  // a k_s off the truth: the residuals are not small
     const auto jacobian = [&](JacobianKind kind) {
-        ResidualEvaluator ls(problem, {.threads = 1, .jacobian = kind});
+        ResidualEvaluator ls(problem, EvaluatorOptions(1).with_jacobian(kind));
         Eigen::MatrixXd J(static_cast<Eigen::Index>(ls.residual_count()), 3);
         std::vector<double> r(ls.residual_count());
         REQUIRE(ls.jacobian(x.data(), r.data(), J));

@@ -86,9 +86,9 @@ TEST_CASE("the least-squares Jacobian from sensitivities equals the one by diffe
           "[sensitivity][engine][heavy]") {
     const Experiment ex = load_experiment(source_dir() / "configs/engine_idle_clean.yaml");
     const IdentificationProblem problem(ex);
-    ResidualEvaluator by_sensitivity(problem, {.threads = 2, .jacobian = JacobianKind::sensitivity});
-    ResidualEvaluator one_thread(problem, {.threads = 1, .jacobian = JacobianKind::sensitivity});
-    ResidualEvaluator by_differences(problem, {.threads = 2, .jacobian = JacobianKind::fd});
+    ResidualEvaluator by_sensitivity(problem, EvaluatorOptions(2).with_jacobian(JacobianKind::sensitivity));
+    ResidualEvaluator one_thread(problem, EvaluatorOptions(1).with_jacobian(JacobianKind::sensitivity));
+    ResidualEvaluator by_differences(problem, EvaluatorOptions(2).with_jacobian(JacobianKind::fd));
     const auto rows = static_cast<Eigen::Index>(by_sensitivity.residual_count());
     const auto cols = static_cast<Eigen::Index>(problem.dimension());
     Eigen::MatrixXd Js(rows, cols), J1(rows, cols), Jf(rows, cols);
@@ -131,7 +131,7 @@ TEST_CASE("a Jacobian after the residuals at the same point reuses their starts 
           "[sensitivity][engine][heavy]") {
     const Experiment ex = load_experiment(source_dir() / "configs/engine_idle_clean.yaml");
     const IdentificationProblem problem(ex);
-    ResidualEvaluator reusing(problem, {.threads = 2, .jacobian = JacobianKind::sensitivity}), fresh(problem, {.threads = 2, .jacobian = JacobianKind::sensitivity});
+    ResidualEvaluator reusing(problem, EvaluatorOptions(2).with_jacobian(JacobianKind::sensitivity)), fresh(problem, EvaluatorOptions(2).with_jacobian(JacobianKind::sensitivity));
     const auto rows = static_cast<Eigen::Index>(reusing.residual_count());
     const auto cols = static_cast<Eigen::Index>(problem.dimension());
     Eigen::MatrixXd J_reused(rows, cols), J_fresh(rows, cols);

@@ -105,7 +105,7 @@ TEST_CASE("the normalized cost is the sum of the scaled residuals, and its gradi
         }
     CHECK(problem.cost(x.data(), *ws) == Approx(by_hand).epsilon(1e-12));
     // Its gradient from the scaled sensitivity rows matches central differences.
-    ProblemCost cost(problem, {.threads = 1});
+    ProblemCost cost(problem, EvaluatorOptions(1));
     std::vector<double> g(x.size());
     CHECK(cost.value_and_gradient(x.data(), g.data()) == Approx(by_hand).epsilon(1e-12));
     for (std::size_t j = 0; j < x.size(); ++j) {
@@ -146,7 +146,7 @@ TEST_CASE("a detrended and high-passed output is scored filtered, in the cost an
         for (double v : e) by_hand += v * v;
     }
     CHECK(problem.cost(x.data(), *ws) == Approx(by_hand).epsilon(1e-12));
-    ProblemCost cost(problem, {.threads = 1});
+    ProblemCost cost(problem, EvaluatorOptions(1));
     CHECK(cost.value(x.data()) == Approx(by_hand).epsilon(1e-12));
     std::vector<double> g(x.size());
     cost.value_and_gradient(x.data(), g.data());

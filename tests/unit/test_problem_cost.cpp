@@ -20,7 +20,7 @@ void check_gradient(const char* cost_kind) {
                                           {{"estimation.cost", cost_kind},
                                            {"windows.estimation", "[ { time: [1.5, 2.0] }, { time: [2.2, 3.0] } ]"}});
     const IdentificationProblem problem(ex);
-    ProblemCost cost(problem, {.threads = 2});
+    ProblemCost cost(problem, EvaluatorOptions(2));
     // A point 10-20 % off the truth, inside the bounds.
     const std::vector<double> x = {1.6, 3300, 9500, 4.6, 17, 0.004, 1250, -8.0, 12.0};
     REQUIRE(x.size() == problem.dimension());

@@ -169,7 +169,7 @@ TEST_CASE("least squares with shooting guesses give the same residuals and Jacob
         Eigen::MatrixXd J, J_trial;
     };
     auto run = [&](int threads) {
-        ResidualEvaluator ls(problem, {.threads = threads, .jacobian = JacobianKind::sensitivity});
+        ResidualEvaluator ls(problem, EvaluatorOptions(threads).with_jacobian(JacobianKind::sensitivity));
         Run out{std::vector<double>(static_cast<std::size_t>(n)), std::vector<double>(static_cast<std::size_t>(n)),
                 Eigen::MatrixXd(n, m), Eigen::MatrixXd(n, m)};
         REQUIRE(ls.jacobian(x.data(), out.r.data(), out.J));        // keeps the guesses
@@ -262,13 +262,13 @@ TEST_CASE("least squares evaluated side by side give the residuals of each point
     std::vector<double> r0(n), r_near(n), r_further(n), r_jac(n);
     Eigen::MatrixXd J(static_cast<Eigen::Index>(n), m);
 
-    ResidualEvaluator one(problem, {.threads = 1, .jacobian = JacobianKind::sensitivity});  // one at a time
+    ResidualEvaluator one(problem, EvaluatorOptions(1).with_jacobian(JacobianKind::sensitivity));  // one at a time
     REQUIRE(one.concurrent_residuals() == 1);
     REQUIRE(one.jacobian(x.data(), r0.data(), J));
     REQUIRE(one.residuals(near.data(), r_near.data()));
     REQUIRE(one.residuals(further.data(), r_further.data()));
 
-    ResidualEvaluator two(problem, {.threads = 2, .jacobian = JacobianKind::sensitivity});
+    ResidualEvaluator two(problem, EvaluatorOptions(2).with_jacobian(JacobianKind::sensitivity));
     REQUIRE(two.concurrent_residuals() == 2);
     REQUIRE(two.jacobian(x.data(), r0.data(), J));
     std::vector<double> a(n), b(n);

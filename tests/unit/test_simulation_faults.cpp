@@ -152,7 +152,7 @@ TEST_CASE("the particle swarm counts every candidate whose simulation failed", "
                                                  {"parameters.k_minus.range", "[1.0e3, 1.0e6]"},
                                                  {"parameters.k_plus.range", "[1.0e3, 1.0e6]"}});
     const IdentificationProblem problem(ex);
-    ParallelEvaluator parallel(problem, {.threads = 2});
+    ParallelEvaluator parallel(problem, EvaluatorOptions(2));
     CountingEvaluator counting(parallel);
     PsoSettings s = ex.estimation_settings.pso;
     s.iterations = 3;

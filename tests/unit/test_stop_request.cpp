@@ -137,7 +137,7 @@ TEST_CASE("the parallel evaluator skips the rest of a batch once the stop flag i
     const Experiment ex = load_experiment(test::source_dir() / "configs/cvt_tipin.yaml");
     const IdentificationProblem problem(ex);
     std::atomic<bool> stop{false};
-    ParallelEvaluator evaluator(problem, {.threads = 2, .jacobian = {}, .stop = &stop});
+    ParallelEvaluator evaluator(problem, EvaluatorOptions(2).with_stop(&stop));
     const std::vector<double> x = problem.initial();
     std::vector<double> batch;
     for (int i = 0; i < 4; ++i) batch.insert(batch.end(), x.begin(), x.end());
@@ -150,7 +150,7 @@ TEST_CASE("the parallel evaluator skips the rest of a batch once the stop flag i
     CHECK(evaluator.stopped());
     for (double c : costs) CHECK(std::isinf(c));
 
-    ResidualEvaluator least_squares(problem, {.threads = 2, .jacobian = JacobianKind::sensitivity, .stop = &stop});
+    ResidualEvaluator least_squares(problem, EvaluatorOptions(2).with_jacobian(JacobianKind::sensitivity).with_stop(&stop));
     std::vector<double> r(least_squares.residual_count());
     CHECK_FALSE(least_squares.residuals(x.data(), r.data()));
     CHECK(least_squares.stopped());
@@ -203,7 +203,7 @@ TEST_CASE("a stop request raised during an engine evaluation ends it and the lea
     const IdentificationProblem problem(ex);
     std::vector<double> x = problem.initial();
     std::atomic<bool> stop{false};
-    ResidualEvaluator least_squares(problem, {.threads = 2, .jacobian = JacobianKind::sensitivity, .stop = &stop});
+    ResidualEvaluator least_squares(problem, EvaluatorOptions(2).with_jacobian(JacobianKind::sensitivity).with_stop(&stop));
     std::vector<double> r(least_squares.residual_count());
     Eigen::MatrixXd J(static_cast<Eigen::Index>(r.size()), static_cast<Eigen::Index>(x.size()));
     const auto raise_soon = [&stop] {

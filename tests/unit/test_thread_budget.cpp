@@ -8,6 +8,7 @@
 #include "support/test_files.hpp"
 #include "tvid/estimation/residual_evaluator.hpp"
 #include "tvid/experiment/experiment.hpp"
+#include "tvid/fit/fit_run.hpp"
 #include "tvid/optim/levenberg_marquardt.hpp"
 #include "tvid/util/thread_budget.hpp"
 
@@ -37,13 +38,13 @@ TEST_CASE("least squares whose share of the cores grows mid-fit ends on the sing
     settings.max_iterations = 12;
     const std::vector<double> lower = problem.lower(), upper = problem.upper();
 
-    ResidualEvaluator one(problem, {.threads = 1, .jacobian = JacobianKind::sensitivity});
+    ResidualEvaluator one(problem, EvaluatorOptions(1).with_jacobian(JacobianKind::sensitivity));
     const LmSummary alone = run_levenberg_marquardt(settings, problem.initial(), lower, upper, one);
 
     ThreadBudget budget(2);
     budget.job_started();
     budget.job_started();  // two jobs: this one runs on one core
-    ResidualEvaluator shared(problem, {.threads = 1, .jacobian = JacobianKind::sensitivity, .stop = nullptr, .budget = &budget});
+    ResidualEvaluator shared(problem, EvaluatorOptions(1).with_jacobian(JacobianKind::sensitivity).with_budget(&budget));
     CHECK(shared.threads() == 2);
     CHECK(shared.team() == 1);
     int iteration = 0;
@@ -58,4 +59,29 @@ TEST_CASE("least squares whose share of the cores grows mid-fit ends on the sing
     CHECK(grown.best_cost == alone.best_cost);
     CHECK(grown.iterations == alone.iterations);
     CHECK((grown.jacobian_at_best - alone.jacobian_at_best).cwiseAbs().maxCoeff() == 0.0);
+}
+
+TEST_CASE("every optimizer of a batch job runs on the job's share of the cores", "[thread_budget][fit]") {
+    ThreadBudget budget(2);
+    budget.job_started();
+    budget.job_started();  // two jobs on two cores: one each
+    for (const char* optimizer : {"lm", "pso", "pso+lm", "multistart", "nlopt"}) {
+        INFO(optimizer);
+        const Experiment ex = load_experiment(source_dir() / "configs/constant_load.yaml",
+                                              {{"estimation.optimizer", optimizer},
+                                               {"estimation.pso.particles", "8"},
+                                               {"estimation.pso.iterations", "2"},
+                                               {"estimation.multistart.starts", "2"},
+                                               {"estimation.lm.max_iterations", "3"},
+                                               {"estimation.nlopt.max_evaluations", "10"}});
+        const IdentificationProblem problem(ex);
+        FitOptions options;
+        options.threads = 8;  // eight threads, were it not for the budget
+        options.budget = &budget;
+        const FitResult fit = run_fit(problem, options);
+        // The swarm takes the job's team when it starts (1); least squares keeps a
+        // workspace per core of the budget and takes the team of the moment in each region.
+        CHECK(fit.threads >= 1);
+        CHECK(fit.threads <= budget.cores());
+    }
 }

@@ -35,7 +35,7 @@ struct ResidualsAndJacobian {
 };
 
 ResidualsAndJacobian least_squares_jacobian(const IdentificationProblem& problem, const std::vector<double>& at) {
-    ResidualEvaluator ls(problem, {.threads = 1});
+    ResidualEvaluator ls(problem, EvaluatorOptions(1));
     ResidualsAndJacobian out{Eigen::VectorXd(static_cast<Eigen::Index>(ls.residual_count())),
                              Eigen::MatrixXd(static_cast<Eigen::Index>(ls.residual_count()),
                                              static_cast<Eigen::Index>(problem.dimension()))};

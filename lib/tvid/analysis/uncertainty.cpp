@@ -329,8 +329,12 @@ ParameterUncertainty estimate_uncertainty(const IdentificationProblem& problem, 
     std::vector<std::size_t> window_samples;
     for (const Window& w : problem.definition().estimation) window_samples.push_back(scored_sample_count(w));
     Eigen::MatrixXd cov;
-    if (!noise_model_covariance(problem, free_best, known, evaluators, js, r, bread, window_samples, dof, u, cov))
-        cov = (ssr / dof) * bread;
+    if (!noise_model_covariance(problem, free_best, known, evaluators, js, r, bread, window_samples, dof, u, cov)) {
+        // s² V Σ⁻² Vᵀ, summed term by term (as the reports have always been computed, to the last bit).
+        const double s2 = ssr / dof;
+        cov = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(m), static_cast<Eigen::Index>(m));
+        for (Eigen::Index k = 0; k < u.rank; ++k) cov += (s2 / (sv[k] * sv[k])) * v.col(k) * v.col(k).transpose();
+    }
     fill_errors(problem, free_best, scale, in_null, cov, dof, u);
     fill_robust_errors(js, r, bread, scale, problem.definition().measured.size(), window_samples, dof, u);
     return u;

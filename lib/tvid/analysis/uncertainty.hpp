@@ -93,6 +93,6 @@ struct JacobianAtOptimum {
 /// kind the fit's own would have.
 ParameterUncertainty estimate_uncertainty(const IdentificationProblem& problem, const std::vector<double>& free_best,
                                           const JacobianAtOptimum& known = {},
-                                          const EvaluatorOptions& evaluators = EvaluatorOptions{.threads = 1});
+                                          const EvaluatorOptions& evaluators = EvaluatorOptions(1));
 
 }  // namespace tvid

@@ -70,7 +70,7 @@ std::vector<double> start_estimated_with_model_held(const IdentificationProblem&
         lower.push_back(problem.lower()[j]);
         upper.push_back(problem.upper()[j]);
     }
-    ResidualEvaluator whole(problem, {.threads = 1});
+    ResidualEvaluator whole(problem, EvaluatorOptions(1));
     HeldColumns start(whole, free_i, starts);
     LmSettings settings;
     settings.max_iterations = 60;

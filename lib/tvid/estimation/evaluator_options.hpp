@@ -19,6 +19,13 @@ namespace tvid {
 int resolve_thread_count(int threads);
 
 struct EvaluatorOptions {
+    /// On `threads` threads (<= 0: all hardware threads), the problem's Jacobian kind, no
+    /// stop request, no budget; the with_… calls set the rest.
+    explicit EvaluatorOptions(int threads_ = 0) : threads(threads_) {}
+    EvaluatorOptions& with_jacobian(JacobianKind kind) { jacobian = kind; return *this; }
+    EvaluatorOptions& with_stop(const std::atomic<bool>* flag) { stop = flag; return *this; }
+    EvaluatorOptions& with_budget(const ThreadBudget* share) { budget = share; return *this; }
+
     int threads = 0;                          ///< <= 0: all hardware threads
     /// The Jacobian's columns: by forward sensitivities or by differences; unset: the
     /// experiment's (`estimation.lm.jacobian`).

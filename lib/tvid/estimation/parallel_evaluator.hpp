@@ -23,7 +23,7 @@ class ParallelEvaluator : public CandidateEvaluator {
 public:
     /// On options.team() threads (all hardware threads by default, a batch job's share of
     /// the cores under its budget); options.stop (may be null): skip the rest of a batch once set.
-    explicit ParallelEvaluator(const IdentificationProblem& problem, const EvaluatorOptions& options = {});
+    explicit ParallelEvaluator(const IdentificationProblem& problem, const EvaluatorOptions& options = EvaluatorOptions());
 
     void evaluate(const double* candidates, std::size_t count, std::size_t dimension, double* costs) override;
     /// Each candidate's simulation stops once its partial cost reaches its bound

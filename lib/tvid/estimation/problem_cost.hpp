@@ -19,7 +19,7 @@ namespace tvid {
 class ProblemCost : public DifferentiableCost {
 public:
     /// Its residuals' evaluator runs with `options` (the Jacobian's simulations in parallel).
-    explicit ProblemCost(const IdentificationProblem& problem, const EvaluatorOptions& options = {});
+    explicit ProblemCost(const IdentificationProblem& problem, const EvaluatorOptions& options = EvaluatorOptions());
 
     double value(const double* x) override;
     double value_and_gradient(const double* x, double* gradient) override;

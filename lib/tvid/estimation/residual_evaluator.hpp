@@ -38,7 +38,7 @@ class ResidualEvaluator : public LeastSquaresProblem {
 public:
     /// Its threads, share of a batch's cores, Jacobian kind (unset: the problem's) and stop
     /// request from `options` (estimation/evaluator_options.hpp).
-    explicit ResidualEvaluator(const IdentificationProblem& problem, const EvaluatorOptions& options = {});
+    explicit ResidualEvaluator(const IdentificationProblem& problem, const EvaluatorOptions& options = EvaluatorOptions());
 
     std::size_t residual_count() const override { return residual_count_; }
     bool residuals(const double* x, double* r) override;

@@ -56,8 +56,7 @@ FitResult run_fit(const IdentificationProblem& problem, const FitOptions& option
     r.best_free = r.success ? r.run.best : problem.initial();
     r.best_params = problem.full_parameters(r.best_free);
     // The evaluation after the fit runs whole (no stop request) on the fit's threads.
-    EvaluatorOptions after = evaluator_options(options);
-    after.stop = nullptr;
+    EvaluatorOptions after = evaluator_options(options).with_stop(nullptr);
     {
         // After a stop request the report's evaluation gets a few seconds; a simulation
         // still running then is cut short and its window reported as stopped.
@@ -84,6 +83,21 @@ FitResult run_fit(const IdentificationProblem& problem, const FitOptions& option
     judge_fit(problem, r, after.team());
     r.wall_seconds = std::chrono::duration<double>(clock::now() - t0).count();
     return r;
+}
+
+OptimizerRun optimizer_run(const OptimizerSummary& summary, long long evaluations, long long right_hand_sides) {
+    OptimizerRun run;  // run_fit names it after its row
+    run.best = summary.best;
+    run.best_cost = summary.best_cost;
+    run.iterations = summary.iterations;
+    run.evaluations = evaluations;
+    run.failed_evaluations = summary.failed_evaluations;
+    run.history = summary.history;
+    run.termination = summary.termination;
+    run.termination_type = summary.termination_type;
+    run.converged = summary.success;
+    run.right_hand_sides = right_hand_sides;
+    return run;
 }
 
 int planned_iterations(const EstimationSettings& settings) {

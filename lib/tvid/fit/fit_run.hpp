@@ -50,7 +50,7 @@ struct FitOptions {
 /// noise's draws), from the fit's: the same threads, share of a batch's cores, stop request
 /// and the experiment's Jacobian kind for all of them.
 inline EvaluatorOptions evaluator_options(const FitOptions& options) {
-    return EvaluatorOptions{.threads = options.threads, .jacobian = {}, .stop = options.stop, .budget = options.budget};
+    return EvaluatorOptions(options.threads).with_stop(options.stop).with_budget(options.budget);
 }
 
 /// What every optimizer reports, whichever ran.
@@ -94,6 +94,13 @@ struct OptimizerRun {
     std::any settings;
     std::any summary;
 };
+
+/// The one result builder: what every optimizer reports, from its summary in the parameters'
+/// own coordinates (best, cost, iterations, failed evaluations, history, termination;
+/// converged is the summary's success), with the simulations and right-hand sides as its row
+/// counts them. The row adds its own parts (first failure, Jacobian at the best, starts,
+/// swarm) and its settings and summary.
+OptimizerRun optimizer_run(const OptimizerSummary& summary, long long evaluations, long long right_hand_sides);
 
 struct FitResult {
     OptimizerRun run;                       ///< what the optimizer that ran reports, its own record included

@@ -51,7 +51,7 @@ LeastSquaresFit fit_least_squares(const IdentificationProblem& problem, int thre
     if (problem.dimension() == 0) {
         // The profiled parameter was the only free one: nothing is left to fit, and the
         // point's cost is the simulation's at the held value.
-        ResidualEvaluator least_squares(problem, {.threads = threads, .jacobian = {}, .stop = stop});
+        ResidualEvaluator least_squares(problem, EvaluatorOptions(threads).with_stop(stop));
         std::vector<double> r(f.residuals);
         const double none = 0.0;  // no parameter: a valid pointer to nothing used
         const bool ok = least_squares.residuals(&none, r.data());
@@ -136,7 +136,7 @@ ProfileResult profile_likelihood(const Experiment& ex, const std::vector<double>
     r.s2 = r.best_cost / (static_cast<double>(r.residuals) - static_cast<double>(m));
     // The standard error from the Jacobian LM ended on (the one evaluator's).
     const ParameterUncertainty u =
-        estimate_uncertainty(problem, r.optimum, {&best.jacobian_at_best, best.best_cost}, {.threads = r.threads});
+        estimate_uncertainty(problem, r.optimum, {&best.jacobian_at_best, best.best_cost}, EvaluatorOptions(r.threads));
     r.std_error = u.available ? u.std_error[j_held] : std::numeric_limits<double>::quiet_NaN();
 
     // The grid: θ̂ ∓ 4 standard errors (or ∓ 50 % without one), within the bounds.

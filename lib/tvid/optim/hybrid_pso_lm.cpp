@@ -1,5 +1,7 @@
 #include "tvid/optim/hybrid_pso_lm.hpp"
 
+#include "tvid/optim/parameter_scaling.hpp"
+
 #include <algorithm>
 #include <cmath>
 
@@ -54,6 +56,12 @@ HybridSummary run_pso_then_lm(const PsoSettings& pso, const LmSettings& lm, cons
         s.best_cost = s.lm.best_cost;
     }
     return s;
+}
+
+void to_parameters(const ParameterScaling& scaling, HybridSummary& s) {
+    to_parameters(scaling, s.pso);
+    to_parameters(scaling, s.lm);
+    scaling.best_to_parameters(s);
 }
 
 }  // namespace tvid

@@ -25,22 +25,17 @@ struct HybridSettings {
     LmSettings lm;
 };
 
-struct HybridSummary {
+/// pso+lm's summary: best and best_cost (Σ r²) where the polish ended (the swarm's best
+/// when it did not run); iterations the swarm updates + LM steps; evaluations the swarm's
+/// candidates + LM's simulations (or LM's calls when not counted); termination "swarm:
+/// <reason>; lm: <reason>", the swarm's reason when LM did not run, or "stopped" when the
+/// progress callback stopped either phase; termination_type the polish's (the swarm's when
+/// LM did not run), stopped when either phase was stopped; success: the polish converged.
+struct HybridSummary : OptimizerSummary {
+    HybridSummary() { termination_type = TerminationType::iteration_limit; }
     PsoSummary pso;                      ///< the swarm phase
     LmSummary lm;                        ///< the polish (empty when it did not run)
     bool polished = false;               ///< LM ran (the swarm found a finite cost and was not stopped)
-    std::vector<double> best;
-    double best_cost = 0.0;              ///< Σ r² at `best`
-    int iterations = 0;                  ///< swarm updates + LM steps
-    long long evaluations = 0;           ///< swarm candidates + LM simulations (or LM calls when not counted)
-    long long failed_evaluations = 0;
-    std::vector<HistoryRow> history;
-    /// "swarm: <reason>; lm: <reason>", the swarm's reason when LM did not run, or "stopped"
-    /// when the progress callback stopped either phase.
-    std::string termination;
-    /// The polish's type (the swarm's when LM did not run), stopped when either phase was stopped.
-    TerminationType termination_type = TerminationType::iteration_limit;
-    bool success = false;                ///< the polish converged (an LM tolerance was met)
 };
 
 /// Called after every swarm update and LM step with the continued row; false stops.
@@ -49,5 +44,10 @@ using HybridProgress = std::function<bool(const HistoryRow&)>;
 HybridSummary run_pso_then_lm(const PsoSettings& pso, const LmSettings& lm, const SearchBox& box,
                               CandidateEvaluator& swarm_cost, LeastSquaresProblem& residuals,
                               const HybridProgress& progress = {});
+
+class ParameterScaling;
+/// The summary of pso+lm in search coordinates (parameter_scaling.hpp) as parameters: both
+/// phases' and its own best point.
+void to_parameters(const ParameterScaling& scaling, HybridSummary& summary);
 
 }  // namespace tvid

@@ -1,5 +1,7 @@
 #include "tvid/optim/levenberg_marquardt.hpp"
 
+#include "tvid/optim/parameter_scaling.hpp"
+
 #include <Eigen/QR>
 #include <algorithm>
 #include <cmath>
@@ -153,6 +155,7 @@ private:
         s_.termination_type = type;
         s_.termination = reason;
         s_.success = type == TerminationType::converged;
+        s_.evaluations = s_.residual_evaluations + s_.jacobian_evaluations;
     }
     // The current point's cost and Jacobian become the result's.
     void keep_current_point() {
@@ -609,6 +612,20 @@ LmSummary run_levenberg_marquardt(const LmSettings& settings, std::vector<double
                                   LeastSquaresProblem& problem, const LmProgress& progress) {
     check_arguments(settings, x0, lower, upper, problem.residual_count());
     return LevenbergMarquardt(settings, x0, lower, upper, problem, progress).minimize();
+}
+
+void to_parameters(const ParameterScaling& scaling, LmSummary& s) {
+    scaling.best_to_parameters(s);
+    if (s.best.size() == scaling.dimension() && s.jacobian_at_best.cols() == static_cast<Eigen::Index>(scaling.dimension()))
+        scaling.jacobian_to_parameters(s.best.data(), s.jacobian_at_best);
+}
+
+std::optional<SettingsProblem> validate(const LmSettings& s) {
+    if (s.max_iterations < 0 || s.max_iterations > 1000000) return settings_problem("max_iterations", "must be between 0 and 1e6");
+    for (const auto& [key, value] : {std::pair{"ftol", s.ftol}, std::pair{"xtol", s.xtol}, std::pair{"gtol", s.gtol},
+                                     std::pair{"stol", s.stol}})
+        if (!(value >= 0)) return settings_problem(key, "a tolerance cannot be negative");
+    return std::nullopt;
 }
 
 }  // namespace tvid

@@ -30,7 +30,7 @@
 #include <vector>
 
 #include "tvid/optim/lm_options.hpp"
-#include "tvid/optim/pso.hpp"  // HistoryRow
+#include "tvid/optim/optimizer_summary.hpp"
 #include "tvid/optim/termination.hpp"
 
 namespace tvid {
@@ -79,32 +79,28 @@ public:
     virtual long long right_hand_sides() const { return 0; }
 };
 
-struct LmSummary {
-    std::vector<double> best;            ///< the last accepted point (the lowest cost seen)
-    /// Σ r² at `best`: the l2 cost of the rest of the tool (the methodology paper eq. 7), i.e. twice the
-    /// ½‖r‖² the solver minimizes internally. +inf when the start could not be evaluated.
-    double best_cost = 0.0;
+/// Levenberg–Marquardt's summary: best is the last accepted point (the lowest cost seen);
+/// best_cost Σ r² there, the l2 cost of the rest of the tool (the methodology paper eq. 7),
+/// i.e. twice the ½‖r‖² the solver minimizes internally, +inf when the start could not be
+/// evaluated; iterations the trial steps taken (accepted and rejected); evaluations the
+/// residual and Jacobian evaluations; failed_evaluations the calls that returned false or
+/// non-finite values; history one row per iteration (row 0 the start, row k after trial
+/// step k; `evaluations` counts residual + Jacobian evaluations, `best_cost` is Σ r², never
+/// increasing); termination "cost change below ftol", "step below xtol", "gradient below
+/// gtol" (converged), "iteration limit", "stopped" (the progress callback returned false,
+/// or the problem was stopped mid-evaluation), "no progress" (max_consecutive_rejections
+/// rejected steps in a row, or the only steps that evaluate are below xtol because the
+/// model fails just beyond the current point: stuck at the edge of a region where e.g. the
+/// simulation diverges), "start failed"; success: converged.
+struct LmSummary : OptimizerSummary {
+    LmSummary() { termination_type = TerminationType::converged; }
     double initial_cost = 0.0;           ///< Σ r² at the (projected) start
-    int iterations = 0;                  ///< trial steps taken (accepted and rejected)
     long long residual_evaluations = 0;  ///< residual evaluations of trial steps taken
     /// Trial steps evaluated ahead, side by side with the step taken, for the damping that
     /// rejections would lead to (concurrent_residuals() > 1), and how many of them a
     /// rejection then took (those count in residual_evaluations too).
     long long evaluated_ahead = 0, taken_ahead = 0;
     long long jacobian_evaluations = 0;  ///< jacobian() calls (the start counts one)
-    long long failed_evaluations = 0;    ///< calls that returned false or non-finite values
-    /// One row per iteration: row 0 is the start, row k follows trial step k. `evaluations`
-    /// counts residual + Jacobian evaluations; `best_cost` is Σ r², never increasing.
-    std::vector<HistoryRow> history;
-    /// "cost change below ftol", "step below xtol", "gradient below gtol" (converged),
-    /// "iteration limit", "stopped" (the progress callback returned false, or the problem
-    /// was stopped mid-evaluation), "no progress"
-    /// (max_consecutive_rejections rejected steps in a row, or the only steps that evaluate
-    /// are below xtol because the model fails just beyond the current point: stuck at the
-    /// edge of a region where e.g. the simulation diverges), "start failed".
-    std::string termination;
-    TerminationType termination_type = TerminationType::converged;  ///< converged for the three convergence reasons
-    bool success = false;                ///< termination_type == converged
     Eigen::MatrixXd jacobian_at_best;    ///< N×M at `best`; empty when the start failed
 };
 
@@ -117,5 +113,10 @@ using LmProgress = std::function<bool(const HistoryRow&)>;
 LmSummary run_levenberg_marquardt(const LmSettings& settings, std::vector<double> x0,
                                   const std::vector<double>& lower, const std::vector<double>& upper,
                                   LeastSquaresProblem& problem, const LmProgress& progress = {});
+
+class ParameterScaling;
+/// The summary of a run in search coordinates (parameter_scaling.hpp) as parameters: its
+/// best point, and its Jacobian there as ∂r/∂p.
+void to_parameters(const ParameterScaling& scaling, LmSummary& summary);
 
 }  // namespace tvid

@@ -4,6 +4,8 @@
 // parameters scaled by D = diag(column norms of the Jacobian), so they mean the same
 // whether a parameter is an inertia of 1e-3 kg m² or a stiffness of 1e5 N m/rad.
 
+#include "tvid/optim/settings_problem.hpp"
+
 namespace tvid {
 
 struct LmSettings {
@@ -32,5 +34,8 @@ struct LmSettings {
     /// whose simulation fails everywhere around the current point).
     int max_consecutive_rejections = 20;
 };
+
+/// The first problem of the settings, or none.
+std::optional<SettingsProblem> validate(const LmSettings& settings);
 
 }  // namespace tvid

@@ -38,21 +38,17 @@ struct StartResult {
     std::vector<HistoryRow> history; ///< its own LM history
 };
 
-struct MultistartSummary {
+/// Multistart's summary: best and best_cost the best start's; iterations the LM steps over
+/// all starts; history the starts' histories one after the other in start order
+/// (iterations numbered on, evaluations cumulative, best cost the lowest so far over the
+/// starts before); termination "best of N starts: <best start's reason>", "stopped", …;
+/// termination_type the best start's, or stopped, all_failed; success: the best start
+/// converged.
+struct MultistartSummary : OptimizerSummary {
+    MultistartSummary() { termination_type = TerminationType::all_failed; }
     std::vector<StartResult> starts;  ///< in start order
     int best_start = 0;               ///< 1-based; 0 when every start failed
-    std::vector<double> best;
-    double best_cost = 0.0;
-    int iterations = 0;               ///< LM steps over all starts
-    long long evaluations = 0;
-    long long failed_evaluations = 0;
     long long right_hand_sides = 0;   ///< over every start
-    /// The starts' histories one after the other in start order: iterations numbered on,
-    /// evaluations cumulative, best cost the lowest so far over the starts before.
-    std::vector<HistoryRow> history;
-    std::string termination;          ///< "best of N starts: <best start's reason>", "stopped", ...
-    TerminationType termination_type = TerminationType::all_failed;  ///< the best start's, or stopped, all_failed
-    bool success = false;             ///< the best start converged
     int threads = 1;                  ///< starts run at once
     int threads_per_start = 1;
 };
@@ -75,5 +71,10 @@ std::vector<double> multistart_redraw(const MultistartSettings& settings, const 
 MultistartSummary run_multistart(const MultistartSettings& settings, const LmSettings& lm, const SearchBox& box,
                                  int threads, const LeastSquaresFactory& make_problem,
                                  const MultistartProgress& progress = {});
+
+class ParameterScaling;
+/// The summary of a multistart in search coordinates (parameter_scaling.hpp) as parameters:
+/// its best point, and each start's first and last point.
+void to_parameters(const ParameterScaling& scaling, MultistartSummary& summary);
 
 }  // namespace tvid

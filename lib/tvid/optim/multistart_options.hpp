@@ -2,6 +2,7 @@
 // Options of a multistart least-squares fit (multistart.hpp): Levenberg–Marquardt from N
 // Latin-hypercube points of the initial search box.
 
+#include "tvid/optim/settings_problem.hpp"
 #include <cstdint>
 #include <optional>
 
@@ -18,5 +19,8 @@ struct MultistartSettings {
     /// the starts asked for are run; a start whose every draw fails is reported as failed.
     int max_draws = 10;
 };
+
+/// The first problem of the settings, or none.
+std::optional<SettingsProblem> validate(const MultistartSettings& settings);
 
 }  // namespace tvid

@@ -13,31 +13,25 @@
 
 #include "tvid/optim/differentiable_cost.hpp"
 #include "tvid/optim/nlopt_options.hpp"
-#include "tvid/optim/pso.hpp"  // HistoryRow
+#include "tvid/optim/optimizer_summary.hpp"
 #include "tvid/optim/termination.hpp"
 
 namespace tvid {
 
-struct NloptSummary {
+/// NLopt's summary: best is the point of the lowest cost seen (best_cost +inf when no
+/// evaluation succeeded); evaluations the objective evaluations (with or without gradient),
+/// and iterations the same count; failed_evaluations those that returned +inf or NaN;
+/// history rows (iteration = evaluation number, 0 for the first) at the first evaluation,
+/// at every one that lowers the best cost, and at the last (`evaluations` counts
+/// simulations when the cost counts them); termination "cost change below ftol_rel", "step
+/// below xtol_rel", "success", "evaluation limit", "time limit", "stopped" (the progress
+/// callback), "roundoff limited", "failure", "all evaluations failed"; success: a
+/// tolerance was met, or a global algorithm used up its budget (its only stopping rule).
+struct NloptSummary : OptimizerSummary {
     std::string algorithm;               ///< NLopt's name, e.g. "LN_BOBYQA"
     std::string local_algorithm;         ///< of MLSL/AUGLAG, or empty
-    std::vector<double> best;            ///< the point of the lowest cost seen
-    double best_cost = 0.0;              ///< +inf when no evaluation succeeded
     double initial_cost = 0.0;           ///< the first evaluation's cost
-    long long evaluations = 0;           ///< objective evaluations (with or without gradient)
-    long long gradient_evaluations = 0;  ///< of which with the gradient
-    long long failed_evaluations = 0;    ///< evaluations that returned +inf or NaN
-    /// Rows (iteration = evaluation number, 0 for the first) at the first evaluation, at every
-    /// one that lowers the best cost, and at the last; `evaluations` counts simulations when
-    /// the cost counts them.
-    std::vector<HistoryRow> history;
-    /// "cost change below ftol_rel", "step below xtol_rel", "success", "evaluation limit",
-    /// "time limit", "stopped" (the progress callback), "roundoff limited", "failure",
-    /// "all evaluations failed".
-    std::string termination;
-    TerminationType termination_type = TerminationType::failed;
-    /// A tolerance was met, or a global algorithm used up its budget (its only stopping rule).
-    bool success = false;
+    long long gradient_evaluations = 0;  ///< of the evaluations, those with the gradient
 };
 
 /// Called after every evaluation (iteration = evaluation number); return false to stop.

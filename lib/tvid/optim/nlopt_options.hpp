@@ -2,6 +2,7 @@
 // Options of an NLopt minimization (nlopt_minimizer.hpp): any NLopt algorithm by name,
 // local or global, with its budgets and tolerances.
 
+#include "tvid/optim/settings_problem.hpp"
 #include <cstdint>
 #include <string>
 
@@ -21,5 +22,9 @@ struct NloptSettings {
     int population = 0;                ///< population of CRS2, ISRES, ESCH, MLSL points per round; 0: NLopt's default
     std::uint64_t seed = 1;            ///< seed of the randomized algorithms (nlopt::srand)
 };
+
+/// The first problem of the settings, or none.
+/// Also that the algorithm names are NLopt's, and the local algorithm fits the global one.
+std::optional<SettingsProblem> validate(const NloptSettings& settings);
 
 }  // namespace tvid

@@ -89,33 +89,6 @@ void ParameterScaling::map_point(std::vector<double>& point) const {
     if (point.size() == scales_.size()) to_parameters(point.data(), point.data());
 }
 
-void ParameterScaling::to_parameters(LmSummary& s) const {
-    map_point(s.best);
-    if (s.best.size() == scales_.size() && s.jacobian_at_best.cols() == static_cast<Eigen::Index>(scales_.size()))
-        jacobian_to_parameters(s.best.data(), s.jacobian_at_best);
-}
-
-void ParameterScaling::to_parameters(PsoSummary& s) const {
-    map_point(s.best);
-    map_point(s.first_failed);
-}
-
-void ParameterScaling::to_parameters(MultistartSummary& s) const {
-    map_point(s.best);
-    for (StartResult& start : s.starts) {
-        map_point(start.initial);
-        map_point(start.best);
-    }
-}
-
-void ParameterScaling::to_parameters(NloptSummary& s) const { map_point(s.best); }
-
-void ParameterScaling::to_parameters(HybridSummary& s) const {
-    to_parameters(s.pso);
-    to_parameters(s.lm);
-    map_point(s.best);
-}
-
 ScaledLeastSquares::ScaledLeastSquares(LeastSquaresProblem& problem, ParameterScaling scaling)
     : problem_(&problem), scaling_(std::move(scaling)), p_(scaling_.dimension()) {}
 

@@ -14,10 +14,8 @@
 
 #include "tvid/optim/candidate_evaluator.hpp"
 #include "tvid/optim/differentiable_cost.hpp"
-#include "tvid/optim/hybrid_pso_lm.hpp"
 #include "tvid/optim/levenberg_marquardt.hpp"
-#include "tvid/optim/multistart.hpp"
-#include "tvid/optim/nlopt_minimizer.hpp"
+#include "tvid/optim/optimizer_summary.hpp"
 #include "tvid/optim/parameter_scale.hpp"
 #include "tvid/optim/pso.hpp"
 
@@ -58,16 +56,14 @@ public:
     /// A gradient ∂c/∂p at p into ∂c/∂u.
     void gradient_to_search(const double* p, double* gradient) const;
 
-    /// The points of each optimizer's summary (best, starts, first failure), found in
-    /// search coordinates, as parameters; LM's Jacobian at its best as ∂r/∂p.
-    void to_parameters(LmSummary& summary) const;
-    void to_parameters(PsoSummary& summary) const;
-    void to_parameters(MultistartSummary& summary) const;
-    void to_parameters(NloptSummary& summary) const;
-    void to_parameters(HybridSummary& summary) const;
+    /// A summary's best point, found in search coordinates, as parameters. Each optimizer's
+    /// own file maps the rest of its summary (its starts, its first failure, LM's Jacobian
+    /// at its best) with map_point and jacobian_to_parameters: to_parameters(scaling, summary).
+    void best_to_parameters(OptimizerSummary& summary) const { map_point(summary.best); }
+    /// u -> p in place, when the point has the dimension (an empty point stays empty).
+    void map_point(std::vector<double>& point) const;
 
 private:
-    void map_point(std::vector<double>& point) const;  // u -> p in place, when it has the dimension
     std::vector<ParameterScale> scales_;
     std::vector<double> lower_, upper_;
     bool linear_ = true;

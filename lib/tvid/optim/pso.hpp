@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "tvid/optim/candidate_evaluator.hpp"
+#include "tvid/optim/optimizer_summary.hpp"
 #include "tvid/optim/pso_options.hpp"
 #include "tvid/optim/termination.hpp"
 
@@ -23,12 +24,6 @@ namespace tvid {
 struct SearchBox {
     std::vector<double> lower, upper;
     std::vector<double> range_lower, range_upper;
-};
-
-struct HistoryRow {
-    int iteration = 0;
-    long long evaluations = 0;
-    double best_cost = 0.0;
 };
 
 /// How settled the swarm is when it stops. A swarm still spread over its box or still
@@ -46,25 +41,26 @@ struct PsoConvergence {
     int window = 0;                   ///< max(10, iterations/10), at most the iterations run
 };
 
-struct PsoSummary {
-    std::vector<double> best;        ///< global best position G
-    double best_cost = 0.0;
-    int iterations = 0;              ///< swarm updates done
+/// The swarm's summary: best is the global best position G; iterations the swarm updates
+/// done; evaluations the simulations run; failed_evaluations the candidates whose simulation
+/// failed (cost +inf; a candidate whose partial cost had already reached its personal best
+/// was stopped there, evaluate_bounded, and is not counted); history one row per iteration,
+/// k = 0 … iterations; termination "iteration limit", "stopped" (the progress callback
+/// returned false, or the evaluator was stopped mid-batch: that iteration is dropped) or
+/// "all candidates failed"; success: the iterations ran out (the swarm's one stopping rule).
+struct PsoSummary : OptimizerSummary {
+    PsoSummary() { termination_type = TerminationType::iteration_limit; }
     int particles = 0;
-    long long evaluations = 0;       ///< simulations run
-    /// candidates whose simulation failed (cost +inf); a candidate whose partial cost had
-    /// already reached its personal best was stopped there (evaluate_bounded) and is not counted
-    long long failed_evaluations = 0;
     /// The first candidate whose simulation failed (empty when none did), for the report
     /// to say why (IdentificationProblem::failure).
     std::vector<double> first_failed;
-    std::vector<HistoryRow> history; ///< one row per iteration, k = 0 … iterations
-    /// "iteration limit", "stopped" (the progress callback returned false, or the evaluator
-    /// was stopped mid-batch: that iteration is dropped), "all candidates failed"
-    std::string termination;
-    TerminationType termination_type = TerminationType::iteration_limit;
     PsoConvergence convergence;      ///< at the last iteration
 };
+
+class ParameterScaling;
+/// The summary of a swarm in search coordinates (parameter_scaling.hpp) as parameters: its
+/// best point and its first failed candidate.
+void to_parameters(const ParameterScaling& scaling, PsoSummary& summary);
 
 /// Called after every iteration; return false to stop the swarm (e.g. on Ctrl-C).
 using PsoProgress = std::function<bool(const HistoryRow&)>;

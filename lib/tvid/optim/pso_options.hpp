@@ -1,6 +1,7 @@
 #pragma once
 // Options of the particle swarm (Yoshida & Takamatsu eq. 24–27), with the paper's defaults.
 
+#include "tvid/optim/settings_problem.hpp"
 #include <cstdint>
 
 namespace tvid {
@@ -21,5 +22,8 @@ struct PsoSettings {
     bool velocity_first = false; ///< false: p(k+1) = p(k) + v(k) as eq. 24 prints; true: + v(k+1)
     std::uint64_t seed = 1;
 };
+
+/// The first problem of the settings, or none.
+std::optional<SettingsProblem> validate(const PsoSettings& settings);
 
 }  // namespace tvid

@@ -26,25 +26,12 @@ OptimizerRun run_least_squares(const IdentificationProblem& problem, const FitOp
     ScaledLeastSquares search(least_squares, scaling);
     const SearchBox box = search_box(problem);
     LmSummary lm = run_levenberg_marquardt(settings, search_initial(problem), box.lower, box.upper, search, progress);
-    scaling.to_parameters(lm);
-    OptimizerRun run{.name = {},  // run_fit names it after its row
-                     .best = lm.best,
-                     .best_cost = lm.best_cost,
-                     .iterations = lm.iterations,
-                     .evaluations = least_squares.simulations(),
-                     .failed_evaluations = lm.failed_evaluations,
-                     .first_failure = {},  // the swarm's alone
-                     .history = history,
-                     .termination = lm.termination,
-                     .termination_type = lm.termination_type,
-                     .converged = lm.termination_type == TerminationType::converged,
-                     .right_hand_sides = least_squares.right_hand_sides(),
-                     .jacobian_at_best = std::move(lm.jacobian_at_best),
-                     .starts = {},
-                     .best_start = 0,
-                     .swarm = {},
-                     .settings = settings,
-                     .summary = std::move(lm)};
+    to_parameters(scaling, lm);
+    OptimizerRun run = optimizer_run(lm, least_squares.simulations(), least_squares.right_hand_sides());
+    run.history = std::move(history);  // counted in simulations
+    run.jacobian_at_best = std::move(lm.jacobian_at_best);
+    run.settings = settings;
+    run.summary = std::move(lm);
     return run;
 }
 

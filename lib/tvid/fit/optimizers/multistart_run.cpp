@@ -36,26 +36,13 @@ OptimizerRun run_multistart_fit(const IdentificationProblem& problem, const FitO
     };
     MultistartSummary m = run_multistart(settings.multistart, settings.lm, search_box(problem), evaluators.team(),
                                          make, options.progress);
-    scaling.to_parameters(m);
+    to_parameters(scaling, m);
     r.threads = m.threads * m.threads_per_start;
-    OptimizerRun run{.name = {},  // run_fit names it after its row
-                     .best = m.best,
-                     .best_cost = m.best_cost,
-                     .iterations = m.iterations,
-                     .evaluations = m.evaluations,
-                     .failed_evaluations = m.failed_evaluations,
-                     .first_failure = {},  // the swarm's alone
-                     .history = m.history,
-                     .termination = m.termination,
-                     .termination_type = m.termination_type,
-                     .converged = m.success,  // the best start converged
-                     .right_hand_sides = m.right_hand_sides,
-                     .jacobian_at_best = {},
-                     .starts = m.starts,
-                     .best_start = m.best_start,
-                     .swarm = {},
-                     .settings = settings,
-                     .summary = std::move(m)};
+    OptimizerRun run = optimizer_run(m, m.evaluations, m.right_hand_sides);
+    run.starts = m.starts;
+    run.best_start = m.best_start;
+    run.settings = settings;
+    run.summary = std::move(m);
     return run;
 }
 

@@ -21,26 +21,11 @@ OptimizerRun run_nlopt_fit(const IdentificationProblem& problem, const FitOption
     ScaledCost search(cost, scaling);
     const SearchBox box = search_box(problem);
     NloptSummary nlopt = run_nlopt(settings, search_initial(problem), box.lower, box.upper, search, options.progress);
-    scaling.to_parameters(nlopt);
-    OptimizerRun run{.name = {},  // run_fit names it after its row
-                     .best = nlopt.best,
-                     .best_cost = nlopt.best_cost,
-                     .iterations = static_cast<int>(nlopt.evaluations),
-                     .evaluations = cost.simulations(),
-                     .failed_evaluations = nlopt.failed_evaluations,
-                     .first_failure = {},  // the swarm's alone
-                     .history = nlopt.history,
-                     .termination = nlopt.termination,
-                     .termination_type = nlopt.termination_type,
-                     // run_nlopt decides: a tolerance, or a global algorithm's whole budget
-                     .converged = nlopt.success,
-                     .right_hand_sides = cost.right_hand_sides(),
-                     .jacobian_at_best = {},
-                     .starts = {},
-                     .best_start = 0,
-                     .swarm = {},
-                     .settings = settings,
-                     .summary = std::move(nlopt)};
+    scaling.best_to_parameters(nlopt);  // its summary holds no other point
+    // Converged: a tolerance was met, or a global algorithm used its whole budget (run_nlopt decides).
+    OptimizerRun run = optimizer_run(nlopt, cost.simulations(), cost.right_hand_sides());
+    run.settings = settings;
+    run.summary = std::move(nlopt);
     return run;
 }
 

@@ -29,27 +29,15 @@ OptimizerRun run_hybrid_fit(const IdentificationProblem& problem, const FitOptio
     ScaledLeastSquares residuals_search(residuals, scaling);
     HybridSummary h = run_pso_then_lm(settings.pso, settings.lm, search_box(problem), swarm_search,
                                       residuals_search, options.progress);
-    scaling.to_parameters(h);
-    OptimizerRun run{.name = {},  // run_fit names it after its row
-                     .best = h.best,
-                     .best_cost = h.best_cost,
-                     .iterations = h.iterations,
-                     .evaluations = h.evaluations,
-                     .failed_evaluations = h.failed_evaluations,
-                     .first_failure = optimizer_report::first_failure(problem, h.pso),
-                     .history = h.history,
-                     .termination = h.termination,
-                     .termination_type = h.termination_type,
-                     .converged = h.success,  // the polish converged
-                     .right_hand_sides = static_cast<long long>(swarm_cost.right_hand_sides()) +
-                                         residuals.right_hand_sides(),
-                     // The polish's Jacobian, when the polish ended the fit.
-                     .jacobian_at_best = h.lm.best == h.best ? std::move(h.lm.jacobian_at_best) : Eigen::MatrixXd(),
-                     .starts = {},
-                     .best_start = 0,
-                     .swarm = h.pso.convergence,
-                     .settings = settings,
-                     .summary = std::move(h)};
+    to_parameters(scaling, h);
+    OptimizerRun run = optimizer_run(
+        h, h.evaluations, static_cast<long long>(swarm_cost.right_hand_sides()) + residuals.right_hand_sides());
+    run.first_failure = optimizer_report::first_failure(problem, h.pso);
+    // The polish's Jacobian, when the polish ended the fit.
+    if (h.lm.best == h.best) run.jacobian_at_best = std::move(h.lm.jacobian_at_best);
+    run.swarm = h.pso.convergence;
+    run.settings = settings;
+    run.summary = std::move(h);
     return run;
 }
 

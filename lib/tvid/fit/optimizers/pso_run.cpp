@@ -21,26 +21,12 @@ OptimizerRun run_swarm(const IdentificationProblem& problem, const FitOptions& o
     const ParameterScaling scaling = search_scaling(problem);
     ScaledCandidateEvaluator search(evaluator, scaling);
     PsoSummary swarm = run_pso(settings, search_box(problem), search, options.progress);
-    scaling.to_parameters(swarm);
-    OptimizerRun run{.name = {},  // run_fit names it after its row
-                     .best = swarm.best,
-                     .best_cost = swarm.best_cost,
-                     .iterations = swarm.iterations,
-                     .evaluations = swarm.evaluations,
-                     .failed_evaluations = swarm.failed_evaluations,
-                     .first_failure = optimizer_report::first_failure(problem, swarm),
-                     .history = swarm.history,
-                     .termination = swarm.termination,
-                     .termination_type = swarm.termination_type,
-                     // The swarm has no convergence test: its iterations run out when it is done.
-                     .converged = swarm.termination_type == TerminationType::iteration_limit,
-                     .right_hand_sides = static_cast<long long>(evaluator.right_hand_sides()),
-                     .jacobian_at_best = {},
-                     .starts = {},
-                     .best_start = 0,
-                     .swarm = swarm.convergence,
-                     .settings = settings,
-                     .summary = std::move(swarm)};
+    to_parameters(scaling, swarm);
+    OptimizerRun run = optimizer_run(swarm, swarm.evaluations, static_cast<long long>(evaluator.right_hand_sides()));
+    run.first_failure = optimizer_report::first_failure(problem, swarm);
+    run.swarm = swarm.convergence;
+    run.settings = settings;
+    run.summary = std::move(swarm);
     return run;
 }
 
