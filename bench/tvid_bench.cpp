@@ -130,7 +130,7 @@ int cvt_pso(const Args& a, bool nonsmooth) {
     const std::string config = nonsmooth ? "/bench/cvt_tipin_nonsmooth.yaml" : "/configs/cvt_tipin.yaml";
     const Experiment ex = load_experiment(kSource + config, iteration_override(a));
     const IdentificationProblem problem(ex);
-    ParallelEvaluator evaluator(problem, {.threads = a.threads});
+    ParallelEvaluator evaluator(problem, EvaluatorOptions(a.threads));
     evaluator.set_batching(!a.scalar);
     UnboundedEvaluator unbounded(evaluator);
     // (The non-smooth swarm scores every candidate to the end: the same work whatever its path.)
@@ -239,7 +239,7 @@ int cvt_window(const Args& a) {
     const std::size_t sims = std::max<std::size_t>(16, 2048 / static_cast<std::size_t>(a.repeat));
     std::vector<double> candidates, costs(sims);
     for (std::size_t i = 0; i < sims; ++i) candidates.insert(candidates.end(), centre.begin(), centre.end());
-    ParallelEvaluator evaluator(problem, {.threads = a.threads});
+    ParallelEvaluator evaluator(problem, EvaluatorOptions(a.threads));
     const auto t0 = Clock::now();
     evaluator.evaluate(candidates.data(), sims, centre.size(), costs.data());
     const double wall = seconds_since(t0);
