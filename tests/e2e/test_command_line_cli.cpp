@@ -5,6 +5,10 @@
 #include <catch2/catch.hpp>
 
 #include <filesystem>
+#include <fstream>
+#include <regex>
+#include <set>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -40,6 +44,36 @@ TEST_CASE("tvid help COMMAND prints that command's options", "[e2e][cli]") {
     CHECK(all.exit_code == 0);
     CHECK(all.out == run_tvid({"--help"}).out);
     CHECK_THAT(all.out, Catch::Contains("simulate") && Catch::Contains("batch"));
+}
+
+// The command table's completeness: every row a command's file defines
+// (`CommandRow NAME_command_row()` in apps/tvid/*.cpp) is in command_table(), and
+// `tvid help NAME` knows it.
+TEST_CASE("every command row that a command's file defines is in the table and has help", "[e2e][cli]") {
+    const auto read = [](const std::filesystem::path& file) {
+        std::ifstream in(file);
+        std::stringstream text;
+        text << in.rdbuf();
+        return text.str();
+    };
+    const std::filesystem::path apps = source_dir() / "apps/tvid";
+    const std::regex defined(R"(\nCommandRow ([a-z_]+)_command_row\(\) \{)");
+    std::set<std::string> names;
+    for (const auto& entry : std::filesystem::directory_iterator(apps)) {
+        if (entry.path().extension() != ".cpp") continue;
+        const std::string text = read(entry.path());
+        for (auto m = std::sregex_iterator(text.begin(), text.end(), defined); m != std::sregex_iterator(); ++m)
+            names.insert((*m)[1].str());
+    }
+    REQUIRE(names.size() >= 10);
+    const std::string table = read(apps / "command_table.cpp");
+    const RunResult all = run_tvid({"--help"});
+    for (const std::string& name : names) {
+        INFO(name);
+        CHECK_THAT(table, Catch::Contains(name + "_command_row(),"));
+        CHECK(run_tvid({"help", name}).exit_code == 0);
+        CHECK_THAT(all.out, Catch::Contains(name));
+    }
 }
 
 TEST_CASE("a mistyped command gets the nearest one, in one line with exit 2", "[e2e][cli]") {

@@ -15,16 +15,6 @@ namespace {
 
 constexpr double kModesTwoPi = 6.283185307179586;
 
-const char* initial_state_name(InitialStateKind k) {
-    switch (k) {
-        case InitialStateKind::equilibrium: return "equilibrium";
-        case InitialStateKind::rest: return "rest";
-        case InitialStateKind::measured: return "measured";
-        case InitialStateKind::steady: return "steady";
-    }
-    return "?";
-}
-
 // v divided by its largest entry (that entry becomes 1 + 0i); the index of that entry.
 std::size_t normalise_to_largest(std::vector<std::complex<double>>& v) {
     double largest = 0.0;
@@ -220,7 +210,7 @@ OperatingPoint window_operating_point(const IdentificationProblem& problem, cons
     OperatingPoint op;
     op.window = window;
     op.label = w.label;
-    op.initial_state = initial_state_name(d.initial_state);
+    op.initial_state = initial_state_row(d.initial_state).name;
     const Experiment& ex = problem.experiment();
     op.recording = recording_name(ex, w);
     op.sample = w.start - (w.recording < d.recordings.size() ? d.recordings[w.recording].begin : 0);

@@ -54,7 +54,7 @@ public:
     /// Whether window w is simulated from a measured start through a warm-up (then its
     /// march begins at w.first, whose sample is scored too).
     bool warms_up(const Window& w) const {
-        return d_->initial_state == InitialStateKind::measured && !d_->crank_angle.empty() && w.start < w.first;
+        return initial_state_row(d_->initial_state).reads_measured_speed && !d_->crank_angle.empty() && w.start < w.first;
     }
 
     /// Prepares window w with the parameters already set in ws.model: ws.x_start gets the

@@ -96,7 +96,7 @@ double common_controller_period(const NetworkSpec& network) {
 }
 
 void refuse_sampled_warmup(const YamlMap& top, const Experiment& ex) {
-    if (!has_sampled_elements(ex.network) || ex.initial_state != InitialStateKind::measured ||
+    if (!has_sampled_elements(ex.network) || !initial_state_row(ex.initial_state).reads_measured_speed ||
         ex.angle_column.empty() || (ex.warmup <= 0 && ex.warmup_cycles <= 0))
         return;
     top.fail("initial_state", "a sampled controller (sample_period) cannot follow the crank-angle warm-up: the "

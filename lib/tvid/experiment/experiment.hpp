@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "tvid/channels/recording_spans.hpp"
+#include "tvid/experiment/initial_state_kinds.hpp"
 #include "tvid/experiment/optimizer_kinds.hpp"
 #include "tvid/io/csv_table.hpp"
 #include "tvid/model/network_spec.hpp"
@@ -106,8 +107,6 @@ struct ExperimentRecording {
     double angle_offset = 0.0;    ///< [deg] whole cycles added to its crank angle in crank_angle
     SourceLocation where;         ///< its entry (data.file or data.recordings[k])
 };
-
-enum class InitialStateKind { equilibrium, rest, measured, steady };
 
 /// `initial_state: { kind: steady, … }`: the line in steady rotation (steady_motion.hpp)
 /// at one node's speed, twisted to carry the mean inputs.

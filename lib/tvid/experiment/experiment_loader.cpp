@@ -294,7 +294,11 @@ void read_initial_state(const YamlMap& top, const YamlMap& data, const DataSecti
         const bool detailed = top.get("initial_state").IsMap();
         const YamlMap start = detailed ? top.map("initial_state") : top;
         const std::string key = detailed ? "kind" : "initial_state";
-        std::string kind = start.choice(key, {"equilibrium", "rest", "measured", "steady", "estimated"});
+        std::vector<std::string> kinds, recipes;
+        for (const InitialStateRow& row : kInitialStateKinds) kinds.emplace_back(row.name);
+        recipes = kinds;
+        kinds.emplace_back("estimated");
+        std::string kind = start.choice(key, kinds);
         const bool estimated = kind == "estimated";
         if (estimated) {
             // The start identified with the model, seeded by a recipe (estimated_start.hpp).
@@ -304,7 +308,7 @@ void read_initial_state(const YamlMap& top, const YamlMap& data, const DataSecti
             if (!start.has("from"))
                 start.fail_missing("from", "(the recipe that seeds the estimated start: steady, measured, equilibrium "
                                            "or rest)");
-            kind = start.choice("from", {"equilibrium", "rest", "measured", "steady"});
+            kind = start.choice("from", recipes);
             ex.estimated_start.on = true;
             ex.estimated_start.where = start.source().where(start.node(), start.path());
             if (start.has("validation"))
@@ -321,11 +325,10 @@ void read_initial_state(const YamlMap& top, const YamlMap& data, const DataSecti
                                    "had been steady there: start from initial_state: rest, measured or steady, where "
                                    "the controller's start is known");
         }
-        ex.initial_state = kind == "rest"       ? InitialStateKind::rest
-                           : kind == "measured" ? InitialStateKind::measured
-                           : kind == "steady"   ? InitialStateKind::steady
-                                                : InitialStateKind::equilibrium;
-        if (detailed && ex.initial_state != InitialStateKind::steady)
+        const InitialStateRow& row = *find_initial_state(kind);
+        ex.initial_state = row.kind;
+        const bool has_keys = row.keys[0] != nullptr;
+        if (detailed && !has_keys)
             estimated ? start.allow_only({"kind", "from", "validation"}) : start.allow_only({"kind"});
         if (ex.initial_state == InitialStateKind::steady) {
             if (!detailed)
@@ -337,24 +340,25 @@ void read_initial_state(const YamlMap& top, const YamlMap& data, const DataSecti
                                        ": it cannot turn steadily, and at rest its start is the static equilibrium "
                                        "(initial_state: equilibrium, measured or rest)");
         }
-        if (engine && ex.initial_state != InitialStateKind::measured && ex.initial_state != InitialStateKind::steady)
+        if (engine && !row.turns)
             top.fail("initial_state", "a model with cylinders turns: it starts from the measured crank angle and "
                                       "speed (initial_state: measured)");
     }
-    if (const auto held = state_nodes(ex.network); ex.initial_state == InitialStateKind::equilibrium && !held.empty()) {
+    const InitialStateRow& row = initial_state_row(ex.initial_state);
+    if (const auto held = state_nodes(ex.network); row.static_balance && !held.empty()) {
         const std::string why = "node " + held.front() + " holds a position controller's integral, which carries the "
                                 "load at an equilibrium, where every speed is zero: start from initial_state: rest, "
                                 "measured or estimated";
         if (top.has("initial_state")) top.fail("initial_state", why);
         top.fail_missing("initial_state", "(" + why + ")");
     }
-    if (ex.initial_state == InitialStateKind::equilibrium && prescribes_motion(ex.network)) {
+    if (row.static_balance && prescribes_motion(ex.network)) {
         const std::string why = "a speed source turns its node: start from initial_state: { kind: steady, node: NAME, "
                                 "speed: COLUMN } or measured";
         if (top.has("initial_state")) top.fail("initial_state", why);
         top.fail_missing("initial_state", "(" + why + ")");
     }
-    if (ex.initial_state == InitialStateKind::measured) {
+    if (row.reads_measured_speed) {
         // Every node starts turning at the first measured speed, through the gear ratios,
         // at the measured crank angle when there is one.
         if (ex.angle_column.empty() && engine)

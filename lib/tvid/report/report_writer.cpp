@@ -429,10 +429,7 @@ json smoothing_json(const Experiment& ex) {
 
 json estimated_start_json(const IdentificationProblem& problem, const FitResult& fit) {
     const Experiment& ex = problem.experiment();
-    const char* recipe = ex.initial_state == InitialStateKind::rest       ? "rest"
-                         : ex.initial_state == InitialStateKind::measured ? "measured"
-                         : ex.initial_state == InitialStateKind::steady   ? "steady"
-                                                                          : "equilibrium";
+    const char* recipe = initial_state_row(ex.initial_state).name;
     json windows = json::array();
     if (ex.estimated_start.validation) {
         const std::vector<double>& time = problem.inputs().time();
