@@ -8,6 +8,7 @@
 #include "tvid/model/element_source.hpp"
 #include "tvid/model/element_traits.hpp"
 #include "tvid/model/elements/node_motion.hpp"
+#include "tvid/model/elements/two_node_load.hpp"
 #include "tvid/model/field.hpp"
 #include "tvid/model/smooth_clearance.hpp"
 
@@ -64,7 +65,7 @@ void read_clearance_law(const ElementSource& src, S& s, const Field* k, const Fi
     if (s.smooth) s.sigma = src.field("sigma");
 }
 
-struct Clearance {
+struct Clearance : TwoNodeLoad {  // its load: −t on a, +t on b
     using Spec = ClearanceSpec;
     template <class T>
     struct Bound : ClearanceLaw<T> {
@@ -119,12 +120,6 @@ struct Clearance {
     template <class T>
     [[gnu::always_inline]] static T torque(const Bound<T>& e, const NodeMotion<T>& m) {
         return e.ClearanceLaw<T>::torque(m.twist(e.a, e.b), m.twist_rate(e.a, e.b));
-    }
-
-    template <class T>
-    [[gnu::always_inline]] static void load(const Bound<T>& e, const T& t, const NodeMotion<T>&, T* node_torque) {
-        node_torque[e.a] -= t;
-        if (e.b != kGround) node_torque[e.b] += t;
     }
 };
 

@@ -9,6 +9,7 @@
 #include "tvid/model/element_source.hpp"
 #include "tvid/model/element_traits.hpp"
 #include "tvid/model/elements/node_motion.hpp"
+#include "tvid/model/elements/two_node_load.hpp"
 #include "tvid/model/field.hpp"
 #include "tvid/model/field_bounds.hpp"
 #include "tvid/model/smooth_sign.hpp"
@@ -38,7 +39,7 @@ struct FrictionSpec {
 
 namespace elements {
 
-struct Friction {
+struct Friction : TwoNodeLoad {  // its load: −t on a, +t on b
     using Spec = FrictionSpec;
     template <class T>
     struct Bound {
@@ -178,12 +179,6 @@ struct Friction {
     template <class T>
     [[gnu::always_inline]] static T torque(const Bound<T>& e, const NodeMotion<T>& m) {
         return law(e, m.twist_rate(e.a, e.b));
-    }
-
-    template <class T>
-    [[gnu::always_inline]] static void load(const Bound<T>& e, const T& t, const NodeMotion<T>&, T* node_torque) {
-        node_torque[e.a] -= t;
-        if (e.b != kGround) node_torque[e.b] += t;
     }
 };
 

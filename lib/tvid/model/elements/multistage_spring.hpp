@@ -11,6 +11,7 @@
 #include "tvid/model/element_source.hpp"
 #include "tvid/model/element_traits.hpp"
 #include "tvid/model/elements/node_motion.hpp"
+#include "tvid/model/elements/two_node_load.hpp"
 #include "tvid/model/field.hpp"
 #include "tvid/model/field_bounds.hpp"
 #include "tvid/model/smooth_clearance.hpp"
@@ -35,7 +36,7 @@ struct MultistageSpringSpec {
 
 namespace elements {
 
-struct MultistageSpring {
+struct MultistageSpring : TwoNodeLoad {  // its load: −t on a, +t on b
     using Spec = MultistageSpringSpec;
     static constexpr int kMaxStages = Spec::kMaxStages;
     template <class T>
@@ -160,11 +161,6 @@ struct MultistageSpring {
         return spring_torque(e, m.twist(e.a, e.b)) + e.c * m.twist_rate(e.a, e.b);
     }
 
-    template <class T>
-    [[gnu::always_inline]] static void load(const Bound<T>& e, const T& t, const NodeMotion<T>&, T* node_torque) {
-        node_torque[e.a] -= t;
-        if (e.b != kGround) node_torque[e.b] += t;
-    }
 
     /// Each side's stage angles can rise from zero outwards: bounds that put a stage wholly
     /// before the one it follows are refused (a pair of constants is checked where the stages

@@ -6,6 +6,7 @@
 #include "tvid/model/element_source.hpp"
 #include "tvid/model/element_traits.hpp"
 #include "tvid/model/elements/node_motion.hpp"
+#include "tvid/model/elements/two_node_load.hpp"
 #include "tvid/model/field.hpp"
 
 namespace tvid {
@@ -20,7 +21,7 @@ struct SpringDamperSpec {
 
 namespace elements {
 
-struct SpringDamper {
+struct SpringDamper : TwoNodeLoad {  // its load: −t on a, +t on b
     using Spec = SpringDamperSpec;
     template <class T>
     struct Bound {
@@ -66,12 +67,6 @@ struct SpringDamper {
     template <class T>
     [[gnu::always_inline]] static T torque(const Bound<T>& e, const NodeMotion<T>& m) {
         return e.k * m.twist(e.a, e.b) + e.c * m.twist_rate(e.a, e.b);
-    }
-
-    template <class T>
-    [[gnu::always_inline]] static void load(const Bound<T>& e, const T& t, const NodeMotion<T>&, T* node_torque) {
-        node_torque[e.a] -= t;
-        if (e.b != kGround) node_torque[e.b] += t;
     }
 };
 
