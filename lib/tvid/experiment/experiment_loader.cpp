@@ -144,7 +144,7 @@ SimulationSettings read_simulation(const YamlMap& m) {
     if (m.has("method")) {
         std::vector<std::string> names;
         for (const IntegrationMethodRow& row : kIntegrationMethods) names.emplace_back(row.name);
-        s.method = find_integration_method(m.choice("method", names))->method;
+        s.method = find_integration_method(m.choice("method", names))->kind;
     }
     if (m.has("step")) {
         const YAML::Node step = m.get("step");

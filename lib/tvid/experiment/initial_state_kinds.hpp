@@ -15,6 +15,8 @@
 #include <cstddef>
 #include <string_view>
 
+#include "tvid/util/kind_table.hpp"
+
 namespace tvid {
 
 enum class InitialStateKind { equilibrium, rest, measured, steady };
@@ -46,13 +48,8 @@ inline constexpr std::array<InitialStateRow, 4> kInitialStateKinds{{
      "the line in steady rotation at a node's speed, twisted to carry the mean inputs"},
 }};
 
-/// Every enumerator has its row, at its own index.
-consteval bool initial_state_table_complete() {
-    for (std::size_t i = 0; i < kInitialStateKinds.size(); ++i)
-        if (static_cast<std::size_t>(kInitialStateKinds[i].kind) != i) return false;
-    return static_cast<std::size_t>(InitialStateKind::steady) + 1 == kInitialStateKinds.size();
-}
-static_assert(initial_state_table_complete(), "every InitialStateKind needs its row, in enumerator order");
+static_assert(rows_in_enumerator_order(kInitialStateKinds, static_cast<std::size_t>(InitialStateKind::steady) + 1),
+              "every InitialStateKind needs its row, in enumerator order");
 
 constexpr const InitialStateRow& initial_state_row(InitialStateKind kind) {
     return kInitialStateKinds[static_cast<std::size_t>(kind)];
@@ -60,9 +57,7 @@ constexpr const InitialStateRow& initial_state_row(InitialStateKind kind) {
 
 /// The row named `name`, or nullptr.
 constexpr const InitialStateRow* find_initial_state(std::string_view name) {
-    for (const InitialStateRow& row : kInitialStateKinds)
-        if (name == row.name) return &row;
-    return nullptr;
+    return find_row_named(kInitialStateKinds, name);
 }
 
 }  // namespace tvid

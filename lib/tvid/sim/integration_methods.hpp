@@ -12,12 +12,14 @@
 #include <cstddef>
 #include <string_view>
 
+#include "tvid/util/kind_table.hpp"
+
 namespace tvid {
 
 enum class IntegrationMethod { rk4, dopri5, rosenbrock4 };
 
 struct IntegrationMethodRow {
-    IntegrationMethod method;
+    IntegrationMethod kind;
     const char* name;         ///< `simulation.method: NAME`
     bool fixed_step;          ///< steps of the sample interval (or of `step`), no error control
     bool uses_jacobian;       ///< the model's state Jacobian at every step (a stiff method)
@@ -32,15 +34,10 @@ inline constexpr std::array<IntegrationMethodRow, 3> kIntegrationMethods{{
     {IntegrationMethod::rosenbrock4, "rosenbrock4", false, true, ""},
 }};
 
-/// Every enumerator has its row, at its own index.
-consteval bool integration_method_table_complete() {
-    for (std::size_t i = 0; i < kIntegrationMethods.size(); ++i)
-        if (static_cast<std::size_t>(kIntegrationMethods[i].method) != i) return false;
-    return static_cast<std::size_t>(IntegrationMethod::rosenbrock4) + 1 == kIntegrationMethods.size();
-}
-static_assert(integration_method_table_complete(), "every IntegrationMethod needs its row, in enumerator order");
+static_assert(rows_in_enumerator_order(kIntegrationMethods, static_cast<std::size_t>(IntegrationMethod::rosenbrock4) + 1),
+              "every IntegrationMethod needs its row, in enumerator order");
 
-constexpr const IntegrationMethodRow& integration_method_row(IntegrationMethod method) {
+constexpr const IntegrationMethodRow& integration_method_row(IntegrationMethod method) {  // rows[method]
     return kIntegrationMethods[static_cast<std::size_t>(method)];
 }
 
@@ -49,9 +46,7 @@ constexpr bool takes_fixed_steps(IntegrationMethod method) { return integration_
 
 /// The row named `name`, or nullptr.
 constexpr const IntegrationMethodRow* find_integration_method(std::string_view name) {
-    for (const IntegrationMethodRow& row : kIntegrationMethods)
-        if (name == row.name) return &row;
-    return nullptr;
+    return find_row_named(kIntegrationMethods, name);
 }
 
 }  // namespace tvid
