@@ -117,6 +117,23 @@ TEST_CASE("the content hash is of the bytes read", "[io][limits]") {
     CHECK(table.content_sha256() == "97d7e2cc1ac3e40d57582211c867e0cc585296dbb7aad908d5a86bc1aba3eb6c");
 }
 
+namespace {
+
+/// The hooks of a march that only looks: nothing to read, nothing sampled.
+struct OnlyGoOn {
+    void begin(std::size_t) {}
+    SimulationStatus arrive(std::size_t) { return SimulationStatus::ok; }
+};
+
+/// The sample loop over `time` from sample 0 to `last` in fixed substeps of at most max_step.
+template <class Step>
+SimulationStatus march_fixed(const std::vector<double>& time, std::size_t last, double max_step, Step step) {
+    return march_over_samples(0, last, FixedSubsteps(time, max_step, step, [] { return SimulationStatus::ok; }),
+                              OnlyGoOn{});
+}
+
+}  // namespace
+
 TEST_CASE("fixed-step counts are doubles, and a march past the cap stops instead of wrapping", "[sim][limits]") {
     CHECK(substeps_over(1.0, 0.0) == 1.0);
     CHECK(substeps_over(1e-3, 1e-3) == 1.0);
@@ -128,8 +145,7 @@ TEST_CASE("fixed-step counts are doubles, and a march past the cap stops instead
     CHECK(c.longest_at == 2);
     CHECK(c.total == 2 + 1e10);
     int steps = 0;
-    const SimulationStatus status = march_fixed_steps(
-        time, 0, 3, 1e-3, [&](const FixedStep&) { ++steps; }, [](std::size_t) { return SimulationStatus::ok; });
+    const SimulationStatus status = march_fixed(time, 3, 1e-3, [&](const FixedStep&) { ++steps; });
     CHECK(status == SimulationStatus::step_budget_exceeded);
     CHECK(steps == 2);  // the two ordinary intervals, then the refusal
 }
@@ -139,8 +155,7 @@ TEST_CASE("a stop request ends a march only while simulations are interruptible"
     long long steps = 0;
     auto march = [&] {
         steps = 0;
-        return march_fixed_steps(
-            time, 0, 1, 1e-6, [&](const FixedStep&) { ++steps; }, [](std::size_t) { return SimulationStatus::ok; });
+        return march_fixed(time, 1, 1e-6, [&](const FixedStep&) { ++steps; });
     };
     stop_request() = true;
     CHECK(march() == SimulationStatus::ok);  // not armed: the evaluation of a report runs whole
@@ -152,12 +167,9 @@ TEST_CASE("a stop request ends a march only while simulations are interruptible"
         // A request during a long interval is seen within kStopCheckInterval substeps.
         stop_request() = false;
         steps = 0;
-        const SimulationStatus status = march_fixed_steps(
-            time, 0, 1, 1e-6,
-            [&](const FixedStep&) {
-                if (++steps == 10) stop_request() = true;
-            },
-            [](std::size_t) { return SimulationStatus::ok; });
+        const SimulationStatus status = march_fixed(time, 1, 1e-6, [&](const FixedStep&) {
+            if (++steps == 10) stop_request() = true;
+        });
         CHECK(status == SimulationStatus::stopped_by_request);
         CHECK(steps == static_cast<long long>(kStopCheckInterval));
         stop_request() = true;

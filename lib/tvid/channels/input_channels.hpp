@@ -21,6 +21,10 @@ public:
     /// Input `input` half way between samples `sample` and sample + 1 (the linear
     /// interpolation there, computed once): RK4's middle stages at the sampling step.
     double midpoint(std::size_t input, std::size_t sample) const { return midpoints_[input][sample]; }
+    /// Every input at sample `sample` into u[0 … count).
+    void read_sample(std::size_t sample, double* u) const {
+        for (std::size_t k = 0; k < values_.size(); ++k) u[k] = values_[k][sample];
+    }
 
     /// Inputs at time t into u[0 … count). `hint` is the caller's cursor (the interval
     /// index found last time), so a simulation marching forward finds its interval in O(1).

@@ -59,10 +59,7 @@ void march_batch_rk4(NetworkModel<Pack<W>>& model, const InputChannels& inputs, 
     std::size_t needed = 0;
     for (int l = 0; l < W; ++l) needed += active[l] ? 1 : 0;
     if (needed == 0 || start >= last) return;
-    for (std::size_t k = 0; k < n_in; ++k) u[k] = inputs.value(k, start);
-    model.restart_sampling(x.data(), u.data());  // sampled elements: the caller marches whole simulations
-    model.derivative(x.data(), u.data(), k1.data());
-    ++pack_rhs;
+    // Sampled elements restart at `start` (the caller marches whole simulations).
     const auto step = [&](const FixedStep& s) {
         const std::size_t i = s.sample;
         const double dt = s.dt;
@@ -78,7 +75,12 @@ void march_batch_rk4(NetworkModel<Pack<W>>& model, const InputChannels& inputs, 
             inputs.at(s.t + 0.5 * dt, hint, um);
             inputs.at(s.t + dt, hint, u1);
         }
-        if (s.substep > 0) model.derivative(x.data(), u0, k1.data());
+        if (s.substep > 0) {
+            model.derivative(x.data(), u0, k1.data());
+        } else if (i == start) {  // later samples' first stage comes from arriving there (below)
+            model.derivative(x.data(), u.data(), k1.data());
+            ++pack_rhs;
+        }
         for (std::size_t j = 0; j < N; ++j) xt[j] = x[j] + half * k1[j];
         model.derivative(xt.data(), um, k2.data());
         for (std::size_t j = 0; j < N; ++j) xt[j] = x[j] + half * k2[j];
@@ -89,16 +91,16 @@ void march_batch_rk4(NetworkModel<Pack<W>>& model, const InputChannels& inputs, 
         rhs += 4 * needed;
         pack_rhs += 4;
     };
-    const auto observe = [&](std::size_t i) {
-        for (std::size_t k = 0; k < n_in; ++k) u[k] = inputs.value(k, i);
-        model.sample(inputs.time()[i], x.data(), u.data());
+    const auto look = [&](std::size_t i) {
         model.derivative(x.data(), u.data(), k1.data());  // the next step's first stage, at sample i
         active = observer(i, x, u, sane_lanes(x)) & active;
         needed = 0;
         for (int l = 0; l < W; ++l) needed += active[l] ? 1 : 0;
         return needed > 0 ? SimulationStatus::ok : SimulationStatus::stopped_by_observer;
     };
-    march_fixed_steps(inputs.time(), start, last, max_step, step, observe);
+    const auto lanes_checked_by_observer = [] { return SimulationStatus::ok; };
+    march_over_samples(start, last, FixedSubsteps(inputs.time(), max_step, step, lanes_checked_by_observer),
+                       sample_hooks(inputs, u, ModelMemory<NetworkModel<P>, P>{model, x.data()}, look));
 }
 
 }  // namespace tvid

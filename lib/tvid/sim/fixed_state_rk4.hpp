@@ -59,10 +59,6 @@ SimulationStatus march_fixed_rk4(NetworkModel<T>& model, const InputChannels& in
     double* u1 = u_stage.data() + 2 * n_in;  // a step on
     std::array<T, N> xt, k1, k2, k3, k4;
     std::size_t hint = start;
-    if (model.samples()) {  // sampled elements: restarted here, sampled at every later sample
-        for (std::size_t k = 0; k < n_in; ++k) u[k] = inputs.value(k, start);
-        model.restart_sampling(x.data(), u.data());
-    }
     const auto step = [&](const FixedStep& s) {
         const std::size_t i = s.sample;
         const double dt = s.dt;
@@ -88,14 +84,16 @@ SimulationStatus march_fixed_rk4(NetworkModel<T>& model, const InputChannels& in
         for (std::size_t j = 0; j < N; ++j) x[j] = x[j] + sixth * k1[j] + third * k2[j] + third * k3[j] + sixth * k4[j];
         rhs += 4;
     };
-    const auto observe = [&](std::size_t i) {
+    const auto check = [&] {
         SimulationStatus status = SimulationStatus::ok;
-        if (!fixed_state_is_sane(x, status)) return status;
-        for (std::size_t k = 0; k < n_in; ++k) u[k] = inputs.value(k, i);
-        model.sample(inputs.time()[i], x.data(), u.data());
+        fixed_state_is_sane(x, status);
+        return status;
+    };
+    const auto look = [&](std::size_t i) {
         return observer(i, x, u) ? SimulationStatus::ok : SimulationStatus::stopped_by_observer;
     };
-    return march_fixed_steps(inputs.time(), start, last, max_step, step, observe);
+    return march_over_samples(start, last, FixedSubsteps(inputs.time(), max_step, step, check),
+                              sample_hooks(inputs, u, ModelMemory<NetworkModel<T>, T>{model, x.data()}, look));
 }
 
 /// march_fixed_rk4 for a double state held in a vector (N = x.size()), calling

@@ -93,34 +93,28 @@ inline bool state_is_sane(const std::vector<double>& x, SimulationStatus& status
 /// sample `start` to `last` with the integrator of `settings`, calling
 /// `observer(i, x, u)` at every sample i in (start, last] with u the inputs at time[i].
 /// The observer returns false to stop early. Only x[0 … checked) is tested for divergence.
-/// A system with sampled elements (restart_sampling, sample: NetworkSystem,
-/// SensitivitySystem) restarts them at `start` and samples at every later sample, before
-/// the observer: every integrator stops at each sample, so a held output changes only
+/// The system's sampled elements (restart_sampling, sample: NetworkSystem,
+/// SensitivitySystem) restart at `start` and sample at every later sample, before the
+/// observer: every integrator stops at each sample, so a held output changes only
 /// between steps.
 template <class System, class Observer>
 SimulationStatus march_samples(System& system, const InputChannels& inputs, std::size_t start, std::size_t last,
                                std::vector<double>& x, std::size_t checked, const SimulationSettings& settings,
                                SimulationBuffers& buffers, Observer&& observer) {
     namespace odeint = boost::numeric::odeint;
-    constexpr bool sampled = requires { system.sample(0.0, x, buffers.u); };
-    buffers.u.resize(inputs.count());
-    std::size_t hint = start;
-    if constexpr (sampled) {
-        inputs.at(inputs.time()[start], hint, buffers.u.data());
-        system.restart_sampling(x, buffers.u);
-    }
-    const auto hand_over = [&](std::size_t i) {
-        inputs.at(inputs.time()[i], hint, buffers.u.data());
-        if constexpr (sampled) system.sample(inputs.time()[i], x, buffers.u);
+    const SystemMemory<System, std::vector<double>> memory{system, x};
+    const auto look = [&](std::size_t i) {
         return observer(i, x, buffers.u) ? SimulationStatus::ok : SimulationStatus::stopped_by_observer;
     };
     if (takes_fixed_steps(settings.method)) {
         const auto step = [&](const FixedStep& s) { buffers.rk4.do_step(std::ref(system), x, s.t, s.dt); };
-        const auto observe = [&](std::size_t i) {
+        const auto check = [&] {
             SimulationStatus status = SimulationStatus::ok;
-            return state_is_sane(x, status, checked) ? hand_over(i) : status;
+            state_is_sane(x, status, checked);
+            return status;
         };
-        return march_fixed_steps(inputs.time(), start, last, settings.max_step, step, observe);
+        return march_over_samples(start, last, FixedSubsteps(inputs.time(), settings.max_step, step, check),
+                                  sample_hooks(inputs, buffers.u, memory, look));
     }
     // Adaptive Dormand–Prince, the state checked after every step. (A system without a
     // Jacobian, such as the augmented sensitivity system, also marches this way under
@@ -132,20 +126,17 @@ SimulationStatus march_samples(System& system, const InputChannels& inputs, std:
         if (attempt.accepted) state_is_sane(x, attempt.status, checked);
         return attempt;
     };
+    // dopri5 reuses its last stage as the next step's first (FSAL): after a held output
+    // changed at the sample, that stage is stale.
+    const auto look_afresh = [&](std::size_t i) {
+        const SimulationStatus status = look(i);
+        stepper.reset();
+        return status;
+    };
     const auto no_interval_setup = [](std::size_t) {};
-    if constexpr (sampled) {
-        // dopri5 reuses its last stage as the next step's first (FSAL): after a held
-        // output changed at the sample, that stage is stale.
-        const auto hand_over_fresh = [&](std::size_t i) {
-            const SimulationStatus status = hand_over(i);
-            stepper.reset();
-            return status;
-        };
-        return march_controlled_steps(inputs.time(), start, last, settings.max_steps, no_interval_setup, try_step,
-                                      hand_over_fresh);
-    }
-    return march_controlled_steps(inputs.time(), start, last, settings.max_steps, no_interval_setup, try_step,
-                                  hand_over);
+    return march_over_samples(
+        start, last, ControlledSteps(inputs.time(), start, last, settings.max_steps, no_interval_setup, try_step),
+        sample_hooks(inputs, buffers.u, memory, look_afresh));
 }
 
 /// march_samples for rosenbrock4: adaptive Rosenbrock 4(3) steps (odeint's controller on
@@ -164,9 +155,6 @@ SimulationStatus march_samples_stiff(StiffNetworkSystem& stiff, const InputChann
     UblasVector& state = buffers.stiff.state;
     state.resize(x.size(), false);
     std::copy(x.begin(), x.end(), state.begin());
-    std::size_t hint = start;
-    inputs.at(inputs.time()[start], hint, buffers.u.data());
-    stiff.restart_sampling(x, buffers.u);
     const auto enter_interval = [&](std::size_t i) { stiff.enter_interval(i); };
     const auto try_step = [&](double& t, double& dt) {
         StepAttempt attempt;
@@ -179,12 +167,12 @@ SimulationStatus march_samples_stiff(StiffNetworkSystem& stiff, const InputChann
         state_is_sane(x, attempt.status);
         return attempt;
     };
-    const auto observe = [&](std::size_t i) {
-        inputs.at(inputs.time()[i], hint, buffers.u.data());
-        stiff.sample(inputs.time()[i], x, buffers.u);
+    const auto look = [&](std::size_t i) {
         return observer(i, x, buffers.u) ? SimulationStatus::ok : SimulationStatus::stopped_by_observer;
     };
-    return march_controlled_steps(inputs.time(), start, last, settings.max_steps, enter_interval, try_step, observe);
+    return march_over_samples(
+        start, last, ControlledSteps(inputs.time(), start, last, settings.max_steps, enter_interval, try_step),
+        sample_hooks(inputs, buffers.u, SystemMemory<StiffNetworkSystem, std::vector<double>>{stiff, x}, look));
 }
 
 /// Integrates the model from sample `start` (state x at time[start]) to sample `last`,

@@ -19,7 +19,7 @@ struct SimulationSettings {
 /// The most fixed (rk4) steps one simulation of a whole recording may take: more would
 /// run for many minutes per simulation, and the step counts would no longer be exact.
 /// The experiment loader refuses a `simulation.step` (or a time column) that asks for
-/// more; march_fixed_steps stops with step_budget_exceeded rather than step past it.
+/// more; a fixed-step crossing (FixedSubsteps) stops with step_budget_exceeded rather than step past it.
 inline constexpr double kMaxFixedStepsPerSimulation = 1e9;
 
 }  // namespace tvid
