@@ -27,6 +27,11 @@ struct ChannelUse {
 /// none (an ideal gear: its torque is a constraint's).
 enum class ElementOutputs { torque, torque_each_side, none };
 
+/// Where an element acts, as its kind declares it (`static constexpr ElementEnds ends`):
+/// at its one node (its spec's `node`); between its nodes `a` and `b` (b may be kGround);
+/// or between them through a gear, whose `ratio` ties the speeds at rest (ω_a = ratio·ω_b).
+enum class ElementEnds { one_node, two_nodes, geared };
+
 /// How the elements that depend on a node's absolute angle (a cylinder's slider crank and
 /// gas torque, an order torque) are linearised.
 enum class AngleDependence {

@@ -36,14 +36,17 @@ struct NodeSpec {
     bool holds_state = false;
 };
 
-/// The node an element's fields and torque are counted on: its `node`, or its first node
-/// `a` (each kind names its nodes so), or −1.
-template <class Spec>
-int element_node(const Spec& e) {
-    if constexpr (requires { e.node; }) return e.node;
-    else if constexpr (requires { e.a; }) return e.a;
-    else return -1;
+/// The node an element of kind Kind has its fields and torque counted on: its one node, or
+/// its first node `a`.
+template <class Kind>
+int element_node(const typename Kind::Spec& e) {
+    if constexpr (Kind::ends == ElementEnds::one_node) return e.node;
+    else return e.a;
 }
+
+/// An element between two nodes (ElementEnds), of which the second may be ground.
+template <class Kind>
+inline constexpr bool acts_between_nodes = Kind::ends != ElementEnds::one_node;
 
 /// What every element kind's file declares (docs/architecture.md, "Adding an element"): its
 /// type name and keys in the experiment file and its reader; each field's unit (FieldInfo
@@ -62,6 +65,11 @@ concept DescribedElementKind = requires(ElementSource& src, const std::string& n
     { K::outputs } -> std::convertible_to<ElementOutputs>;
     { K::linearise(spec, lin, at) } -> std::same_as<LinearNote>;
     { K::acts_at_rest } -> std::convertible_to<bool>;
+    { K::ends } -> std::convertible_to<ElementEnds>;
+    // Its spec names the nodes (and the ratio) that its ends declare.
+    requires K::ends != ElementEnds::one_node || requires { { spec.node } -> std::convertible_to<int>; };
+    requires K::ends == ElementEnds::one_node || requires { { spec.a } -> std::convertible_to<int>; spec.b; };
+    requires K::ends != ElementEnds::geared || requires { spec.ratio; };
     // A kind with a torque on each side says what its output side carries.
     requires K::outputs != ElementOutputs::torque_each_side ||
                  requires(const typename K::template Bound<double>& e, const double& t,
@@ -71,7 +79,7 @@ concept DescribedElementKind = requires(ElementSource& src, const std::string& n
 #define TVID_ELEMENT_KIND_CHECK(kind, Type, list)                                                             \
     static_assert(DescribedElementKind<elements::Type>,                                                       \
                   "elements/" #kind ".hpp leaves out a rule: type_name, summary, keys, read, channel, channel_of, "    \
-                  "outputs, linearise or acts_at_rest");                                                      \
+                  "outputs, linearise, acts_at_rest or ends");                                                      \
     static_assert(std::string_view(#kind) == elements::Type::type_name, #kind ": its row and its type_name differ");
 TVID_ELEMENT_KINDS(TVID_ELEMENT_KIND_CHECK)
 #undef TVID_ELEMENT_KIND_CHECK

@@ -47,8 +47,8 @@ std::string output_unit(const NetworkSpec& network, const OutputSpec& output) {
             using Kind = decltype(kind);
             if (ElementRow<Kind>::kind != output.element.kind) return;
             if (&e != &ElementRow<Kind>::list(network)[static_cast<std::size_t>(output.element.index)]) return;
-            node = element_node(e);
-            if constexpr (requires { e.b; })
+            node = element_node<Kind>(e);
+            if constexpr (acts_between_nodes<Kind>)
                 if (output.side == TorqueSide::output) node = e.b;
         });
     }
@@ -76,14 +76,14 @@ void with_input_reader(const NetworkSpec& network, std::size_t input, F&& f) {
 std::string input_unit(const NetworkSpec& network, std::size_t input) {
     std::string unit;
     with_input_reader(network, input, [&](auto kind, const auto& e) {
-        unit = unit_on(network, element_node(e), decltype(kind)::channel.unit);
+        unit = unit_on(network, element_node<decltype(kind)>(e), decltype(kind)::channel.unit);
     });
     return unit;
 }
 
 int input_node(const NetworkSpec& network, std::size_t input) {
     int node = -1;
-    with_input_reader(network, input, [&](auto, const auto& e) { node = element_node(e); });
+    with_input_reader(network, input, [&](auto kind, const auto& e) { node = element_node<decltype(kind)>(e); });
     return node;
 }
 
@@ -108,7 +108,7 @@ std::vector<std::string> parameter_units(const NetworkSpec& network) {
     for_each_element(network, [&](auto kind, const auto& e) {
         decltype(kind)::for_each_field(
             [&](const FieldInfo& info, const Field& field) {
-                if (info.in_use) assign(units, field, unit_on(network, element_node(e), info.unit));
+                if (info.in_use) assign(units, field, unit_on(network, element_node<decltype(kind)>(e), info.unit));
             },
             e);
     });

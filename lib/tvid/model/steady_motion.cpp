@@ -28,10 +28,11 @@ std::vector<Tie> ties(const NetworkSpec& spec, const std::vector<double>& p) {
     std::vector<Tie> out;
     for_each_element(spec, [&](auto kind, const auto& e) {
         // Elastic elements tie their nodes' steady speeds; friction between two nodes lets them slip.
-        if constexpr (requires { e.a; e.b; } && decltype(kind)::acts_at_rest) {
+        using Kind = decltype(kind);
+        if constexpr (acts_between_nodes<Kind> && Kind::acts_at_rest) {
             if (e.b == kGround) return;
             double n = 1.0;
-            if constexpr (requires { e.ratio; }) n = value_of(e.ratio, p);
+            if constexpr (Kind::ends == ElementEnds::geared) n = value_of(e.ratio, p);
             out.push_back(Tie{e.a, e.b, n, &e.name});
         }
     });
@@ -164,7 +165,8 @@ SteadyMotion solve_steady_motion(NetworkModel<double>& model, const double* u, i
 std::string held_to_ground(const NetworkSpec& spec) {
     std::string held;
     for_each_element(spec, [&](auto kind, const auto& e) {
-        if constexpr (requires { e.a; e.b; } && decltype(kind)::acts_at_rest) {  // friction holds nothing at rest
+        using Kind = decltype(kind);
+        if constexpr (acts_between_nodes<Kind> && Kind::acts_at_rest) {  // friction holds nothing at rest
             if (held.empty() && e.b == kGround)
                 held = "'" + e.name + "' (node " + spec.nodes[static_cast<std::size_t>(e.a)].name + " to ground)";
         }

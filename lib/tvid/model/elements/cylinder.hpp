@@ -126,6 +126,8 @@ struct Cylinder {
 
     static constexpr bool acts_at_rest = true;
 
+    static constexpr ElementEnds ends = ElementEnds::one_node;
+
     /// The gas torque (p − p_atm)·(πB²/4)·s'(φ) (the methodology paper eq. 4, pressure force), with p
     /// the measured pressure at the throw's own angle; keeps s'(φ) and s''(φ) for load().
     template <class T>

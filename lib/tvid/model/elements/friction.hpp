@@ -161,6 +161,8 @@ struct Friction : TwoNodeLoad {  // its load: −t on a, +t on b
 
     static constexpr bool acts_at_rest = false;  ///< no torque at zero speed
 
+    static constexpr ElementEnds ends = ElementEnds::two_nodes;
+
     /// The friction torque at relative speed v.
     template <class T>
     [[gnu::always_inline]] static T law(const Bound<T>& e, const T& v) {

@@ -140,6 +140,8 @@ struct MultistageSpring : TwoNodeLoad {  // its load: −t on a, +t on b
 
     static constexpr bool acts_at_rest = true;
 
+    static constexpr ElementEnds ends = ElementEnds::two_nodes;
+
     /// The spring's torque at twist θ: each stage's ramp on either side, a pair of
     /// stages sharing their logistic divisions (smooth_clearance.hpp).
     template <class T>

@@ -83,6 +83,8 @@ struct OrderTorque {
 
     static constexpr bool acts_at_rest = true;  ///< a function of the angle alone
 
+    static constexpr ElementEnds ends = ElementEnds::one_node;
+
     /// A·cos(k·θ + φ).
     template <class T>
     [[gnu::always_inline]] static T torque(const Bound<T>& e, const NodeMotion<T>& m) {

@@ -237,6 +237,8 @@ struct PositionController {
 
     static constexpr bool acts_at_rest = true;  ///< it holds its node at the setpoint
 
+    static constexpr ElementEnds ends = ElementEnds::one_node;
+
     /// The controller's torque on its node: a sampled one's held command once a simulation
     /// has restarted it; else (and at rest) the continuous law on the node's angle and speed.
     /// Out of line: inlined into the network's torque sum, its branches changed the registers

@@ -89,6 +89,8 @@ struct RoadLoad {
 
     static constexpr bool acts_at_rest = false;  ///< no torque at zero speed
 
+    static constexpr ElementEnds ends = ElementEnds::one_node;
+
     template <class T>
     [[gnu::always_inline]] static T torque(const Bound<T>& e, const NodeMotion<T>& m) {
         using std::abs;

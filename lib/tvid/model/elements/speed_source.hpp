@@ -108,6 +108,8 @@ struct SpeedSource {
 
     static constexpr bool acts_at_rest = true;
 
+    static constexpr ElementEnds ends = ElementEnds::one_node;
+
     /// Nothing while the torques are summed: the reaction is set afterwards, from the
     /// node's other torques (NetworkModel::impose_prescribed_motion).
     template <class T>

@@ -63,6 +63,8 @@ struct SpringDamper : TwoNodeLoad {  // its load: −t on a, +t on b
 
     static constexpr bool acts_at_rest = true;
 
+    static constexpr ElementEnds ends = ElementEnds::two_nodes;
+
     /// The torque transmitted from a to b.
     template <class T>
     [[gnu::always_inline]] static T torque(const Bound<T>& e, const NodeMotion<T>& m) {

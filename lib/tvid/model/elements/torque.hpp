@@ -91,6 +91,8 @@ struct Torque {
 
     static constexpr bool acts_at_rest = true;
 
+    static constexpr ElementEnds ends = ElementEnds::one_node;
+
     /// The applied torque scale·(u − offset), or the constant value.
     template <class T>
     [[gnu::always_inline]] static T torque(const Bound<T>& e, const NodeMotion<T>& m) {
