@@ -8,6 +8,7 @@
 #include "tvid/model/element_source.hpp"
 #include "tvid/model/element_traits.hpp"
 #include "tvid/model/elements/clearance.hpp"
+#include "tvid/model/elements/gear_efficiency.hpp"
 #include "tvid/model/elements/node_motion.hpp"
 #include "tvid/model/field.hpp"
 #include "tvid/model/field_bounds.hpp"
@@ -74,19 +75,11 @@ struct GearMesh {
             e.k = src.field_or("k", Field{});
             read_clearance_law(src, e, src.has("k") ? &e.k : nullptr, &e.c);
         }
-        e.lossy = src.has("efficiency");
-        if (src.has("smoothing_power") && !e.lossy)
-            src.fail("smoothing_power", "smooths a lossy mesh's power flow: give efficiency:");
-        e.efficiency = src.field_or("efficiency", Field::value(1.0));
-        e.smoothing_power = src.field_or("smoothing_power", Field::value(kDefaultSmoothingPower));
+        gear_efficiency::read(src, e, "mesh", kDefaultSmoothingPower);
         return e;
     }
 
-    /// After the sign rules: an efficiency is at most 1 (a parameter is held by its bounds).
-    static void check(const Spec& e, const FieldBounds& b) {
-        if (e.lossy && b.known(e.efficiency) && b.highest(e.efficiency) > 1.0)
-            b.fail("efficiency", {e.efficiency}, "must be at most 1 (got " + b.text(e.efficiency) + ")");
-    }
+    static void check(const Spec& e, const FieldBounds& b) { gear_efficiency::check(e, b); }
 
     /// f(info, field...) for each numeric field, of each of s, e... (a spec first, then bound elements) in step.
     template <class F, class Spec_, class... E>
@@ -95,9 +88,7 @@ struct GearMesh {
         f(FieldInfo{"k", "a mesh stiffness", SignRule::non_negative, "N m/rad"}, s.k, e.k...);
         f(FieldInfo{"c", "a mesh damping coefficient", SignRule::non_negative, "N m s/rad"}, s.c, e.c...);
         for_each_clearance_law_field(f, s.has_clearance, s.smooth, s, e...);
-        f(FieldInfo{"efficiency", "an efficiency", SignRule::positive, "1", s.lossy}, s.efficiency, e.efficiency...);
-        f(FieldInfo{"smoothing_power", "a smoothing power", SignRule::positive, "W", s.lossy}, s.smoothing_power,
-          e.smoothing_power...);
+        gear_efficiency::for_each_field(f, s, e...);
     }
 
     static constexpr ChannelUse channel{};  ///< reads no channel
@@ -131,11 +122,7 @@ struct GearMesh {
         e.has_clearance = s.has_clearance;
         e.smooth = s.smooth;
         e.prepare();
-        e.lossy = s.lossy;
-        if (s.lossy) {
-            e.log_efficiency = math::log1p(e.efficiency - T(1.0));
-            e.inverse_smoothing_power = T(1.0) / e.smoothing_power;
-        }
+        gear_efficiency::bind(s, e);
     }
 
     /// The factor f = η^tanh(P/P_s) of the output side's torque n·T·f (1 at rest).
@@ -146,6 +133,8 @@ struct GearMesh {
     }
 
     static constexpr bool acts_at_rest = true;
+
+    static constexpr ElementEnds ends = ElementEnds::geared;
 
     /// The mesh torque T of the twist θa − n·θb.
     template <class T>

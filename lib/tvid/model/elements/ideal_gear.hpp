@@ -7,6 +7,7 @@
 
 #include "tvid/model/element_source.hpp"
 #include "tvid/model/element_traits.hpp"
+#include "tvid/model/elements/gear_efficiency.hpp"
 #include "tvid/model/elements/node_motion.hpp"
 #include "tvid/model/field.hpp"
 #include "tvid/model/field_bounds.hpp"
@@ -56,26 +57,16 @@ struct IdealGear {
         e.name = name;
         std::tie(e.a, e.b) = src.between(false);
         e.ratio = src.field("ratio");
-        e.lossy = src.has("efficiency");
-        if (src.has("smoothing_power") && !e.lossy)
-            src.fail("smoothing_power", "smooths a lossy gear's power flow: give efficiency:");
-        e.efficiency = src.field_or("efficiency", Field::value(1.0));
-        e.smoothing_power = src.field_or("smoothing_power", Field::value(kDefaultSmoothingPower));
+        gear_efficiency::read(src, e, "gear", kDefaultSmoothingPower);
         return e;
     }
 
-    /// After the sign rules: an efficiency is at most 1 (a parameter is held by its bounds).
-    static void check(const Spec& e, const FieldBounds& b) {
-        if (e.lossy && b.known(e.efficiency) && b.highest(e.efficiency) > 1.0)
-            b.fail("efficiency", {e.efficiency}, "must be at most 1 (got " + b.text(e.efficiency) + ")");
-    }
+    static void check(const Spec& e, const FieldBounds& b) { gear_efficiency::check(e, b); }
 
     template <class F, class Spec_, class... E>
     static void for_each_field(F&& f, Spec_& s, E&... e) {
         f(FieldInfo{"ratio", "a gear ratio", SignRule::nonzero, "1"}, s.ratio, e.ratio...);
-        f(FieldInfo{"efficiency", "an efficiency", SignRule::positive, "1", s.lossy}, s.efficiency, e.efficiency...);
-        f(FieldInfo{"smoothing_power", "a smoothing power", SignRule::positive, "W", s.lossy}, s.smoothing_power,
-          e.smoothing_power...);
+        gear_efficiency::for_each_field(f, s, e...);
     }
 
     static constexpr ChannelUse channel{};  ///< reads no channel
@@ -98,14 +89,12 @@ struct IdealGear {
     static void bind(const Spec& s, Bound<T>& e) {
         e.a = s.a;
         e.b = s.b;
-        e.lossy = s.lossy;
-        if (s.lossy) {
-            e.log_efficiency = math::log1p(e.efficiency - T(1.0));
-            e.inverse_smoothing_power = T(1.0) / e.smoothing_power;
-        }
+        gear_efficiency::bind(s, e);
     }
 
     static constexpr bool acts_at_rest = true;  ///< it ties its nodes at rest too
+
+    static constexpr ElementEnds ends = ElementEnds::geared;
 
     template <class T>
     [[gnu::always_inline]] static T torque(const Bound<T>&, const NodeMotion<T>&) {
