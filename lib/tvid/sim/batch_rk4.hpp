@@ -23,6 +23,7 @@
 #include "tvid/model/network_model.hpp"
 #include "tvid/channels/input_channels.hpp"
 #include "tvid/sim/observation_loops.hpp"
+#include "tvid/sim/rk4_stages.hpp"
 #include "tvid/sim/simulation_status.hpp"
 #include "tvid/simd/pack.hpp"
 
@@ -48,51 +49,30 @@ void march_batch_rk4(NetworkModel<Pack<W>>& model, const InputChannels& inputs, 
                      std::vector<double>& u_stage, Mask<W>& active, std::size_t& rhs, std::size_t& pack_rhs,
                      Observer&& observer) {
     using P = Pack<W>;
-    const std::size_t n_in = inputs.count();
-    u.resize(n_in);
-    u_stage.resize(3 * n_in);
-    double* u0 = u_stage.data();
-    double* um = u_stage.data() + n_in;
-    double* u1 = u_stage.data() + 2 * n_in;
-    std::array<P, N> xt, k1, k2, k3, k4;
-    std::size_t hint = start;
+    u.resize(inputs.count());
+    Rk4StageInputs in(inputs, u_stage, start);
+    Rk4Stages<P, N> k;
     std::size_t needed = 0;
     for (int l = 0; l < W; ++l) needed += active[l] ? 1 : 0;
     if (needed == 0 || start >= last) return;
     // Sampled elements restart at `start` (the caller marches whole simulations).
     const auto step = [&](const FixedStep& s) {
-        const std::size_t i = s.sample;
         const double dt = s.dt;
-        const P half(0.5 * dt), sixth((1.0 / 6.0) * dt), third((1.0 / 3.0) * dt), full(dt);
-        // The stage inputs (k1, at the substep's start, is known: the sample's, or below).
-        if (s.substeps == 1) {
-            for (std::size_t k = 0; k < n_in; ++k) {
-                um[k] = inputs.midpoint(k, i);
-                u1[k] = inputs.value(k, i + 1);
-            }
-        } else if (n_in > 0) {
-            inputs.at(s.t, hint, u0);
-            inputs.at(s.t + 0.5 * dt, hint, um);
-            inputs.at(s.t + dt, hint, u1);
-        }
+        // The stage inputs; k1, at the substep's start, is known at a later sample (from
+        // arriving there, below).
+        in.read(s, false);
         if (s.substep > 0) {
-            model.derivative(x.data(), u0, k1.data());
-        } else if (i == start) {  // later samples' first stage comes from arriving there (below)
-            model.derivative(x.data(), u.data(), k1.data());
+            model.derivative(x.data(), in.u0, k.k1.data());
+        } else if (s.sample == start) {
+            model.derivative(x.data(), u.data(), k.k1.data());
             ++pack_rhs;
         }
-        for (std::size_t j = 0; j < N; ++j) xt[j] = x[j] + half * k1[j];
-        model.derivative(xt.data(), um, k2.data());
-        for (std::size_t j = 0; j < N; ++j) xt[j] = x[j] + half * k2[j];
-        model.derivative(xt.data(), um, k3.data());
-        for (std::size_t j = 0; j < N; ++j) xt[j] = x[j] + full * k3[j];
-        model.derivative(xt.data(), u1, k4.data());
-        for (std::size_t j = 0; j < N; ++j) x[j] = x[j] + sixth * k1[j] + third * k2[j] + third * k3[j] + sixth * k4[j];
+        rk4_from_first_stage(model, x, k, in, P(0.5 * dt), P(dt), P((1.0 / 6.0) * dt), P((1.0 / 3.0) * dt));
         rhs += 4 * needed;
         pack_rhs += 4;
     };
     const auto look = [&](std::size_t i) {
-        model.derivative(x.data(), u.data(), k1.data());  // the next step's first stage, at sample i
+        model.derivative(x.data(), u.data(), k.k1.data());  // the next step's first stage, at sample i
         active = observer(i, x, u, sane_lanes(x)) & active;
         needed = 0;
         for (int l = 0; l < W; ++l) needed += active[l] ? 1 : 0;

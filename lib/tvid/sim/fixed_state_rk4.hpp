@@ -17,6 +17,7 @@
 #include "tvid/model/packed_dual.hpp"
 #include "tvid/channels/input_channels.hpp"
 #include "tvid/sim/observation_loops.hpp"
+#include "tvid/sim/rk4_stages.hpp"
 #include "tvid/sim/simulation_status.hpp"
 #include "tvid/sim/state_size_dispatch.hpp"
 
@@ -51,37 +52,14 @@ template <std::size_t N, class T, class Observer>
 SimulationStatus march_fixed_rk4(NetworkModel<T>& model, const InputChannels& inputs, std::size_t start,
                                  std::size_t last, std::array<T, N>& x, double max_step, std::vector<double>& u,
                                  std::vector<double>& u_stage, std::size_t& rhs, Observer&& observer) {
-    const std::size_t n_in = inputs.count();
-    u.resize(n_in);
-    u_stage.resize(3 * n_in);
-    double* u0 = u_stage.data();          // at the stage start
-    double* um = u_stage.data() + n_in;   // half a step on
-    double* u1 = u_stage.data() + 2 * n_in;  // a step on
-    std::array<T, N> xt, k1, k2, k3, k4;
-    std::size_t hint = start;
+    u.resize(inputs.count());
+    Rk4StageInputs in(inputs, u_stage, start);
+    Rk4Stages<T, N> k;
     const auto step = [&](const FixedStep& s) {
-        const std::size_t i = s.sample;
         const double dt = s.dt;
-        const double half = 0.5 * dt, sixth = (1.0 / 6.0) * dt, third = (1.0 / 3.0) * dt;
-        if (s.substeps == 1) {
-            for (std::size_t k = 0; k < n_in; ++k) {
-                u0[k] = inputs.value(k, i);
-                um[k] = inputs.midpoint(k, i);
-                u1[k] = inputs.value(k, i + 1);
-            }
-        } else if (n_in > 0) {
-            inputs.at(s.t, hint, u0);
-            inputs.at(s.t + half, hint, um);
-            inputs.at(s.t + dt, hint, u1);
-        }
-        model.derivative(x.data(), u0, k1.data());
-        for (std::size_t j = 0; j < N; ++j) xt[j] = x[j] + half * k1[j];
-        model.derivative(xt.data(), um, k2.data());
-        for (std::size_t j = 0; j < N; ++j) xt[j] = x[j] + half * k2[j];
-        model.derivative(xt.data(), um, k3.data());
-        for (std::size_t j = 0; j < N; ++j) xt[j] = x[j] + dt * k3[j];
-        model.derivative(xt.data(), u1, k4.data());
-        for (std::size_t j = 0; j < N; ++j) x[j] = x[j] + sixth * k1[j] + third * k2[j] + third * k3[j] + sixth * k4[j];
+        in.read(s, true);
+        model.derivative(x.data(), in.u0, k.k1.data());
+        rk4_from_first_stage(model, x, k, in, 0.5 * dt, dt, (1.0 / 6.0) * dt, (1.0 / 3.0) * dt);
         rhs += 4;
     };
     const auto check = [&] {
