@@ -175,10 +175,7 @@ void output_matrix(const NetworkSpec& lin, const NetworkModel<double>& model, co
     std::vector<Dual> scratch(full);
     for (std::size_t first = 0; first < full; first += kDualCapacity) {
         const std::size_t width = std::min<std::size_t>(kDualCapacity, full - first);
-        for (std::size_t j = 0; j < full; ++j)
-            xd[j] = j >= first && j < first + width
-                        ? Dual::variable(x[j], static_cast<int>(j - first), static_cast<int>(width))
-                        : Dual(x[j]);
+        seed_state_directions(x.data(), full, first, width, xd.data());
         // The element torques an output reads are those of a derivative at the state.
         dual_model.derivative(xd.data(), u.data(), scratch.data());
         for (Eigen::Index k = 0; k < no; ++k) {

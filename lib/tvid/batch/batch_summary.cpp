@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "tvid/batch/robust_statistics.hpp"
+
 namespace tvid {
 
 namespace {
@@ -32,18 +34,13 @@ ColumnSpread column_spread(const std::vector<std::string>& header, const std::ve
         const double v = batch_cell_value(row[c]);
         if (std::isfinite(v)) values.push_back(v);
     }
-    s.count = values.size();
-    if (values.empty()) return s;
-    double sum = 0.0;
-    for (double v : values) sum += v;
-    s.mean = sum / static_cast<double>(values.size());
-    if (values.size() > 1) {
-        double sq = 0.0;
-        for (double v : values) sq += (v - s.mean) * (v - s.mean);
-        s.std_dev = std::sqrt(sq / static_cast<double>(values.size() - 1));
-    }
-    s.min = *std::min_element(values.begin(), values.end());
-    s.max = *std::max_element(values.begin(), values.end());
+    const Stability spread = stability(values);
+    s.count = spread.count;
+    if (spread.count == 0) return s;
+    s.mean = spread.mean;
+    s.std_dev = spread.std_dev;
+    s.min = spread.min;
+    s.max = spread.max;
     return s;
 }
 

@@ -148,6 +148,14 @@ private:
     std::array<double, kDualCapacity> d_;  // only the first n_ entries are meaningful
 };
 
+/// x[0 … n) as dual numbers into xd, states first … first + width − 1 carrying a unit
+/// direction each: one block of columns of a Jacobian by the state (width ≤ kDualCapacity).
+inline void seed_state_directions(const double* x, std::size_t n, std::size_t first, std::size_t width, Dual* xd) {
+    for (std::size_t j = 0; j < n; ++j)
+        xd[j] = j >= first && j < first + width ? Dual::variable(x[j], static_cast<int>(j - first), static_cast<int>(width))
+                                                : Dual(x[j]);
+}
+
 namespace math {
 inline Dual exp(const Dual& a) { return Dual::exponential(a); }
 inline Dual log1p(const Dual& a) { return Dual::log_one_plus(a); }

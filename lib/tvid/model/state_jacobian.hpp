@@ -60,10 +60,7 @@ public:
         for (std::size_t first = 0; first < n; first += kDualCapacity) {
             const std::size_t width = std::min<std::size_t>(kDualCapacity, n - first);
             // Columns first … first+width−1: those states carry a unit direction each.
-            for (std::size_t j = 0; j < n; ++j)
-                x_[j] = j >= first && j < first + width
-                            ? Dual::variable(x[j], static_cast<int>(j - first), static_cast<int>(width))
-                            : Dual(x[j]);
+            seed_state_directions(x, n, first, width, x_.data());
             dual_model_->derivative(x_.data(), u, f_.data());
             if (f && first == 0)
                 for (std::size_t i = 0; i < n; ++i) f[i] = f_[i].value();

@@ -49,6 +49,26 @@ void wait_for(MPI_Request& request, std::mutex& calls) {
     }
 }
 
+// Rank 0's container (a string or a vector) to every process: its length, then its
+// elements of MPI type `type`.
+template <class Container>
+void broadcast_container(Container& values, MPI_Datatype type, std::mutex& calls) {
+    std::uint64_t length = values.size();
+    MPI_Request request;
+    {
+        const std::lock_guard<std::mutex> lock(calls);
+        check(MPI_Ibcast(&length, 1, MPI_UINT64_T, 0, MPI_COMM_WORLD, &request), "MPI_Ibcast");
+    }
+    wait_for(request, calls);
+    values.resize(length);
+    if (length == 0) return;
+    {
+        const std::lock_guard<std::mutex> lock(calls);
+        check(MPI_Ibcast(values.data(), int_count(length), type, 0, MPI_COMM_WORLD, &request), "MPI_Ibcast");
+    }
+    wait_for(request, calls);
+}
+
 }  // namespace
 
 ProcessGroup::ProcessGroup() = default;
@@ -69,39 +89,11 @@ ProcessGroup::~ProcessGroup() {
 }
 
 void ProcessGroup::broadcast(std::string& bytes) {
-    if (size_ == 1) return;
-    std::uint64_t length = bytes.size();
-    MPI_Request request;
-    {
-        const std::lock_guard<std::mutex> lock(calls_);
-        check(MPI_Ibcast(&length, 1, MPI_UINT64_T, 0, MPI_COMM_WORLD, &request), "MPI_Ibcast");
-    }
-    wait_for(request, calls_);
-    bytes.resize(length);
-    if (length == 0) return;
-    {
-        const std::lock_guard<std::mutex> lock(calls_);
-        check(MPI_Ibcast(bytes.data(), int_count(length), MPI_CHAR, 0, MPI_COMM_WORLD, &request), "MPI_Ibcast");
-    }
-    wait_for(request, calls_);
+    if (size_ > 1) broadcast_container(bytes, MPI_CHAR, calls_);
 }
 
 void ProcessGroup::broadcast(std::vector<double>& values) {
-    if (size_ == 1) return;
-    std::uint64_t length = values.size();
-    MPI_Request request;
-    {
-        const std::lock_guard<std::mutex> lock(calls_);
-        check(MPI_Ibcast(&length, 1, MPI_UINT64_T, 0, MPI_COMM_WORLD, &request), "MPI_Ibcast");
-    }
-    wait_for(request, calls_);
-    values.resize(length);
-    if (length == 0) return;
-    {
-        const std::lock_guard<std::mutex> lock(calls_);
-        check(MPI_Ibcast(values.data(), int_count(length), MPI_DOUBLE, 0, MPI_COMM_WORLD, &request), "MPI_Ibcast");
-    }
-    wait_for(request, calls_);
+    if (size_ > 1) broadcast_container(values, MPI_DOUBLE, calls_);
 }
 
 namespace {
