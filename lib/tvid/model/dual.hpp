@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <compare>
 #include <cstddef>
 #include <type_traits>
 
@@ -102,12 +103,8 @@ public:
     }
 
     // Comparisons look at the values only (branches of the model code).
-    friend bool operator<(const Dual& a, const Dual& b) { return a.v_ < b.v_; }
-    friend bool operator>(const Dual& a, const Dual& b) { return a.v_ > b.v_; }
-    friend bool operator<=(const Dual& a, const Dual& b) { return a.v_ <= b.v_; }
-    friend bool operator>=(const Dual& a, const Dual& b) { return a.v_ >= b.v_; }
+    friend std::partial_ordering operator<=>(const Dual& a, const Dual& b) { return a.v_ <=> b.v_; }
     friend bool operator==(const Dual& a, const Dual& b) { return a.v_ == b.v_; }
-    friend bool operator!=(const Dual& a, const Dual& b) { return a.v_ != b.v_; }
 
     // sin and cos with tvid's own values (math::sincos), as the double code computes them.
     friend Dual sin(const Dual& a) {

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "tvid/model/element_source.hpp"
@@ -31,6 +32,29 @@ enum class ElementOutputs { torque, torque_each_side, none };
 /// at its one node (its spec's `node`); between its nodes `a` and `b` (b may be kGround);
 /// or between them through a gear, whose `ratio` ties the speeds at rest (ω_a = ratio·ω_b).
 enum class ElementEnds { one_node, two_nodes, geared };
+
+/// The nodes of a bound element, as its kind's `ends` declare them: each kind's Bound
+/// derives from BoundEnds<ends> (OnOneNode or BetweenTwoNodes; DescribedElementKind checks
+/// it), and binding copies them from the spec (bind_ends) before the kind's own bind, if it
+/// has one, sees the element.
+struct OnOneNode {
+    int node = 0;
+};
+struct BetweenTwoNodes {
+    int a = 0, b = kGround;
+};
+template <ElementEnds E>
+using BoundEnds = std::conditional_t<E == ElementEnds::one_node, OnOneNode, BetweenTwoNodes>;
+
+template <class Kind, class Bound>
+void bind_ends(const typename Kind::Spec& s, Bound& e) {
+    if constexpr (Kind::ends == ElementEnds::one_node) {
+        e.node = s.node;
+    } else {
+        e.a = s.a;
+        e.b = s.b;
+    }
+}
 
 /// How the elements that depend on a node's absolute angle (a cylinder's slider crank and
 /// gas torque, an order torque) are linearised.

@@ -90,7 +90,8 @@ public:
             for (std::size_t i = 0; i < bound.size(); ++i) {
                 Kind::for_each_field([&](const FieldInfo&, const Field& field, T& value) { value = v(field); },
                                      specs[i], bound[i]);
-                Kind::bind(specs[i], bound[i]);
+                bind_ends<Kind>(specs[i], bound[i]);
+                if constexpr (requires { Kind::bind(specs[i], bound[i]); }) Kind::bind(specs[i], bound[i]);
             }
         });
         rigid_.set_ratios(elements_of<elements::IdealGear>());

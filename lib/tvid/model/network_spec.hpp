@@ -70,6 +70,8 @@ concept DescribedElementKind = requires(ElementSource& src, const std::string& n
     requires K::ends != ElementEnds::one_node || requires { { spec.node } -> std::convertible_to<int>; };
     requires K::ends == ElementEnds::one_node || requires { { spec.a } -> std::convertible_to<int>; spec.b; };
     requires K::ends != ElementEnds::geared || requires { spec.ratio; };
+    // Its bound form holds the nodes its ends declare (the binding copies them, bind_ends).
+    requires std::derived_from<typename K::template Bound<double>, BoundEnds<K::ends>>;
     // A kind with a torque on each side says what its output side carries.
     requires K::outputs != ElementOutputs::torque_each_side ||
                  requires(const typename K::template Bound<double>& e, const double& t,

@@ -12,6 +12,7 @@
 // not depend on which other directions share the pack.
 
 #include <cmath>
+#include <compare>
 #include <type_traits>
 
 #include "tvid/simd/elementary_functions.hpp"
@@ -75,12 +76,8 @@ public:
     }
 
     // Comparisons look at the values only (branches of the model code).
-    friend bool operator<(const PackedDual& a, const PackedDual& b) { return a.v_ < b.v_; }
-    friend bool operator>(const PackedDual& a, const PackedDual& b) { return a.v_ > b.v_; }
-    friend bool operator<=(const PackedDual& a, const PackedDual& b) { return a.v_ <= b.v_; }
-    friend bool operator>=(const PackedDual& a, const PackedDual& b) { return a.v_ >= b.v_; }
+    friend std::partial_ordering operator<=>(const PackedDual& a, const PackedDual& b) { return a.v_ <=> b.v_; }
     friend bool operator==(const PackedDual& a, const PackedDual& b) { return a.v_ == b.v_; }
-    friend bool operator!=(const PackedDual& a, const PackedDual& b) { return a.v_ != b.v_; }
 
     [[gnu::always_inline]] friend PackedDual sin(const PackedDual& a) {
         double s = 0.0, c = 0.0;

@@ -68,8 +68,7 @@ void read_clearance_law(const ElementSource& src, S& s, const Field* k, const Fi
 struct Clearance : TwoNodeLoad {  // its load: −t on a, +t on b
     using Spec = ClearanceSpec;
     template <class T>
-    struct Bound : ClearanceLaw<T> {
-        int a = 0, b = kGround;
+    struct Bound : ClearanceLaw<T>, BetweenTwoNodes {
     };
 
     // ---- the experiment file: `{ type: clearance, between: [a, b], k_minus, k_plus, c_minus, c_plus, mu, sigma }`
@@ -108,14 +107,11 @@ struct Clearance : TwoNodeLoad {  // its load: −t on a, +t on b
 
     template <class T>
     static void bind(const Spec& s, Bound<T>& e) {
-        e.a = s.a;
-        e.b = s.b;
         e.smooth = s.smooth;
         e.prepare();
     }
 
     static constexpr bool acts_at_rest = true;
-
     static constexpr ElementEnds ends = ElementEnds::two_nodes;
 
     /// The torque transmitted from a to b: Fσ(θa − θb, ωa − ωb).

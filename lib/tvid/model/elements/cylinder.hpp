@@ -33,8 +33,8 @@ namespace elements {
 struct Cylinder {
     using Spec = CylinderSpec;
     template <class T>
-    struct Bound {
-        int node = 0, pressure = 0;
+    struct Bound : OnOneNode {
+        int pressure = 0;
         double phase = 0.0;
         T bore, crank_radius, rod_length, mass, p_atm;
         T area;               ///< πB²/4
@@ -115,7 +115,6 @@ struct Cylinder {
 
     template <class T>
     static void bind(const Spec& s, Bound<T>& e) {
-        e.node = s.node;
         e.pressure = s.pressure;
         e.phase = s.phase;
         e.area = T(0.25 * kPi) * e.bore * e.bore;
@@ -125,7 +124,6 @@ struct Cylinder {
     }
 
     static constexpr bool acts_at_rest = true;
-
     static constexpr ElementEnds ends = ElementEnds::one_node;
 
     /// The gas torque (p − p_atm)·(πB²/4)·s'(φ) (the methodology paper eq. 4, pressure force), with p

@@ -42,8 +42,7 @@ namespace elements {
 struct Friction : TwoNodeLoad {  // its load: −t on a, +t on b
     using Spec = FrictionSpec;
     template <class T>
-    struct Bound {
-        int a = 0, b = kGround;
+    struct Bound : BetweenTwoNodes {
         T c, c_negative, coulomb, coulomb_negative, breakaway, stribeck_speed, smoothing_speed;
         bool smooth = false;  ///< the smoothed sign enters (dry or asymmetric)
         bool stribeck = false;
@@ -150,8 +149,6 @@ struct Friction : TwoNodeLoad {  // its load: −t on a, +t on b
 
     template <class T>
     static void bind(const Spec& s, Bound<T>& e) {
-        e.a = s.a;
-        e.b = s.b;
         e.smooth = s.dry || s.asymmetric;
         e.stribeck = s.stribeck;
         e.inverse_smoothing = T(1.0) / e.smoothing_speed;
@@ -160,7 +157,6 @@ struct Friction : TwoNodeLoad {  // its load: −t on a, +t on b
     }
 
     static constexpr bool acts_at_rest = false;  ///< no torque at zero speed
-
     static constexpr ElementEnds ends = ElementEnds::two_nodes;
 
     /// The friction torque at relative speed v.

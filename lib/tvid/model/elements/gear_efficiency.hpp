@@ -3,7 +3,7 @@
 // bind it: η (0 < η ≤ 1) and the power P_s over which the factor f = η^tanh(P/P_s) on the
 // output side's torque passes from 1/η (b drives a) to η (a drives b). Each kind's spec and
 // bound element hold `lossy`, `efficiency` and `smoothing_power`; the bound one also
-// `log_efficiency` and `inverse_smoothing_power`.
+// `log_efficiency` and `inverse_smoothing_power` (BoundPart).
 
 #include <string>
 
@@ -13,6 +13,14 @@
 #include "tvid/model/field_bounds.hpp"
 
 namespace tvid::elements::gear_efficiency {
+
+/// What a bound geared element holds of its efficiency (its Bound derives from it).
+template <class T>
+struct BoundPart {
+    T efficiency = T(1.0), smoothing_power = T(1.0);
+    bool lossy = false;
+    T log_efficiency = T(0.0), inverse_smoothing_power = T(0.0);  ///< ln η, 1/P_s
+};
 
 /// `efficiency` and `smoothing_power` into e, lossy when an efficiency is given; `what`
 /// names the element in a message ("gear", "mesh").

@@ -38,13 +38,9 @@ namespace elements {
 struct GearMesh {
     using Spec = GearMeshSpec;
     template <class T>
-    struct Bound : ClearanceLaw<T> {  ///< the law of the backlash, when has_clearance
-        int a = 0, b = 0;
+    struct Bound : ClearanceLaw<T>, BetweenTwoNodes, gear_efficiency::BoundPart<T> {  ///< ClearanceLaw: with has_clearance
         T ratio, k, c;
         bool has_clearance = false;
-        T efficiency = T(1.0), smoothing_power = T(1.0);
-        bool lossy = false;
-        T log_efficiency = T(0.0), inverse_smoothing_power = T(0.0);  ///< ln η, 1/P_s
     };
 
     /// The default power over which a lossy mesh's factor passes from 1/η to η [W]: small
@@ -117,8 +113,6 @@ struct GearMesh {
 
     template <class T>
     static void bind(const Spec& s, Bound<T>& e) {
-        e.a = s.a;
-        e.b = s.b;
         e.has_clearance = s.has_clearance;
         e.smooth = s.smooth;
         e.prepare();
@@ -133,7 +127,6 @@ struct GearMesh {
     }
 
     static constexpr bool acts_at_rest = true;
-
     static constexpr ElementEnds ends = ElementEnds::geared;
 
     /// The mesh torque T of the twist θa − n·θb.

@@ -33,12 +33,8 @@ namespace elements {
 struct IdealGear {
     using Spec = IdealGearSpec;
     template <class T>
-    struct Bound {
-        int a = 0, b = 0;
+    struct Bound : BetweenTwoNodes, gear_efficiency::BoundPart<T> {
         T ratio;
-        T efficiency = T(1.0), smoothing_power = T(1.0);
-        bool lossy = false;
-        T log_efficiency = T(0.0), inverse_smoothing_power = T(0.0);  ///< ln η, 1/P_s
     };
 
     /// The power over which a lossy gear's factor passes from 1/η to η [W], as gear_mesh's.
@@ -87,13 +83,10 @@ struct IdealGear {
 
     template <class T>
     static void bind(const Spec& s, Bound<T>& e) {
-        e.a = s.a;
-        e.b = s.b;
         gear_efficiency::bind(s, e);
     }
 
     static constexpr bool acts_at_rest = true;  ///< it ties its nodes at rest too
-
     static constexpr ElementEnds ends = ElementEnds::geared;
 
     template <class T>

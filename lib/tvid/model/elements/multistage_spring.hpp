@@ -40,8 +40,7 @@ struct MultistageSpring : TwoNodeLoad {  // its load: −t on a, +t on b
     using Spec = MultistageSpringSpec;
     static constexpr int kMaxStages = Spec::kMaxStages;
     template <class T>
-    struct Bound {
-        int a = 0, b = kGround;
+    struct Bound : BetweenTwoNodes {
         int stages = 0, stages_negative = 0;
         std::array<T, kMaxStages> angle{}, k{}, angle_negative{}, k_negative{};
         T c, smoothing_angle;
@@ -116,8 +115,6 @@ struct MultistageSpring : TwoNodeLoad {  // its load: −t on a, +t on b
 
     template <class T>
     static void bind(const Spec& s, Bound<T>& e) {
-        e.a = s.a;
-        e.b = s.b;
         e.stages = s.stages;
         e.stages_negative = s.stages_negative;
         const bool odd = s.stages_negative == 0;
@@ -139,7 +136,6 @@ struct MultistageSpring : TwoNodeLoad {  // its load: −t on a, +t on b
     }
 
     static constexpr bool acts_at_rest = true;
-
     static constexpr ElementEnds ends = ElementEnds::two_nodes;
 
     /// The spring's torque at twist θ: each stage's ramp on either side, a pair of

@@ -30,8 +30,7 @@ namespace elements {
 struct OrderTorque {
     using Spec = OrderTorqueSpec;
     template <class T>
-    struct Bound {
-        int node = 0;
+    struct Bound : OnOneNode {
         double order = 1.0;
         T amplitude, phase;
     };
@@ -77,12 +76,10 @@ struct OrderTorque {
 
     template <class T>
     static void bind(const Spec& s, Bound<T>& e) {
-        e.node = s.node;
         e.order = s.order;
     }
 
     static constexpr bool acts_at_rest = true;  ///< a function of the angle alone
-
     static constexpr ElementEnds ends = ElementEnds::one_node;
 
     /// A·cos(k·θ + φ).

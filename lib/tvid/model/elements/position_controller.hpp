@@ -67,8 +67,8 @@ namespace elements {
 struct PositionController {
     using Spec = PositionControllerSpec;
     template <class T>
-    struct Bound {
-        int node = 0, input = -1, integral_node = -1;
+    struct Bound : OnOneNode {
+        int input = -1, integral_node = -1;
         T setpoint, kp, kd, lower, upper, ki;
         bool limited = false;
         // A sampled controller: its clock and its memory, restarted by each simulation.
@@ -221,7 +221,6 @@ struct PositionController {
 
     template <class T>
     static void bind(const Spec& s, Bound<T>& e) {
-        e.node = s.node;
         e.input = s.input;
         e.integral_node = s.integral_node;
         e.limited = s.limited;
@@ -236,7 +235,6 @@ struct PositionController {
     static bool sampled(const Spec& s) { return s.sampled(); }
 
     static constexpr bool acts_at_rest = true;  ///< it holds its node at the setpoint
-
     static constexpr ElementEnds ends = ElementEnds::one_node;
 
     /// The controller's torque on its node: a sampled one's held command once a simulation

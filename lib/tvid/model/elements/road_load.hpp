@@ -27,8 +27,7 @@ namespace elements {
 struct RoadLoad {
     using Spec = RoadLoadSpec;
     template <class T>
-    struct Bound {
-        int node = 0;
+    struct Bound : OnOneNode {
         T rolling, viscous, drag, smoothing_speed;  ///< a, b, c
         T inverse_smoothing = T(0.0);
     };
@@ -83,12 +82,10 @@ struct RoadLoad {
 
     template <class T>
     static void bind(const Spec& s, Bound<T>& e) {
-        e.node = s.node;
         e.inverse_smoothing = T(1.0) / e.smoothing_speed;
     }
 
     static constexpr bool acts_at_rest = false;  ///< no torque at zero speed
-
     static constexpr ElementEnds ends = ElementEnds::one_node;
 
     template <class T>

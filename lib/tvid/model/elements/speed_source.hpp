@@ -32,8 +32,8 @@ namespace elements {
 struct SpeedSource {
     using Spec = SpeedSourceSpec;
     template <class T>
-    struct Bound {
-        int node = 0, input = -1, rate = -1;
+    struct Bound : OnOneNode {
+        int input = -1, rate = -1;
         T speed, scale;
     };
 
@@ -101,13 +101,11 @@ struct SpeedSource {
 
     template <class T>
     static void bind(const Spec& s, Bound<T>& e) {
-        e.node = s.node;
         e.input = s.input;
         e.rate = s.rate;
     }
 
     static constexpr bool acts_at_rest = true;
-
     static constexpr ElementEnds ends = ElementEnds::one_node;
 
     /// Nothing while the torques are summed: the reaction is set afterwards, from the

@@ -24,8 +24,7 @@ namespace elements {
 struct SpringDamper : TwoNodeLoad {  // its load: −t on a, +t on b
     using Spec = SpringDamperSpec;
     template <class T>
-    struct Bound {
-        int a = 0, b = kGround;
+    struct Bound : BetweenTwoNodes {
         T k, c;
     };
 
@@ -53,16 +52,9 @@ struct SpringDamper : TwoNodeLoad {  // its load: −t on a, +t on b
     /// Linear already: it enters the linearisation as it is.
     static LinearNote linearise(const Spec&, Spec&, const LinearisationPoint&) { return {"exact", "linear"}; }
 
-    // ---- the equations of motion
-    /// The rest of the binding once the fields hold their values.
-    template <class T>
-    static void bind(const Spec& s, Bound<T>& e) {
-        e.a = s.a;
-        e.b = s.b;
-    }
+    // ---- the equations of motion (its fields and nodes are all its binding needs)
 
     static constexpr bool acts_at_rest = true;
-
     static constexpr ElementEnds ends = ElementEnds::two_nodes;
 
     /// The torque transmitted from a to b.

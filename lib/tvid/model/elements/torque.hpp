@@ -28,8 +28,8 @@ namespace elements {
 struct Torque {
     using Spec = TorqueSpec;
     template <class T>
-    struct Bound {
-        int node = 0, input = 0;
+    struct Bound : OnOneNode {
+        int input = 0;
         T offset, scale, value;
     };
 
@@ -85,12 +85,10 @@ struct Torque {
 
     template <class T>
     static void bind(const Spec& s, Bound<T>& e) {
-        e.node = s.node;
         e.input = s.input;
     }
 
     static constexpr bool acts_at_rest = true;
-
     static constexpr ElementEnds ends = ElementEnds::one_node;
 
     /// The applied torque scale·(u − offset), or the constant value.
