@@ -81,7 +81,7 @@ struct RoadLoad {
     // ---- the equations of motion
 
     template <class T>
-    static void bind(const Spec& s, Bound<T>& e) {
+    static void bind(const Spec&, Bound<T>& e) {
         e.inverse_smoothing = T(1.0) / e.smoothing_speed;
     }
 
