@@ -1,6 +1,7 @@
 #include "tvid/analysis/identifiability.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -9,6 +10,7 @@
 #include <numbers>
 
 #include "tvid/channels/recording_spans.hpp"
+#include "tvid/util/kind_table.hpp"
 #include "tvid/util/text.hpp"
 
 namespace tvid {
@@ -70,12 +72,10 @@ std::string percent_text(double fraction) {
 }  // namespace
 
 const char* to_string(IdentifiabilityFlag flag) {
-    switch (flag) {
-        case IdentifiabilityFlag::ok: return "ok";
-        case IdentifiabilityFlag::weak: return "weak";
-        case IdentifiabilityFlag::undetermined: return "undetermined";
-    }
-    return "ok";
+    using enum IdentifiabilityFlag;
+    static constexpr std::array<EnumName<IdentifiabilityFlag>, 3> names{{{ok, "ok"}, {weak, "weak"}, {undetermined, "undetermined"}}};
+    static_assert(rows_in_enumerator_order(names, 3));
+    return name_in(names, flag);
 }
 
 ParameterCombination describe_null_direction(const std::vector<double>& direction,

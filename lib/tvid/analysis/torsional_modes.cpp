@@ -2,12 +2,14 @@
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
 
 #include "tvid/experiment/window_recording.hpp"
 #include "tvid/model/steady_motion.hpp"
+#include "tvid/util/kind_table.hpp"
 
 namespace tvid {
 
@@ -107,12 +109,10 @@ void pair_overdamped_roots(std::vector<TorsionalMode>& modes) {
 }  // namespace
 
 const char* mode_kind_name(ModeKind kind) {
-    switch (kind) {
-        case ModeKind::rigid_body: return "rigid_body";
-        case ModeKind::overdamped: return "overdamped";
-        case ModeKind::oscillating: return "oscillating";
-    }
-    return "?";
+    using enum ModeKind;
+    static constexpr std::array<EnumName<ModeKind>, 3> names{{{rigid_body, "rigid_body"}, {overdamped, "overdamped"}, {oscillating, "oscillating"}}};
+    static_assert(rows_in_enumerator_order(names, 3));
+    return name_in(names, kind);
 }
 
 std::vector<double> node_ratios(const NetworkSpec& spec, const std::vector<double>& params, std::size_t reference) {

@@ -1,16 +1,17 @@
 #include "tvid/analysis/verdict.hpp"
 
 #include <algorithm>
+#include <array>
+
+#include "tvid/util/kind_table.hpp"
 
 namespace tvid {
 
 const char* to_string(Severity severity) {
-    switch (severity) {
-        case Severity::info: return "note";
-        case Severity::warning: return "warning";
-        case Severity::error: return "error";
-    }
-    return "note";
+    using enum Severity;
+    static constexpr std::array<EnumName<Severity>, 3> names{{{info, "note"}, {warning, "warning"}, {error, "error"}}};
+    static_assert(rows_in_enumerator_order(names, 3));
+    return name_in(names, severity);
 }
 
 void Verdict::add(Finding finding) {

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <string>
+#include <tuple>
 #include <type_traits>
 #include <vector>
 
@@ -54,6 +55,22 @@ void bind_ends(const typename Kind::Spec& s, Bound& e) {
         e.a = s.a;
         e.b = s.b;
     }
+}
+
+/// A spec of kind Kind named `name`, at the nodes its `ends` declare, as the file gives them:
+/// `node: N` for one node; `between: [a, b]` for two (`[a]` or `[a, ground]`: b is ground);
+/// `between: [a, b]` and `ratio: N` across a gear (two shafts, neither ground). A kind's read
+/// starts from it (friction, on `node:` or `between:`, reads its own).
+template <class Kind>
+typename Kind::Spec spec_at_ends(const ElementSource& src, const std::string& name) {
+    typename Kind::Spec e;
+    e.name = name;
+    if constexpr (Kind::ends == ElementEnds::one_node)
+        e.node = src.node("node");
+    else
+        std::tie(e.a, e.b) = src.between(Kind::ends == ElementEnds::two_nodes);
+    if constexpr (Kind::ends == ElementEnds::geared) e.ratio = src.field("ratio");
+    return e;
 }
 
 /// How the elements that depend on a node's absolute angle (a cylinder's slider crank and

@@ -42,19 +42,15 @@ private:
     }
     void emit(Op op, double value = 0.0, int index = -1) { out_.push_back({op, value, index}); }
 
-    void sum() {
-        product();
+    void sum() { left_associative(&Parser::product, '+', Op::add, '-', Op::subtract); }
+    void product() { left_associative(&Parser::unary, '*', Op::multiply, '/', Op::divide); }
+    // One precedence level of two left-associative operators: operand (op operand)*, each op
+    // emitted after its right operand (postfix order).
+    void left_associative(void (Parser::*operand)(), char first, Op first_op, char second, Op second_op) {
+        (this->*operand)();
         for (;;) {
-            if (take('+')) product(), emit(Op::add);
-            else if (take('-')) product(), emit(Op::subtract);
-            else return;
-        }
-    }
-    void product() {
-        unary();
-        for (;;) {
-            if (take('*')) unary(), emit(Op::multiply);
-            else if (take('/')) unary(), emit(Op::divide);
+            if (take(first)) (this->*operand)(), emit(first_op);
+            else if (take(second)) (this->*operand)(), emit(second_op);
             else return;
         }
     }

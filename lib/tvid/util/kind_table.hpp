@@ -1,7 +1,8 @@
 #pragma once
 // What every table of kinds (integration methods, initial-state kinds) asks of its rows: one
 // row per enumerator, in the enumerators' order (so a kind's row is rows[kind]), checked at
-// compile time; and a row found by its name. A row has `kind` (its enumerator) and `name`.
+// compile time; and a row found by its name. A row has `kind` (its enumerator) and `name`. An
+// enumeration that needs only its names is a table of EnumName rows.
 
 #include <array>
 #include <cstddef>
@@ -23,6 +24,20 @@ constexpr const Row* find_row_named(const std::array<Row, N>& rows, std::string_
     for (const Row& row : rows)
         if (name == row.name) return &row;
     return nullptr;
+}
+
+/// An enumerator and its name, for an enumeration named by a table (rows in enumerator order).
+template <class Enum>
+struct EnumName {
+    Enum kind;
+    const char* name;
+};
+
+/// The name of `value` in rows checked by rows_in_enumerator_order.
+template <class Enum, std::size_t N>
+constexpr const char* name_in(const std::array<EnumName<Enum>, N>& rows, Enum value) {
+    const auto i = static_cast<std::size_t>(value);
+    return i < N ? rows[i].name : "?";
 }
 
 }  // namespace tvid

@@ -3,7 +3,6 @@
 // (Yoshida & Takamatsu eqs. 7–11).
 
 #include <string>
-#include <tuple>
 
 #include "tvid/model/element_source.hpp"
 #include "tvid/model/element_traits.hpp"
@@ -78,9 +77,7 @@ struct Clearance : TwoNodeLoad {  // its load: −t on a, +t on b
     static constexpr const char* keys[] = {"between", "k", "c", "k_minus", "k_plus", "c_minus", "c_plus", "mu", "sigma"};
 
     static Spec read(ElementSource& src, const std::string& name) {
-        Spec e;
-        e.name = name;
-        std::tie(e.a, e.b) = src.between(true);
+        Spec e = spec_at_ends<Clearance>(src, name);
         const Field k = src.field_or("k", Field{}), c = src.field_or("c", Field::value(0.0));
         read_clearance_law(src, e, src.has("k") ? &k : nullptr, &c);
         return e;

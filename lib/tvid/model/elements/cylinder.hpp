@@ -53,9 +53,7 @@ struct Cylinder {
                                            "rod_length", "mass", "p_atm"};
 
     static Spec read(ElementSource& src, const std::string& name) {
-        Spec e;
-        e.name = name;
-        e.node = src.node("node");
+        Spec e = spec_at_ends<Cylinder>(src, name);
         e.pressure = src.angle_input("pressure");
         e.phase = src.has("phase_deg") ? src.number("phase_deg") * kPi / 180.0 : 0.0;
         e.bore = src.field("bore");

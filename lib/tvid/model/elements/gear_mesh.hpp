@@ -3,7 +3,6 @@
 
 #include <cmath>
 #include <string>
-#include <tuple>
 
 #include "tvid/model/element_source.hpp"
 #include "tvid/model/element_traits.hpp"
@@ -57,10 +56,7 @@ struct GearMesh {
                                            "c_minus", "c_plus", "mu", "sigma", "efficiency", "smoothing_power"};
 
     static Spec read(ElementSource& src, const std::string& name) {
-        Spec e;
-        e.name = name;
-        std::tie(e.a, e.b) = src.between(false);
-        e.ratio = src.field("ratio");
+        Spec e = spec_at_ends<GearMesh>(src, name);
         e.has_clearance = src.has("mu");
         e.c = src.field_or("c", Field::value(0.0));
         if (!e.has_clearance) {

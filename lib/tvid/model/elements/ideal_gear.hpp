@@ -3,7 +3,6 @@
 // IdealGear, Simscape's Simple Gear), lossless or with an efficiency.
 
 #include <string>
-#include <tuple>
 
 #include "tvid/model/element_source.hpp"
 #include "tvid/model/element_traits.hpp"
@@ -49,10 +48,7 @@ struct IdealGear {
     static constexpr const char* keys[] = {"between", "ratio", "efficiency", "smoothing_power"};
 
     static Spec read(ElementSource& src, const std::string& name) {
-        Spec e;
-        e.name = name;
-        std::tie(e.a, e.b) = src.between(false);
-        e.ratio = src.field("ratio");
+        Spec e = spec_at_ends<IdealGear>(src, name);
         gear_efficiency::read(src, e, "gear", kDefaultSmoothingPower);
         return e;
     }

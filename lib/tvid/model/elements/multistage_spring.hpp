@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <array>
 #include <string>
-#include <tuple>
 
 #include "tvid/model/element_source.hpp"
 #include "tvid/model/element_traits.hpp"
@@ -62,9 +61,7 @@ struct MultistageSpring : TwoNodeLoad {  // its load: −t on a, +t on b
     static constexpr const char* keys[] = {"between", "stages", "stages_negative", "c", "smoothing_angle"};
 
     static Spec read(ElementSource& src, const std::string& name) {
-        Spec e;
-        e.name = name;
-        std::tie(e.a, e.b) = src.between(true);
+        Spec e = spec_at_ends<MultistageSpring>(src, name);
         e.stages = read_stages(src, "stages", e.angle, e.k);
         if (src.has("stages_negative")) e.stages_negative = read_stages(src, "stages_negative", e.angle_negative, e.k_negative);
         e.c = src.field_or("c", Field::value(0.0));

@@ -41,9 +41,7 @@ struct OrderTorque {
     static constexpr const char* keys[] = {"node", "order", "amplitude", "phase"};
 
     static Spec read(ElementSource& src, const std::string& name) {
-        Spec e;
-        e.name = name;
-        e.node = src.node("node");
+        Spec e = spec_at_ends<OrderTorque>(src, name);
         e.order = src.number("order");
         if (!(e.order > 0) || e.order > 1000)
             src.fail("order", "an order is a positive number of cycles per revolution of the node (at most 1000)");

@@ -93,28 +93,35 @@ struct PositionController {
                                            "angle_average"};
 
     static Spec read(ElementSource& src, const std::string& name) {
-        Spec e;
-        e.name = name;
-        e.node = src.node("node");
-        if (!src.has("setpoint"))
-            src.fail_missing("setpoint", "(an angle channel [rad], a constant angle or a parameter)");
-        if (src.names_constant("setpoint"))
-            e.setpoint = src.field("setpoint");
-        else
-            e.input = src.time_input("setpoint", "an angle");
+        Spec e = spec_at_ends<PositionController>(src, name);
+        read_setpoint(src, e, "an angle", "(an angle channel [rad], a constant angle or a parameter)");
         e.kp = src.field("kp");
         e.kd = src.field_or("kd", Field::value(0.0));
         read_sampling(src, e);
         // The integral of the angle error: a sampled controller keeps it with its samples, a
         // continuous one in its hidden node (add_parts).
         if (src.has("ki")) e.ki = src.field("ki");
-        if (src.has("limits")) {
-            const auto limits = src.field_pair("limits");
-            e.limited = true;
-            e.lower = limits.first;
-            e.upper = limits.second;
-        }
+        read_limits(src, e);
         return e;
+    }
+
+    /// `setpoint`: a constant or a parameter, else a channel of `quantity` (the controlled
+    /// quantity: this one's angle or a sampled speed_controller's speed).
+    static void read_setpoint(ElementSource& src, Spec& e, const char* quantity, const char* expected) {
+        if (!src.has("setpoint")) src.fail_missing("setpoint", expected);
+        if (src.names_constant("setpoint"))
+            e.setpoint = src.field("setpoint");
+        else
+            e.input = src.time_input("setpoint", quantity);
+    }
+
+    /// `limits: [lower, upper]` on the controller's torque, when given.
+    static void read_limits(ElementSource& src, Spec& e) {
+        if (!src.has("limits")) return;
+        const auto limits = src.field_pair("limits");
+        e.limited = true;
+        e.lower = limits.first;
+        e.upper = limits.second;
     }
 
     /// A continuous controller with ki: its hidden node NAME.integral (J = 1), whose speed

@@ -42,9 +42,7 @@ struct RoadLoad {
     static constexpr const char* keys[] = {"node", "a", "b", "c", "smoothing_speed"};
 
     static Spec read(ElementSource& src, const std::string& name) {
-        Spec e;
-        e.name = name;
-        e.node = src.node("node");
+        Spec e = spec_at_ends<RoadLoad>(src, name);
         if (!src.has("a") && !src.has("b") && !src.has("c"))
             src.fail_missing("a", "(a road load needs a: [N m], b: [N m s/rad] or c: [N m s^2/rad^2])");
         e.rolling = src.field_or("a", Field::value(0.0));

@@ -68,25 +68,13 @@ struct SpeedController {
 
     // A digital speed loop: one sampled controller element NAME measuring speed.
     static void build_sampled(ElementSource& src, const std::string& name, NetworkSpec& net) {
-        PositionControllerSpec e;
-        e.name = name;
+        PositionControllerSpec e = spec_at_ends<PositionController>(src, name);
         e.measures = ControlledQuantity::speed;
-        e.node = src.node("node");
-        if (!src.has("setpoint"))
-            src.fail_missing("setpoint", "(a speed channel, a constant speed in rad/s or a parameter)");
-        if (src.names_constant("setpoint"))
-            e.setpoint = src.field("setpoint");
-        else
-            e.input = src.time_input("setpoint", "a speed");
+        PositionController::read_setpoint(src, e, "a speed", "(a speed channel, a constant speed in rad/s or a parameter)");
         e.kp = src.field("kp");
         e.ki = src.field("ki");
         PositionController::read_sampling(src, e);
-        if (src.has("limits")) {
-            const auto limits = src.field_pair("limits");
-            e.limited = true;
-            e.lower = limits.first;
-            e.upper = limits.second;
-        }
+        PositionController::read_limits(src, e);
         check_field_signs<PositionController>(src, e);
         PositionController::check(e, ConstantFieldBounds(src));
         add_element<PositionController>(src, net, e);

@@ -44,9 +44,7 @@ struct SpeedSource {
     static constexpr const char* keys[] = {"node", "input", "speed", "scale"};
 
     static Spec read(ElementSource& src, const std::string& name) {
-        Spec e;
-        e.name = name;
-        e.node = src.node("node");
+        Spec e = spec_at_ends<SpeedSource>(src, name);
         if (src.has("input") == src.has("speed"))
             src.fail(src.has("input") ? "speed" : "input",
                      "give either input (a measured speed channel) or speed (a constant, rad/s), not both");

@@ -34,8 +34,10 @@ struct SpringDamper : TwoNodeLoad {  // its load: −t on a, +t on b
     static constexpr const char* keys[] = {"between", "k", "c"};
 
     static Spec read(ElementSource& src, const std::string& name) {
-        const auto [a, b] = src.between(true);
-        return Spec{name, a, b, src.field("k"), src.field_or("c", Field::value(0.0))};
+        Spec e = spec_at_ends<SpringDamper>(src, name);
+        e.k = src.field("k");
+        e.c = src.field_or("c", Field::value(0.0));
+        return e;
     }
 
     /// f(info, field...) for each numeric field, of each of e... (a spec first, then bound elements) in step.

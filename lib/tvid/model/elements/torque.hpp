@@ -41,9 +41,7 @@ struct Torque {
     static constexpr const char* keys[] = {"node", "input", "offset", "scale", "value"};
 
     static Spec read(ElementSource& src, const std::string& name) {
-        Spec e;
-        e.name = name;
-        e.node = src.node("node");
+        Spec e = spec_at_ends<Torque>(src, name);
         if (src.has("value")) {
             for (const char* key : {"input", "offset", "scale"})
                 if (src.has(key))
