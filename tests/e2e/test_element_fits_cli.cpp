@@ -2,8 +2,10 @@
 // numpy scripts (scripts/generate_NAME_data.py, each with its own RK4): dry friction with
 // a Stribeck rise and each direction its own, a road load, a clutch damper of two spring
 // stages with friction hysteresis, a lossy gear, a positioning drive under its PD position
-// controller, and one under a digital PID (1 kHz, one sample's delay, limits). The noise-free recordings give every
-// parameter back; the noisy ones reach their noise floor with the truth within its errors.
+// controller, and one under a digital PID (1 kHz, one sample's delay, limits), a vehicle launch through a rigid
+// lossy gearbox, and a vehicle driveline whose clutch damper's hysteresis sticks and slips (estimated on one
+// recording, validated on another). The noise-free recordings give every parameter back; the noisy ones reach
+// their noise floor with the truth within its errors.
 // The inverse-model set-up (a speed source at the measured speed) gives with dry friction
 // as an element the parameters an exact sign column gives.
 #include <catch2/catch.hpp>
@@ -40,7 +42,7 @@ std::map<std::string, json> parameters_of(const json& summary) {
 TEST_CASE("each new element's noise-free recording gives every parameter back", "[e2e][element_fits]") {
     const TempDir tmp;
     for (const std::string recording : {"dry_friction", "road_load", "clutch_damper", "lossy_gear", "positioning_drive",
-                                      "digital_drive", "rigid_gear"}) {
+                                      "digital_drive", "rigid_gear", "driveline"}) {
         INFO(recording);
         const json s = fit_shipped(tmp, recording + "_clean");
         CHECK(s["optimizer"]["converged"] == true);
@@ -57,7 +59,7 @@ TEST_CASE("each new element's noise-free recording gives every parameter back", 
 TEST_CASE("each new element's noisy recording: the noise floor, the truth within its errors", "[e2e][element_fits]") {
     const TempDir tmp;
     for (const std::string recording : {"dry_friction", "road_load", "clutch_damper", "lossy_gear", "positioning_drive",
-                                      "digital_drive", "rigid_gear"}) {
+                                      "digital_drive", "rigid_gear", "driveline"}) {
         INFO(recording);
         const json s = fit_shipped(tmp, recording);
         const json t = truth_of(recording);

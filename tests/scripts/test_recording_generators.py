@@ -20,7 +20,7 @@ import subprocess
 import sys
 
 RECORDINGS = ["dry_friction", "inverse_friction", "road_load", "clutch_damper", "lossy_gear", "positioning_drive",
-              "digital_drive", "rigid_gear",
+              "digital_drive", "rigid_gear", "driveline",
               "free_line",
               "constant_load"]
 
