@@ -129,6 +129,43 @@ TEST_CASE("tvid fit --optimizer multistart reports every start in starts.csv", "
     CHECK_FALSE(std::filesystem::exists(out / "starts.csv"));
 }
 
+TEST_CASE("tvid fit --optimizer multistart races its starts and says where and why each stopped",
+          "[e2e][multistart]") {
+    TempDir tmp;
+    const auto out = tmp.path() / "race";
+    const RunResult r = run_tvid({"fit", kCvt, "-o", out.string(), "--optimizer", "multistart", "--set",
+                                  "estimation.cost=l2", "--set",
+                                  "estimation.multistart={ starts: 6, max_iterations: 12, race_iterations: 2 }", "--seed",
+                                  "11"});
+    INFO(r.out << r.err);
+    REQUIRE(r.exit_code == 0);
+    const json o = json::parse(read_text(out / "summary.json"))["optimizer"];
+    CHECK(o["race"] == true);
+    CHECK(o["race_iterations"] == 2);
+    int raced_out = 0;
+    for (const json& start : o["start_results"]) {
+        if (!start["raced_out"].get<bool>()) continue;
+        ++raced_out;
+        const int k = start["iterations"].get<int>();
+        CHECK((k == 2 || k == 4 || k == 8));  // the rungs before the iteration limit of 12
+        CHECK(start["termination"].get<std::string>().rfind("raced out after " + std::to_string(k) + " iterations: cost ",
+                                                            0) == 0);
+        CHECK_FALSE(start["converged"].get<bool>());
+    }
+    CHECK(raced_out > 0);
+    CHECK(o["raced_out"] == raced_out);
+    CHECK(raced_out < 6);  // one start at least runs to its end
+    const std::string starts = read_text(out / "starts.csv");
+    CHECK(std::count(starts.begin(), starts.end(), '\n') == 7);
+    CHECK(starts.find(",\"raced out after 2 iterations: cost ") != std::string::npos);
+    CHECK(r.out.find("; " + std::to_string(raced_out) + " raced out), ") != std::string::npos);  // the terminal's line
+
+    const RunResult bad = run_tvid({"fit", kCvt, "-o", (tmp.path() / "never").string(), "--optimizer", "multistart",
+                                    "--set", "estimation.cost=l2", "--set", "estimation.multistart.race_iterations=0"});
+    CHECK(bad.exit_code == 2);
+    CHECK(bad.err == "--set: estimation.multistart.race_iterations: must be between 1 and 1e6\n");
+}
+
 TEST_CASE("bad optimizer settings exit 2 with one line naming the key", "[e2e][nlopt][errors]") {
     TempDir tmp;
     const auto out = tmp.path() / "never";

@@ -190,3 +190,61 @@ TEST_CASE("multistart redraws a start whose point cannot be simulated, so every 
     CHECK(multistart_redraw(starts(20), kBox, 3, 3) != a);
     CHECK(multistart_redraw(starts(20, 6), kBox, 3, 2) != a);
 }
+
+TEST_CASE("multistart races its starts: the worse half stop at each rung, the best start's path is unchanged",
+          "[multistart]") {
+    MultistartSettings raced = starts(20), full = starts(20);
+    full.race = false;
+    const MultistartSummary r = run_multistart(raced, LmSettings{}, kBox, 2, sinusoid_factory());
+    const MultistartSummary f = run_multistart(full, LmSettings{}, kBox, 2, sinusoid_factory());
+    REQUIRE(r.best_start >= 1);
+    CHECK(r.best_start == f.best_start);
+    CHECK(r.best == f.best);  // paused at the rungs, never restarted: the same path
+    CHECK(r.best_cost == f.best_cost);
+    CHECK(r.success);
+    int raced_out = 0;
+    for (std::size_t i = 0; i < r.starts.size(); ++i) {
+        const StartResult& s = r.starts[i];
+        INFO("start " << s.start << ": " << s.termination);
+        CHECK(f.starts[i].termination_type != TerminationType::raced_out);
+        if (s.termination_type != TerminationType::raced_out) {
+            CHECK(s.best == f.starts[i].best);  // a start that was not stopped ran as without the race
+            continue;
+        }
+        ++raced_out;
+        CHECK(s.termination.rfind("raced out after " + std::to_string(s.iterations) + " iterations: cost ", 0) == 0);
+        CHECK(s.termination.find(" starts still running)") != std::string::npos);
+        CHECK_FALSE(s.success);
+        // Stopped at a rung (4, 8, 16, ... steps), where the full run had the same cost.
+        CHECK((s.iterations == 4 || s.iterations == 8 || s.iterations == 16 || s.iterations == 32));
+        REQUIRE(f.starts[i].history.size() > static_cast<std::size_t>(s.iterations));
+        CHECK(s.best_cost == f.starts[i].history[static_cast<std::size_t>(s.iterations)].best_cost);
+        CHECK(s.best_cost > r.best_cost);
+        // Not falling fast: above half its cost at the previous rung (its start for the first).
+        const std::size_t previous = s.iterations == 4 ? 0 : static_cast<std::size_t>(s.iterations / 2);
+        CHECK(s.best_cost >= 0.5 * f.starts[i].history[previous].best_cost);
+        CHECK(s.termination.find(" since iteration " + std::to_string(previous) + "), the best ") != std::string::npos);
+    }
+    CHECK(raced_out >= 3);
+    CHECK(r.evaluations < f.evaluations);
+}
+
+TEST_CASE("multistart's race gives the same result for any thread count, also in groups of 32", "[multistart]") {
+    for (int n : {7, 40}) {
+        INFO(n << " starts");
+        const MultistartSummary one = run_multistart(starts(n), LmSettings{}, kBox, 1, sinusoid_factory());
+        const MultistartSummary three = run_multistart(starts(n), LmSettings{}, kBox, 3, sinusoid_factory());
+        CHECK(one.best == three.best);
+        CHECK(one.best_start == three.best_start);
+        REQUIRE(one.starts.size() == three.starts.size());
+        for (std::size_t i = 0; i < one.starts.size(); ++i) {
+            CHECK(one.starts[i].termination == three.starts[i].termination);
+            CHECK(one.starts[i].iterations == three.starts[i].iterations);
+            CHECK(one.starts[i].best == three.starts[i].best);
+        }
+        CHECK(one.best_cost < 1e-18);
+    }
+    MultistartSettings bad = starts(4);
+    bad.race_iterations = 0;
+    CHECK(validate(bad).has_value());
+}

@@ -6,7 +6,7 @@
 //   lm: { max_iterations: 200, ftol: 1e-10, xtol: 1e-10, gtol: 1e-10, stol: 0.1, jacobian: sensitivity }
 //   nlopt: { algorithm: LN_BOBYQA, local_algorithm: LN_SBPLX, max_evaluations: 5000,
 //            max_seconds: 600, xtol_rel: 1e-8, ftol_rel: 1e-12, population: 0, seed: 1 }
-//   multistart: { starts: 8, seed: 1, max_iterations: 100, max_draws: 10 }
+//   multistart: { starts: 8, seed: 1, max_iterations: 100, max_draws: 10, race: true, race_iterations: 4 }
 //
 // Each section is read by its kind (experiment/optimizer_kinds/NAME.hpp: its keys, its
 // reader, which validates the settings in one call). Then the checks that need the

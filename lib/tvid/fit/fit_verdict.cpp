@@ -444,14 +444,17 @@ void judge_parameters(const IdentificationProblem& problem, const FitResult& fit
     }
 }
 
-// Another multistart start that ended as low, elsewhere.
+// Another multistart start that ended as low, elsewhere (a start the race stopped has not
+// converged: where it stopped is no optimum).
 void judge_starts(const IdentificationProblem& problem, const FitResult& fit, Verdict& v) {
     const std::vector<StartResult>& starts = fit.run.starts;
     if (fit.run.best_start < 1 || starts.size() < 2) return;
     const StartResult& best = starts[static_cast<std::size_t>(fit.run.best_start - 1)];
     const auto& names = problem.free_names();
     for (const StartResult& s : starts) {
-        if (s.start == best.start || !std::isfinite(s.best_cost) || s.best.size() != best.best.size()) continue;
+        if (s.start == best.start || !std::isfinite(s.best_cost) || s.best.size() != best.best.size() ||
+            s.termination_type == TerminationType::raced_out)
+            continue;
         if (s.best_cost - best.best_cost > kNearEqualCost * best.best_cost) continue;
         std::size_t widest = names.size();
         double widest_gap = 0.0;

@@ -1,5 +1,6 @@
 #include "tvid/optim/multistart.hpp"
 
+#include "tvid/optim/multistart_race.hpp"
 #include "tvid/optim/parameter_scaling.hpp"
 
 #include <algorithm>
@@ -13,6 +14,10 @@
 #include <thread>
 
 namespace tvid {
+
+namespace {
+constexpr std::size_t kRaceBracket = 32;  // starts that race at once, each holding its problem
+}  // namespace
 
 std::vector<double> multistart_points(const MultistartSettings& settings, const SearchBox& box) {
     PsoSettings sample;  // the swarm's seeded Latin hypercube, reused
@@ -90,6 +95,14 @@ void run_start(StartResult& r, const MultistartSettings& settings, const LmSetti
     r.success = fit.success;
 }
 
+// The lowest cost of the starts before `end` (+inf for none).
+double lowest_cost(const std::vector<StartResult>& starts, std::size_t end) {
+    double best = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i < end; ++i)
+        if (std::isfinite(starts[i].best_cost)) best = std::min(best, starts[i].best_cost);
+    return best;
+}
+
 // The starts before they run: their Latin-hypercube points, not run yet.
 std::vector<StartResult> planned_starts(const MultistartSettings& settings, const SearchBox& box) {
     const std::size_t m = box.lower.size();
@@ -158,13 +171,131 @@ void summarise_starts(MultistartSummary& s, bool stopped) {
     s.success = !stopped && winner.success;
 }
 
+// Runs the starts of a multistart: each on its own problem, the progress callback fed
+// running totals (which the result does not depend on), the first exception kept and
+// every start stopped after it, one after the other on a pool of threads or raced.
+class StartRunner {
+public:
+    StartRunner(const MultistartSettings& settings, const LmSettings& per_start, const SearchBox& box,
+                const LeastSquaresFactory& make_problem, const MultistartProgress& progress, MultistartSummary& s)
+        : settings_(settings), per_start_(per_start), box_(box), make_problem_(make_problem), progress_(progress), s_(s) {}
+
+    // Every start on s.threads threads, taking the next start as one ends.
+    void pool() {
+        const std::size_t n = s_.starts.size();
+        std::atomic<std::size_t> next{0};
+        const auto worker = [&] {
+            guarded([&] {
+                for (std::size_t i = next++; i < n && !stop_; i = next++) run_one(i, [](const HistoryRow&) { return true; });
+            });
+        };
+        std::vector<std::thread> threads;
+        for (int t = 1; t < s_.threads; ++t) threads.emplace_back(worker);
+        worker();
+        for (std::thread& t : threads) t.join();
+    }
+
+    // Brackets of kRaceBracket starts race one after the other, each start on a thread of
+    // its own (waiting at a rung without a core); a bracket's messages measure against the
+    // best cost of the brackets before.
+    void race() {
+        const std::size_t n = s_.starts.size();
+        for (std::size_t first = 0; first < n && !stop_; first += kRaceBracket) {
+            const std::size_t count = std::min(kRaceBracket, n - first);
+            StartRace bracket(count, s_.threads, settings_.race_iterations, per_start_.max_iterations,
+                              lowest_cost(s_.starts, first));
+            set_race(&bracket);
+            std::vector<std::thread> runners;
+            for (std::size_t k = 0; k < count; ++k)
+                runners.emplace_back([this, &bracket, first, k] { guarded([&] { run_in_race(bracket, k, first + k); }); });
+            for (std::thread& t : runners) t.join();
+            set_race(nullptr);
+        }
+    }
+
+    bool stopped() const { return stop_; }
+    void rethrow() const {
+        if (failure_) std::rethrow_exception(failure_);
+    }
+
+private:
+    // Start i as racer k of the bracket: it waits for a core, runs until it ends or the
+    // race stops it, and says why it ended.
+    void run_in_race(StartRace& bracket, std::size_t k, std::size_t i) {
+        if (!bracket.enter(k)) return;
+        StartResult& r = s_.starts[i];
+        try {
+            run_one(i, [&](const HistoryRow& row) { return bracket.step(k, row.iteration, row.best_cost); });
+        } catch (...) {
+            bracket.leave(k, std::numeric_limits<double>::infinity());
+            throw;
+        }
+        bracket.leave(k, r.best_cost);
+        if (!bracket.verdict(k).empty()) {
+            r.termination = bracket.verdict(k);
+            r.termination_type = TerminationType::raced_out;
+            r.success = false;
+        }
+    }
+
+    // Start i, `gate` asked after each of its LM steps whether it goes on.
+    void run_one(std::size_t i, const std::function<bool(const HistoryRow&)>& gate) {
+        const std::unique_ptr<LeastSquaresProblem> problem = make_problem_(s_.threads_per_start);
+        long long counted = 0;
+        run_start(s_.starts[i], settings_, per_start_, box_, *problem, [&](const HistoryRow& row, long long now) {
+            {
+                const std::lock_guard<std::mutex> lock(mutex_);
+                evaluations_so_far_ += now - counted;
+                counted = now;
+                if (row.iteration > 0) ++steps_so_far_;
+                best_so_far_ = std::min(best_so_far_, row.best_cost);
+                if (progress_ && !progress_(HistoryRow{steps_so_far_, evaluations_so_far_, best_so_far_})) stop_all();
+                if (stop_) return false;
+            }
+            return gate(row);
+        });
+    }
+
+    void guarded(const std::function<void()>& body) {
+        try {
+            body();
+        } catch (...) {
+            const std::lock_guard<std::mutex> lock(mutex_);
+            if (!failure_) failure_ = std::current_exception();
+            stop_all();
+        }
+    }
+
+    void stop_all() {  // with mutex_ held
+        stop_ = true;
+        if (race_) race_->stop();
+    }
+    void set_race(StartRace* race) {
+        const std::lock_guard<std::mutex> lock(mutex_);
+        race_ = race;
+    }
+
+    const MultistartSettings& settings_;
+    const LmSettings& per_start_;
+    const SearchBox& box_;
+    const LeastSquaresFactory& make_problem_;
+    const MultistartProgress& progress_;
+    MultistartSummary& s_;
+    std::mutex mutex_;
+    std::atomic<bool> stop_{false};
+    int steps_so_far_ = 0;
+    long long evaluations_so_far_ = 0;
+    double best_so_far_ = std::numeric_limits<double>::infinity();
+    std::exception_ptr failure_;
+    StartRace* race_ = nullptr;  // the bracket under way, woken by a stop
+};
+
 }  // namespace
 
 MultistartSummary run_multistart(const MultistartSettings& settings, const LmSettings& lm, const SearchBox& box,
                                  int threads, const LeastSquaresFactory& make_problem,
                                  const MultistartProgress& progress) {
     if (settings.starts < 1) throw std::invalid_argument("multistart: at least one start");
-    const auto n = static_cast<std::size_t>(settings.starts);
     LmSettings per_start = lm;
     if (settings.max_iterations) per_start.max_iterations = *settings.max_iterations;
 
@@ -174,42 +305,13 @@ MultistartSummary run_multistart(const MultistartSettings& settings, const LmSet
     s.threads_per_start = std::max(1, threads / s.threads);
     s.starts = planned_starts(settings, box);
 
-    // Running totals for the progress callback only; the result does not depend on them.
-    std::mutex progress_mutex;
-    std::atomic<bool> stop{false};
-    int steps_so_far = 0;
-    long long evaluations_so_far = 0;
-    double best_so_far = std::numeric_limits<double>::infinity();
-    std::atomic<std::size_t> next{0};
-    std::exception_ptr failure;
-
-    auto worker = [&] {
-        try {
-            for (std::size_t i = next++; i < n && !stop; i = next++) {
-                const std::unique_ptr<LeastSquaresProblem> problem = make_problem(s.threads_per_start);
-                long long counted = 0;
-                run_start(s.starts[i], settings, per_start, box, *problem, [&](const HistoryRow& row, long long now) {
-                    const std::lock_guard<std::mutex> lock(progress_mutex);
-                    evaluations_so_far += now - counted;
-                    counted = now;
-                    if (row.iteration > 0) ++steps_so_far;
-                    best_so_far = std::min(best_so_far, row.best_cost);
-                    if (progress && !progress(HistoryRow{steps_so_far, evaluations_so_far, best_so_far})) stop = true;
-                    return !stop.load();
-                });
-            }
-        } catch (...) {
-            const std::lock_guard<std::mutex> lock(progress_mutex);
-            if (!failure) failure = std::current_exception();
-            stop = true;
-        }
-    };
-    std::vector<std::thread> pool;
-    for (int t = 1; t < s.threads; ++t) pool.emplace_back(worker);
-    worker();
-    for (std::thread& t : pool) t.join();
-    if (failure) std::rethrow_exception(failure);
-    summarise_starts(s, stop);
+    StartRunner runner(settings, per_start, box, make_problem, progress, s);
+    if (settings.race && settings.starts > 1)
+        runner.race();
+    else
+        runner.pool();
+    runner.rethrow();
+    summarise_starts(s, runner.stopped());
     return s;
 }
 

@@ -1,6 +1,6 @@
 #pragma once
 // Options of a multistart least-squares fit (multistart.hpp): Levenberg–Marquardt from N
-// Latin-hypercube points of the initial search box.
+// Latin-hypercube points of the initial search box, raced against each other.
 
 #include "tvid/optim/settings_problem.hpp"
 #include <cstdint>
@@ -18,6 +18,10 @@ struct MultistartSettings {
     /// in the range box from a stream of its own (the seed, the start, the draw), so that
     /// the starts asked for are run; a start whose every draw fails is reported as failed.
     int max_draws = 10;
+    /// Race the starts (multistart_race.hpp): at `race_iterations` trial steps, and at
+    /// twice, four times as many, the worse half of the starts still running stop.
+    bool race = true;
+    int race_iterations = 4;
 };
 
 /// The first problem of the settings, or none.

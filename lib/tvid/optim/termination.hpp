@@ -18,6 +18,7 @@ enum class TerminationType {
     stopped,           ///< the progress callback said stop, or the problem was stopped mid-evaluation
     interrupted,       ///< a fit ended by a stop request (Ctrl-C): its best point so far
     not_run,           ///< a multistart start that a stop came before
+    raced_out,         ///< a multistart start stopped by the race: its cost ranked in the worse half at a rung
 };
 
 }  // namespace tvid

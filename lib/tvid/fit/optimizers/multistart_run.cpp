@@ -60,17 +60,22 @@ nlohmann::json multistart_details(const Experiment& ex, const FitResult& fit) {
                               {"evaluations", s.evaluations},
                               {"termination", s.termination},
                               {"converged", s.success},
+                              {"raced_out", s.termination_type == TerminationType::raced_out},
                               {"draws", s.draws}});
-    int draws = 0, run = 0;
+    int draws = 0, run = 0, raced_out = 0;
     for (const StartResult& s : ms.starts) {
         draws += s.draws;
         run += std::isfinite(s.best_cost) ? 1 : 0;
+        raced_out += s.termination_type == TerminationType::raced_out ? 1 : 0;
     }
     return json{{"starts", settings.multistart.starts},
                 {"starts_run", run},
                 {"draws", draws},
                 {"max_draws", settings.multistart.max_draws},
                 {"seed", settings.multistart.seed},
+                {"race", settings.multistart.race},
+                {"race_iterations", settings.multistart.race_iterations},
+                {"raced_out", raced_out},
                 {"best_start", ms.best_start},
                 {"parallel_starts", ms.threads},
                 {"threads_per_start", ms.threads_per_start},
@@ -104,6 +109,15 @@ std::string multistart_starts_csv(const IdentificationProblem& problem, const Fi
     return out.str();
 }
 
+// The terminal's line: the termination, and how many starts the race stopped
+// ("multistart (best of 8 starts: cost change below ftol; 5 raced out)").
+std::string multistart_headline(const FitResult& fit) {
+    int raced_out = 0;
+    for (const StartResult& s : fit.run.starts) raced_out += s.termination_type == TerminationType::raced_out ? 1 : 0;
+    return "multistart (" + fit.run.termination + (raced_out > 0 ? "; " + std::to_string(raced_out) + " raced out" : "") +
+           ")";
+}
+
 }  // namespace
 
 OptimizerEntry multistart_optimizer() {
@@ -111,7 +125,8 @@ OptimizerEntry multistart_optimizer() {
                           .run = run_multistart_fit,
                           .details = multistart_details,
                           .planned_iterations = multistart_iterations,
-                          .starts_csv = multistart_starts_csv};
+                          .starts_csv = multistart_starts_csv,
+                          .headline = multistart_headline};
 }
 
 }  // namespace tvid

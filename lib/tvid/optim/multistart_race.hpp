@@ -1,0 +1,72 @@
+#pragma once
+// The race of multistart's starts (successive halving, Jamieson & Talwalkar 2016): every
+// start runs its Levenberg–Marquardt to the first rung (`race_iterations` trial steps),
+// then waits; when every start is at the rung or has ended, the running starts are ranked
+// by their cost there and the worse half stop ("raced out"), except those whose cost fell
+// to less than half since their previous rung (or their start): still falling that fast,
+// a start may yet reach the best basin (LM from a far point often sits for a few steps,
+// then drops by orders of magnitude). The rest run on to the next rung, twice as many
+// steps in, and so on until one is left, which runs to its end. A start that converges,
+// fails or reaches its iteration limit between rungs simply ends.
+//
+// The decisions depend only on each start's cost at each rung (ties to the lower start
+// number), never on which start got there first, so a seed gives the same result for any
+// thread count. A start waits without holding a core: `cores` starts run at once and a
+// start at a rung gives its core to another.
+
+#include <condition_variable>
+#include <cstddef>
+#include <mutex>
+#include <string>
+#include <vector>
+
+namespace tvid {
+
+class StartRace {
+public:
+    /// `count` starts, `cores` of which run at once; the first rung after `first_rung`
+    /// trial steps, none at or beyond `last_iteration` (LM's iteration limit);
+    /// `reference_best` the lowest cost reached before this race (+inf for none).
+    StartRace(std::size_t count, int cores, int first_rung, int last_iteration, double reference_best);
+
+    /// Start `i` waits for a core; false when the race was stopped before it got one.
+    bool enter(std::size_t i);
+    /// After trial step `iteration` of start `i`, its lowest cost so far `cost`: at a rung
+    /// it waits for the decision. False when it is raced out (or the race was stopped).
+    bool step(std::size_t i, int iteration, double cost);
+    /// Start `i` ended (converged, failed, out of iterations, raced out or stopped) with
+    /// `cost`; it gives back its core.
+    void leave(std::size_t i, double cost);
+    /// Every waiting start is woken and stops.
+    void stop();
+
+    /// Why start `i` was raced out ("raced out after 8 iterations: ..."); empty when it was not.
+    const std::string& verdict(std::size_t i) const { return starts_[i].verdict; }
+
+private:
+    enum class Phase { pending, running, at_rung, ended, raced_out };
+    struct Start {
+        Phase phase = Phase::pending;
+        int rung = 0;          ///< the next rung it will reach
+        int iteration = 0;     ///< the trial step at which it reached its last rung
+        double cost = 0.0;     ///< at its last rung, or its end
+        int previous_iteration = 0;   ///< of its previous rung (0: its start)
+        double previous_cost = 0.0;   ///< there
+        std::string verdict;
+    };
+
+    int rung_iteration(int rung) const { return first_rung_ << rung; }
+    void take_core(std::unique_lock<std::mutex>& lock);
+    void give_core();
+    void decide_if_all_waiting();
+
+    std::vector<Start> starts_;
+    int free_cores_;
+    const int first_rung_, last_iteration_;
+    double reference_best_;
+    bool stopped_ = false;
+    std::mutex mutex_;
+    std::condition_variable changed_;
+};
+
+}  // namespace tvid
