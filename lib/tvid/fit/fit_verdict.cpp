@@ -13,6 +13,7 @@
 #include "tvid/channels/recording_spans.hpp"
 #include "tvid/experiment/smoothing_speeds.hpp"
 #include "tvid/analysis/identifiability.hpp"
+#include "tvid/util/text.hpp"
 
 namespace tvid {
 
@@ -217,7 +218,7 @@ void judge_swarm(const IdentificationProblem& problem, const FitResult& fit, Ver
         if (c.spread[j] == c.max_spread) widest = problem.free_names()[j];
     std::string what;
     if (improving)
-        what = "its best cost still fell " + pct(c.recent_improvement) + " over its last " + std::to_string(c.window) +
+        what = "its best cost still fell " + readable_percent(c.recent_improvement) + " over its last " + std::to_string(c.window) +
                " iterations";
     if (spread)
         what += (what.empty() ? "" : ", and ") + std::string("its particles' best points still span ") +

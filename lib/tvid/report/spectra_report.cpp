@@ -1,6 +1,8 @@
 #include "tvid/io/csv_field.hpp"
 #include "tvid/report/spectra_report.hpp"
 
+#include "tvid/util/text.hpp"
+
 #include <cstdio>
 #include <sstream>
 
@@ -156,12 +158,7 @@ std::string residual_spectrum_line(const ResidualSpectrumSummary& s, const Resid
                       s.engine && s.order.available ? "order" : "band");
         return white;
     }
-    // A share as a person reads it: "38 %", "0.39 %".
-    const auto percent = [](double share) {
-        char buf[32];
-        std::snprintf(buf, sizeof buf, share >= 0.1 ? "%.0f %%" : "%.2g %%", 100 * share);
-        return std::string(buf);
-    };
+    const auto percent = readable_percent;  // "38 %", "0.39 %"
     char line[320];
     if (s.engine && s.order.available) {
         std::snprintf(line, sizeof line,

@@ -17,6 +17,12 @@ std::string number_text(double value) {
     return buf;
 }
 
+std::string readable_percent(double fraction) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, fraction >= 0.1 ? "%.0f %%" : "%.2g %%", 100.0 * fraction);
+    return buf;
+}
+
 std::size_t edit_distance(const std::string& a, const std::string& b) {
     std::vector<std::size_t> row(b.size() + 1);
     for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
