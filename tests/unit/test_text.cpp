@@ -13,6 +13,7 @@ TEST_CASE("a percentage has whole percent from 10 % up and two significant digit
     CHECK(readable_percent(0.042) == "4.2 %");
     CHECK(readable_percent(0.0013) == "0.13 %");  // the swarm's "still fell" just above its 0.1 % threshold
     CHECK(readable_percent(0.0) == "0 %");
+    CHECK(whole_percent(0.042) == "4 %");
     CHECK(number_text(0.1) == "0.1");
     CHECK(join_words({"a", "b", "c"}) == "a, b, c");
 }

@@ -25,11 +25,6 @@ std::string num(double v) {
     return buf;
 }
 
-std::string pct(double fraction) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.0f %%", 100.0 * fraction);
-    return buf;
-}
 
 // ---- the figures ----------------------------------------------------------------------
 
@@ -180,7 +175,7 @@ void judge_run(const FitResult& fit, Verdict& v) {
         const double share = static_cast<double>(fit.run.failed_evaluations) / static_cast<double>(fit.run.evaluations);
         v.add({"failed_simulations", share >= kFailedShareWarning ? Severity::warning : Severity::info, "",
                std::to_string(fit.run.failed_evaluations) + " of " + std::to_string(fit.run.evaluations) +
-                   " candidate simulations failed (" + pct(share) + ")" +
+                   " candidate simulations failed (" + whole_percent(share) + ")" +
                    (fit.run.first_failure.empty() ? "" : "; the first: " + fit.run.first_failure),
                "narrow the search box, or a smaller simulation.step or integrator rosenbrock4 for stiff candidates"});
     }
@@ -222,7 +217,7 @@ void judge_swarm(const IdentificationProblem& problem, const FitResult& fit, Ver
                " iterations";
     if (spread)
         what += (what.empty() ? "" : ", and ") + std::string("its particles' best points still span ") +
-                pct(c.max_spread) + " of the box in " + widest;
+                whole_percent(c.max_spread) + " of the box in " + widest;
     const bool polished = optimizer_traits(problem.experiment().estimation_settings.optimizer).least_squares;
     v.add({"swarm_not_converged", polished ? Severity::info : Severity::warning, "",
            "the swarm stopped before it converged: " + what +
@@ -247,7 +242,7 @@ void judge_minimum(const IdentificationProblem& problem, const FitResult& fit, V
     v.add({"not_at_minimum", Severity::warning, "",
            std::string("the ") + optimizer_name(ex.estimation_settings.optimizer) +
                " optimizer's best is not a minimum of the cost: one least-squares step from it would lower the "
-               "sum of squares by about " + pct(share) + " (linearised)",
+               "sum of squares by about " + whole_percent(share) + " (linearised)",
            swarm ? "run pso+lm (least squares from the swarm's best) or multistart, or more iterations "
                    "(estimation.pso.iterations)"
                  : "run lm or multistart from its best (--set parameters.NAME.init=...), or tighten the optimizer's "
@@ -332,7 +327,7 @@ void judge_correlations(const Experiment& ex, const FitResult& fit, Verdict& v) 
         v.add({"residual_autocorrelation", Severity::info, output,
                output + ": the residual's autocorrelation lies outside its 99 % band at " +
                    std::to_string(a.outside_from(1)) + " of " + std::to_string(a.tested(1)) +
-                   " lags (not white), though only " + pct(k < fit.whiteness_estimation.size()
+                   " lags (not white), though only " + whole_percent(k < fit.whiteness_estimation.size()
                                                                ? fit.whiteness_estimation[k].systematic_share : 0.0) +
                    " of its variance is systematic",
                "a small misfit or coloured noise: read residual_analysis.png and the residual spectrum"});
@@ -365,7 +360,7 @@ void judge_residuals(const Experiment& ex, const FitResult& fit, Verdict& v) {
                                        : " (RMSE " + num(w.rms) + " against an unpredictable part (noise) of " +
                                              num(w.noise_rms) + "; Ljung-Box p ";
         v.add({"residuals_not_white", error ? Severity::error : Severity::warning, name,
-               name + ": " + pct(w.systematic_share) + " of the residual variance is systematic" + beyond + p + ")",
+               name + ": " + whole_percent(w.systematic_share) + " of the residual variance is systematic" + beyond + p + ")",
                "the model misses what the data hold: another start or optimizer, wider bounds, scale: log on wide "
                "boxes, or a model element (a delay, a mode); a logged input's noise is declared with noise: under "
                "inputs"});
@@ -428,8 +423,8 @@ void judge_parameters(const IdentificationProblem& problem, const FitResult& fit
                            (std::abs(std::abs(w) - 1.0) < 5e-4 ? std::string() : num(std::abs(w)) + "·") + n;
         }
         v.add({"weak_apart", Severity::warning, names[c.members.front()],
-               members + " are weakly determined one by one (standard errors " + pct(c.smallest_member_error) + " to " +
-                   pct(c.largest_member_error) + "), trading against each other (|correlation| >= " +
+               members + " are weakly determined one by one (standard errors " + whole_percent(c.smallest_member_error) + " to " +
+                   whole_percent(c.largest_member_error) + "), trading against each other (|correlation| >= " +
                    num(c.weakest_correlation) + "); the data determine their combination " + combination + " = " +
                    num(c.value) + " ± " + num(c.std_error) + " (" + num(100.0 * c.std_error / std::abs(c.value)) + " %)",
                "fix all but one of them at known values (e.g. from a run-down or a component test), or estimate over "
@@ -440,7 +435,7 @@ void judge_parameters(const IdentificationProblem& problem, const FitResult& fit
         const auto j = static_cast<std::size_t>(&q - id.parameters.data());
         if (j < in_group.size() && in_group[j]) continue;
         v.add({"weakly_determined", Severity::warning, q.name,
-               q.name + " is weakly determined: standard error " + pct(q.judged_std_error) + " of " + q.judged_against,
+               q.name + " is weakly determined: standard error " + whole_percent(q.judged_std_error) + " of " + q.judged_against,
                "fix it, excite it more (another window or cycle), or read its profile"});
     }
 }
@@ -490,7 +485,7 @@ void judge_search_boxes(const Experiment& ex, Verdict& v) {
         const double top_decade = (box->second - box->second / 10) / (box->second - box->first);  // share of uniform samples
         v.add({"wide_linear_box", Severity::warning, p.name,
                p.name + "'s search box [" + num(box->first) + ", " + num(box->second) + "] spans " + num(decades) +
-                   " decades on a linear scale: " + pct(top_decade) + " of the samples fall in its top decade",
+                   " decades on a linear scale: " + whole_percent(top_decade) + " of the samples fall in its top decade",
                "scale: log on " + p.name + " spreads the " + std::string(optimizer_name(ex.estimation_settings.optimizer)) +
                    " samples evenly per decade (or give it a narrower range)"});
     }
@@ -507,7 +502,7 @@ void judge_smoothing(const Experiment& ex, Verdict& v) {
                    "give smoothing_speed: to choose it (smaller is closer to dry friction, and stiffer)"});
         if (c.share_within >= kSmoothedShareWarning)
             v.add({"smoothed_friction", Severity::warning, c.element,
-                   pct(c.share_within) + " of the samples in motion have a speed across " + c.element + " within " +
+                   whole_percent(c.share_within) + " of the samples in motion have a speed across " + c.element + " within " +
                        num(kSmoothingShareSpeeds) + " smoothing speeds (" + num(kSmoothingShareSpeeds * c.speed) + " " +
                        c.unit + ") of zero, where its smoothed sign acts as a viscous term: the fit trades its dry "
                        "part against the viscous one",
@@ -530,7 +525,7 @@ void judge_stability(const StepStability& s, Verdict& v) {
     }
     v.add({"near_instability", Severity::warning, s.window,
            "window " + s.window + ": a mode of " + num(s.frequency_hz) + " Hz (damping ratio " + num(s.damping_ratio) +
-               ", |lambda| " + num(s.rate) + " 1/s) is at " + pct(s.margin) + " of RK4's stability limit for the step " +
+               ", |lambda| " + num(s.rate) + " 1/s) is at " + whole_percent(s.margin) + " of RK4's stability limit for the step " +
                num(s.step) + " s",
            "a smaller simulation.step, or integrator rosenbrock4; a slightly stiffer candidate would blow up"});
 }

@@ -17,11 +17,17 @@ std::string number_text(double value) {
     return buf;
 }
 
-std::string readable_percent(double fraction) {
+namespace {
+std::string percent_as(const char* format, double fraction) {
     char buf[32];
-    std::snprintf(buf, sizeof buf, fraction >= 0.1 ? "%.0f %%" : "%.2g %%", 100.0 * fraction);
+    std::snprintf(buf, sizeof buf, format, 100.0 * fraction);
     return buf;
 }
+}  // namespace
+
+std::string whole_percent(double fraction) { return percent_as("%.0f %%", fraction); }
+
+std::string readable_percent(double fraction) { return percent_as(fraction >= 0.1 ? "%.0f %%" : "%.2g %%", fraction); }
 
 std::size_t edit_distance(const std::string& a, const std::string& b) {
     std::vector<std::size_t> row(b.size() + 1);

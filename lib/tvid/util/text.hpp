@@ -13,6 +13,9 @@ std::string join_words(const std::vector<std::string>& words);
 /// A number in the shortest form that reads back to 10 significant digits (%.10g).
 std::string number_text(double value);
 
+/// A fraction in whole percent ("38 %", "4 %").
+std::string whole_percent(double fraction);
+
 /// A fraction as a person reads a percentage: whole percent from 10 % up ("38 %"), two
 /// significant digits below ("4.2 %", "0.13 %"), so that a small share never reads "0 %".
 std::string readable_percent(double fraction);
