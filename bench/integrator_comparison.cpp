@@ -1,8 +1,10 @@
 // Which integrator for which model? For the engine crankshaft (stiff: twist modes up to
-// ~3e4 rad/s, samples ~67 us apart, 1441-sample cycles behind a two-cycle warm-up) and the
-// CVT clearance model (1 ms samples), this program simulates the first estimation window
-// and the first validation window with the true parameters (data/*/truth.json) under
-// fixed-step rk4, adaptive dopri5 and adaptive rosenbrock4 at several settings, and prints
+// ~3e4 rad/s, samples ~67 us apart, 1441-sample cycles behind a two-cycle warm-up), the
+// CVT clearance model (1 ms samples) and the vehicle driveline (a sticking dry friction,
+// a real mode near -5.6e4 1/s, 1 ms samples), this program simulates the first estimation
+// window and the first validation window with the true parameters (data/*/truth.json) under
+// fixed-step rk4, fixed-step implicit sdirk3, adaptive dopri5 and adaptive rosenbrock4 at
+// several settings, and prints
 // per setting: the wall time of one window simulation (median of the repeats; for the
 // engine this includes the warm-up shooting, several simulations of the warm-up), the
 // right-hand-side and Jacobian evaluations per window, the RMS and largest output error
@@ -11,7 +13,7 @@
 // smooth the output is in the parameters, which the finite-difference Jacobian of `lm`
 // relies on (see jacobian_noise).
 //
-//   tvid_integrator_comparison [--repeats N] [--only engine|cvt]
+//   tvid_integrator_comparison [--repeats N] [--only engine|cvt|driveline] [--method rk4|sdirk3|dopri5|rosenbrock4]
 //
 // It prints figures; it never passes or fails.
 
@@ -47,6 +49,13 @@ SimulationSettings rk4(double step) {
     return s;
 }
 
+SimulationSettings sdirk3(double step) {
+    SimulationSettings s;
+    s.method = IntegrationMethod::sdirk3;
+    s.max_step = step;
+    return s;
+}
+
 SimulationSettings adaptive(IntegrationMethod method, double tolerance) {
     SimulationSettings s;
     s.method = method;
@@ -60,15 +69,18 @@ std::string tolerance_text(double tolerance) {
     return buf;
 }
 
-// rk4 at the sample interval and with substeps, dopri5 and rosenbrock4 at 1e-4 … 1e-10.
-std::vector<Case> cases(const std::vector<double>& rk4_steps) {
+std::string step_text(double step) {
+    char buf[32];
+    if (step == 0.0) std::snprintf(buf, sizeof buf, "step: sample");
+    else std::snprintf(buf, sizeof buf, "step: %.3g s", step);
+    return buf;
+}
+
+// rk4 and sdirk3 at the sample interval and with substeps, dopri5 and rosenbrock4 at 1e-4 … 1e-10.
+std::vector<Case> cases(const std::vector<double>& rk4_steps, const std::vector<double>& sdirk3_steps) {
     std::vector<Case> out;
-    for (double step : rk4_steps) {
-        char buf[32];
-        if (step == 0.0) std::snprintf(buf, sizeof buf, "step: sample");
-        else std::snprintf(buf, sizeof buf, "step: %.3g s", step);
-        out.push_back({"rk4", buf, rk4(step)});
-    }
+    for (double step : rk4_steps) out.push_back({"rk4", step_text(step), rk4(step)});
+    for (double step : sdirk3_steps) out.push_back({"sdirk3", step_text(step), sdirk3(step)});
     for (IntegrationMethod m : {IntegrationMethod::dopri5, IntegrationMethod::rosenbrock4})
         for (double tol : {1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10})
             out.push_back({m == IntegrationMethod::dopri5 ? "dopri5" : "rosenbrock4", tolerance_text(tol),
@@ -183,7 +195,8 @@ bool all_ok(const Run& run, std::string* problem) {
 }
 
 void compare(const std::string& config, const std::string& truth_file, const std::vector<double>& rk4_steps,
-             const char* unit, const std::string& probe, int repeats) {
+             const std::vector<double>& sdirk3_steps, const char* unit, const std::string& probe, int repeats,
+             const std::string& method) {
     Experiment ex = load_experiment(config);
     std::optional<IdentificationProblem> problem;  // built for each integrator: it keeps the settings it was built with
     const std::vector<double> params = true_parameters(ex, truth_file);
@@ -211,7 +224,8 @@ void compare(const std::string& config, const std::string& truth_file, const std
     std::printf("| method | setting | ms / window | f evals / window | Jacobians / window | RMS error vs reference | "
                 "max error vs reference | RMS residual vs data | FD Jacobian noise |\n");
     std::printf("|---|---|---:|---:|---:|---:|---:|---:|---:|\n");
-    for (const Case& c : cases(rk4_steps)) {
+    for (const Case& c : cases(rk4_steps, sdirk3_steps)) {
+        if (!method.empty() && c.method != method) continue;
         ex.simulation = c.settings;
         problem.emplace(ex);
         const Run run = simulate(*problem, windows, params, repeats);
@@ -233,17 +247,21 @@ void compare(const std::string& config, const std::string& truth_file, const std
 
 int main(int argc, char** argv) {
     int repeats = 5;
-    std::string only;
+    std::string only, method;
     for (int i = 1; i < argc; ++i) {
         if (!std::strcmp(argv[i], "--repeats") && i + 1 < argc) repeats = std::max(1, std::atoi(argv[++i]));
         else if (!std::strcmp(argv[i], "--only") && i + 1 < argc) only = argv[++i];
+        else if (!std::strcmp(argv[i], "--method") && i + 1 < argc) method = argv[++i];
     }
     const std::string root = TVID_SOURCE_DIR;
     if (only.empty() || only == "engine")
         compare(root + "/configs/engine_idle_clean.yaml", root + "/data/engine/truth.json",
-                {0.0, 2e-5, 1e-5, 5e-6, 2.5e-6}, "rad/s", "J1", repeats);
+                {0.0, 2e-5, 1e-5, 5e-6, 2.5e-6}, {0.0, 2e-5}, "rad/s", "J1", repeats, method);
     if (only.empty() || only == "cvt")
         compare(root + "/configs/cvt_tipin_clean.yaml", root + "/data/cvt/truth.json", {0.0, 5e-4, 2.5e-4, 1e-4},
-                "N m", "k_plus", repeats);
+                {0.0, 2.5e-4}, "N m", "k_plus", repeats, method);
+    if (only.empty() || only == "driveline")
+        compare(root + "/configs/driveline_clean.yaml", root + "/data/driveline/truth.json",
+                {1e-4, 5e-5, 2.5e-5}, {0.0, 5e-4, 2.5e-4, 1e-4}, "rad/s", "Fh", repeats, method);
     return 0;
 }

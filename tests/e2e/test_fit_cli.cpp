@@ -310,7 +310,7 @@ TEST_CASE("a start whose simulation diverges names the node, the time and what t
     INFO(why);
     CHECK(why.rfind("start failed: estimation window time 1.5 to 3: simulation diverged: node hub's speed reached ", 0) == 0);
     CHECK(why.find("after t = 1.501 s (by t = 1.502 s)") != std::string::npos);  // the first step's interval
-    CHECK(why.find("smaller simulation.step, or method: rosenbrock4") != std::string::npos);
+    CHECK(why.find("smaller simulation.step, or method: sdirk3") != std::string::npos);
     CHECK(r.err.find("node hub's speed") != std::string::npos);  // the terminal says it too
 }
 

@@ -14,7 +14,7 @@ StepStability assess_step_stability(const IdentificationProblem& problem, const 
                                     const std::vector<SolvedStart>* starts) {
     StepStability s;
     const ProblemDefinition& def = problem.definition();
-    if (!takes_fixed_steps(def.simulation.method)) return s;
+    if (!steps_by_rk4(def.simulation.method)) return s;
     const std::vector<double>& time = problem.inputs().time();
     auto ws = problem.make_workspace();
     StateJacobian jacobian;

@@ -394,7 +394,7 @@ bool batch_supported(const IdentificationProblem& problem) {
     const ProblemDefinition& d = problem.definition();
     // A filtered output is scored once its window is complete: the scalar cost does that.
     // An input delayed by a parameter differs from lane to lane, and the lanes share their inputs.
-    return takes_fixed_steps(d.simulation.method) && has_fixed_state_size(d.network.state_size()) &&
+    return steps_by_rk4(d.simulation.method) && has_fixed_state_size(d.network.state_size()) &&
            !d.filtered && d.delayed_inputs.empty();
 }
 

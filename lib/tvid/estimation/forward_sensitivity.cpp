@@ -55,6 +55,38 @@ void implicit_jacobians(std::vector<Dual>& v, std::size_t unknowns, std::size_t 
     ws.model.set_parameters(ws.params.data());
 }
 
+// z = [x, S] (S with d directions) from sample `first` to `to` with the window's settings:
+// odeint's steppers on the augmented system, or sdirk3's implicit steps carrying S
+// (sim/sdirk3.hpp), which solve with the plain model and its Jacobian.
+template <class Observer>
+SimulationStatus march_sensitivities(const SimulationSettings& settings, SensitivitySystem& system, std::size_t first,
+                                     std::size_t to, std::size_t d, SensitivityWorkspace& ws, Observer&& observer) {
+    const std::size_t state = ws.model.state_size();
+    if (settings.method != IntegrationMethod::sdirk3)
+        return march_samples(system, *ws.plain->inputs, first, to, ws.z, state, settings, ws.buffers, observer);
+    Sdirk3& stepper = ws.buffers.sdirk3;
+    stepper.bind(ws.plain->model, *ws.plain->inputs);
+    stepper.bind_sensitivities(ws.model, static_cast<int>(d), ws.x, ws.dxdt);
+    struct Memory {  // the plain model and its Jacobian at x, the dual model at (x, S)
+        Sdirk3& stepper;
+        SensitivitySystem& system;
+        const std::vector<double>& z;
+        void restart(const std::vector<double>& u) {
+            stepper.restart_sampling(z.data(), u.data());
+            system.restart_sampling(z, u);
+        }
+        void sample(double t, const std::vector<double>& u) {
+            stepper.sample(t, z.data(), u.data());
+            system.sample(t, z, u);
+        }
+    };
+    const auto look = [&](std::size_t i) {
+        return observer(i, ws.z, ws.buffers.u) ? SimulationStatus::ok : SimulationStatus::stopped_by_observer;
+    };
+    return march_sdirk3(stepper, *ws.plain->inputs, first, to, ws.z.data(), state, ws.z.data() + state, state * d,
+                        settings.max_step, ws.buffers.u, Memory{stepper, system, ws.z}, look);
+}
+
 }  // namespace
 
 SensitivityWorkspace::SensitivityWorkspace(const IdentificationProblem& problem)
@@ -210,6 +242,9 @@ SimulationStatus ForwardSensitivity::simulate_augmented(const double* free, cons
             ws.y[k] = ws.model.output(def.output_indices[k], ws.x.data(), u.data());
         return on_scored(i, ws.y.data());
     };
+    const auto march_augmented = [&](SensitivitySystem& system, std::size_t first, std::size_t to, auto&& observer) {
+        return march_sensitivities(window_settings(def, w, *ws.plain), system, first, to, d, ws, observer);
+    };
     std::size_t from = w.start;
     if (problem_->warms_up(w)) {
         // The warm-up, watching the encoder node's sensitivity row at the shooting's samples.
@@ -220,9 +255,7 @@ SimulationStatus ForwardSensitivity::simulate_augmented(const double* free, cons
                                                   z.begin() + static_cast<std::ptrdiff_t>(state + node * d + d));
             return !ws.plain->stop_requested();
         };
-        const SimulationStatus status =
-            march_samples(warm, *ws.plain->inputs, w.start, w.first, ws.z, state, window_settings(def, w, *ws.plain),
-                          ws.buffers, watch);
+        const SimulationStatus status = march_augmented(warm, w.start, w.first, watch);
         if (status != SimulationStatus::ok) {
             if (problem) *problem = std::string("warm-up simulation ") + to_string(status);
             return status;
@@ -263,9 +296,7 @@ SimulationStatus ForwardSensitivity::simulate_augmented(const double* free, cons
         if (ws.plain->stop_requested()) return false;
         return i < w.first ? true : outputs(i, z, u);
     };
-    const SimulationStatus status =
-        march_samples(system, *ws.plain->inputs, from, w.last, ws.z, state, window_settings(def, w, *ws.plain),
-                      ws.buffers, scored);
+    const SimulationStatus status = march_augmented(system, from, w.last, scored);
     if (status != SimulationStatus::ok && problem) *problem = std::string("simulation ") + to_string(status);
     return status;
 }
@@ -279,7 +310,7 @@ SimulationStatus ForwardSensitivity::simulate(const double* free, const Window& 
     const ProblemDefinition& def = problem_->definition();
     const std::size_t state = ws.model.state_size(), directions = j1 - j0 + 2;
     const auto augmented = [&] { return simulate_augmented(free, w, j0, j1, ws, problem, on_scored, solved); };
-    if (!packed_ || !takes_fixed_steps(def.simulation.method) || def.measured.size() > 8 || directions > 16)
+    if (!packed_ || !steps_by_rk4(def.simulation.method) || def.measured.size() > 8 || directions > 16)
         return augmented();
     const auto packed = [&]<std::size_t N>(std::integral_constant<std::size_t, N>) {
         return directions <= 8 ? simulate_packed<N, 8>(free, w, j0, j1, ws, problem, on_scored, solved)

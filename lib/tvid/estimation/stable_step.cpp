@@ -20,7 +20,7 @@ double base_step(const ProblemDefinition& d, const Window& w) {
 }  // namespace
 
 std::size_t stable_substeps(const ProblemDefinition& d, const Window& w, ProblemWorkspace& ws) {
-    if (!takes_fixed_steps(d.simulation.method)) return 1;
+    if (!steps_by_rk4(d.simulation.method)) return 1;
     const double h = base_step(d, w);
     if (!(h > 0)) return 1;
     ws.state_jacobian.bind(ws.model);

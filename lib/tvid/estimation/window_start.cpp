@@ -144,7 +144,7 @@ bool WindowStarts::recipe_state(const Window& w, ProblemWorkspace& ws, std::stri
 
 SimulationStatus WindowStarts::shoot_warmup(const Window& w, ProblemWorkspace& ws, WindowStart& start) const {
     const auto by_differences = [&] { return shoot_warmup_by_differences(w, ws, start); };
-    if (!takes_fixed_steps(d_->simulation.method) || !(w.start + (w.first - w.start) / 2 > w.start))
+    if (!steps_by_rk4(d_->simulation.method) || !(w.start + (w.first - w.start) / 2 > w.start))
         return by_differences();
     const auto newton = [&]<std::size_t N>(std::integral_constant<std::size_t, N>) {
         return WarmupNewton<N>(*d_, w, ws, start).solve();

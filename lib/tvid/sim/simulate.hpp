@@ -20,6 +20,7 @@
 #include "tvid/sim/fixed_state_rk4.hpp"
 #include "tvid/channels/input_channels.hpp"
 #include "tvid/sim/observation_loops.hpp"
+#include "tvid/sim/sdirk3.hpp"
 #include "tvid/sim/simulation_settings.hpp"
 #include "tvid/sim/simulation_status.hpp"
 #include "tvid/sim/state_size_dispatch.hpp"
@@ -72,9 +73,10 @@ struct SimulationBuffers {
     Rk4 rk4;
     Dopri5 dopri5;
     StiffBuffers stiff;  ///< rosenbrock4
+    Sdirk3 sdirk3;
     // Running totals over every simulate_samples call, for benchmarks.
     std::size_t rhs_evaluations = 0;       ///< f(x, u) with double
-    std::size_t jacobian_evaluations = 0;  ///< ∂f/∂x (rosenbrock4)
+    std::size_t jacobian_evaluations = 0;  ///< ∂f/∂x (rosenbrock4, sdirk3)
 };
 
 /// Checks the first `checked` entries of x (the model state; sensitivities that may follow
@@ -106,7 +108,7 @@ SimulationStatus march_samples(System& system, const InputChannels& inputs, std:
     const auto look = [&](std::size_t i) {
         return observer(i, x, buffers.u) ? SimulationStatus::ok : SimulationStatus::stopped_by_observer;
     };
-    if (takes_fixed_steps(settings.method)) {
+    if (steps_by_rk4(settings.method)) {
         const auto step = [&](const FixedStep& s) { buffers.rk4.do_step(std::ref(system), x, s.t, s.dt); };
         const auto check = [&] {
             SimulationStatus status = SimulationStatus::ok;
@@ -118,7 +120,7 @@ SimulationStatus march_samples(System& system, const InputChannels& inputs, std:
     }
     // Adaptive Dormand–Prince, the state checked after every step. (A system without a
     // Jacobian, such as the augmented sensitivity system, also marches this way under
-    // rosenbrock4.)
+    // rosenbrock4; the sensitivities under sdirk3 march in march_sdirk3.)
     auto stepper = odeint::make_controlled(settings.atol, settings.rtol, buffers.dopri5);
     const auto try_step = [&](double& t, double& dt) {
         StepAttempt attempt;
@@ -175,6 +177,29 @@ SimulationStatus march_samples_stiff(StiffNetworkSystem& stiff, const InputChann
         sample_hooks(inputs, buffers.u, SystemMemory<StiffNetworkSystem, std::vector<double>>{stiff, x}, look));
 }
 
+/// The march of simulate_samples for sdirk3: fixed implicit steps (sim/sdirk3.hpp) of the
+/// sample interval, split by max_step, with `checked` = every state tested after each
+/// interval. With `s` (n × directions, set up by Sdirk3::bind_sensitivities) the steps carry
+/// the sensitivities too; `memory` restarts and samples the elements with memory.
+template <class Memory, class Look>
+SimulationStatus march_sdirk3(Sdirk3& stepper, const InputChannels& inputs, std::size_t start, std::size_t last,
+                              double* x, std::size_t n, double* s, std::size_t s_size, double max_step,
+                              std::vector<double>& u, Memory memory, Look look) {
+    stepper.begin(x);
+    const auto cross = [&](std::size_t i) {
+        const SimulationStatus status = stepper.cross(inputs.time(), i, max_step, x, s);
+        if (status != SimulationStatus::ok) return status;
+        for (std::size_t k = 0; k < n; ++k) {
+            if (!std::isfinite(x[k])) return SimulationStatus::not_finite;
+            if (std::abs(x[k]) > kDivergenceLimit) return SimulationStatus::diverged;
+        }
+        for (std::size_t k = 0; k < s_size; ++k)
+            if (!std::isfinite(s[k])) return SimulationStatus::not_finite;
+        return SimulationStatus::ok;
+    };
+    return march_over_samples(start, last, cross, sample_hooks(inputs, u, std::move(memory), std::move(look)));
+}
+
 /// Integrates the model from sample `start` (state x at time[start]) to sample `last`,
 /// calling `observer(i, x, u)` at every sample i in (start, last] with u the inputs at
 /// time[i]. The observer returns false to stop early.
@@ -184,6 +209,25 @@ SimulationStatus simulate_samples(NetworkModel<double>& model, const InputChanne
                                   const SimulationSettings& settings, SimulationBuffers& buffers,
                                   Observer&& observer) {
     buffers.u.resize(inputs.count());
+    if (settings.method == IntegrationMethod::sdirk3) {
+        Sdirk3& stepper = buffers.sdirk3;
+        stepper.bind(model, inputs);
+        const std::size_t rhs = stepper.rhs_evaluations, jacobians = stepper.jacobian_evaluations;
+        struct Memory {
+            Sdirk3& stepper;
+            const std::vector<double>& x;
+            void restart(const std::vector<double>& u) { stepper.restart_sampling(x.data(), u.data()); }
+            void sample(double t, const std::vector<double>& u) { stepper.sample(t, x.data(), u.data()); }
+        };
+        const auto look = [&](std::size_t i) {
+            return observer(i, x, buffers.u) ? SimulationStatus::ok : SimulationStatus::stopped_by_observer;
+        };
+        const SimulationStatus status = march_sdirk3(stepper, inputs, start, last, x.data(), x.size(), nullptr, 0,
+                                                     settings.max_step, buffers.u, Memory{stepper, x}, look);
+        buffers.rhs_evaluations += stepper.rhs_evaluations - rhs;
+        buffers.jacobian_evaluations += stepper.jacobian_evaluations - jacobians;
+        return status;
+    }
     if (integration_method_row(settings.method).uses_jacobian) {
         StiffNetworkSystem stiff(model, inputs, buffers.u, buffers.stiff);
         const SimulationStatus status =
