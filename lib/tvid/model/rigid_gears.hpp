@@ -22,6 +22,7 @@
 #include <cstddef>
 #include <deque>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "tvid/model/elements/ideal_gear.hpp"
@@ -56,6 +57,15 @@ RigidGearPlan plan_rigid_gears(const NetworkSpec& spec);
 /// coordinate would be tied to itself), or a node of a group that a speed source prescribes
 /// or a cylinder loads with its angle-dependent inertia. `element` gets the element named.
 std::string rigid_gear_problem(const NetworkSpec& spec, std::string* element);
+
+/// Whether a and b hold the same values (in every lane of a pack; a dual number's value alone).
+template <class T>
+bool same_values(const T& a, const T& b) {
+    if constexpr (std::is_same_v<decltype(a == b), bool>)
+        return a == b;
+    else
+        return (a == b).all();
+}
 
 /// The reduction for one scalar type: buffers sized once, nothing allocated per call.
 template <class T>
@@ -94,13 +104,20 @@ public:
         eliminate(gears, inertia, node_torque, acceleration);
         if (!lossy || !moving) return;
         for (int update = 0; update < kLossUpdates; ++update) {
+            bool settled = true;
             for (std::size_t k = 0; k < gears.size(); ++k) {
                 const Gear& g = gears[k];
                 if (!g.lossy) continue;
                 // f = η^tanh(P/P_s), P = τ·ωa the power a gives the gear (the last pass's τ)
                 const T power = gear_torque_[k] * omega[g.a];
-                loss_[k] = math::exp(smooth_sign(power * g.inverse_smoothing_power) * g.log_efficiency);
+                const T f = math::exp(smooth_sign(power * g.inverse_smoothing_power) * g.log_efficiency);
+                settled = settled && same_values(f, loss_[k]);
+                loss_[k] = f;
             }
+            // Every f as the last pass had it: that pass's τ is the fixed point, and every
+            // further update would repeat it bit for bit (outside the smoothing band, where
+            // f = η exactly, the second pass already is).
+            if (settled) return;
             eliminate(gears, inertia, node_torque, acceleration);
         }
     }

@@ -142,7 +142,7 @@ bool Sdirk3::solve_stage(double t, double hg, const Eigen::VectorXd* guess) {
         lambda = 1.0;
         z_ += delta_;
         // Solved: below the tolerance, or no longer shrinking at rounding's level.
-        const bool slow = it > 0 && update > 0.5 * update_before;
+        const bool slow = it > 0 && update > kRefreshRate * update_before;
         if (update <= 1.0 || (slow && update <= 1e2)) return true;
         if (slow) stale_ = true;
         update_before = update;
