@@ -3,11 +3,13 @@
 #include <catch2/catch.hpp>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <set>
 
 #include "support/sinusoid_fit.hpp"
 #include "tvid/optim/multistart.hpp"
+#include "tvid/optim/multistart_race.hpp"
 
 using namespace tvid;
 using tvid::test::SinusoidFit;
@@ -19,7 +21,7 @@ namespace {
 const SearchBox kBox{{0.0, 0.1}, {10.0, 10.0}, {0.5, 1.0}, {3.0, 5.0}};
 
 LeastSquaresFactory sinusoid_factory() {
-    return [](int) { return std::make_unique<SinusoidFit>(); };
+    return [](const ThreadBudget&) { return std::make_unique<SinusoidFit>(); };
 }
 
 MultistartSettings starts(int n, std::uint64_t seed = 5) {
@@ -136,7 +138,7 @@ struct SinusoidFailingAbove4 : SinusoidFit {
 }  // namespace
 
 TEST_CASE("multistart says how many starts failed and why the first of them did", "[multistart]") {
-    const LeastSquaresFactory factory = [](int) { return std::make_unique<SinusoidFailingAbove4>(); };
+    const LeastSquaresFactory factory = [](const ThreadBudget&) { return std::make_unique<SinusoidFailingAbove4>(); };
     MultistartSettings once = starts(20);
     once.max_draws = 1;  // no redraw: a start at a point that cannot be simulated fails
     const MultistartSummary s = run_multistart(once, LmSettings{}, kBox, 2, factory);
@@ -162,7 +164,7 @@ TEST_CASE("multistart says how many starts failed and why the first of them did"
 }
 
 TEST_CASE("multistart redraws a start whose point cannot be simulated, so every start asked for runs", "[multistart]") {
-    const LeastSquaresFactory factory = [](int) { return std::make_unique<SinusoidFailingAbove4>(); };
+    const LeastSquaresFactory factory = [](const ThreadBudget&) { return std::make_unique<SinusoidFailingAbove4>(); };
     const MultistartSummary s = run_multistart(starts(20), LmSettings{}, kBox, 2, factory);
     int redrawn = 0;
     for (const StartResult& r : s.starts) {
@@ -247,4 +249,22 @@ TEST_CASE("multistart's race gives the same result for any thread count, also in
     MultistartSettings bad = starts(4);
     bad.race_iterations = 0;
     CHECK(validate(bad).has_value());
+}
+
+TEST_CASE("the starts of a race split the cores: the last one running has them all", "[multistart]") {
+    // Three starts on two cores: each start holding a core counts in the budget, so a
+    // parallel region of a start takes 2 threads alone and 1 beside another.
+    ThreadBudget share(2);
+    StartRace race(3, 2, 4, 100, std::numeric_limits<double>::infinity(), &share);
+    REQUIRE(race.enter(0));
+    CHECK(share.team() == 2);
+    REQUIRE(race.enter(1));
+    CHECK(share.team() == 1);
+    race.leave(0, 5.0);  // converged: its core goes to the others
+    CHECK(share.team() == 2);
+    REQUIRE(race.enter(2));
+    CHECK(share.team() == 1);
+    race.leave(1, 6.0);
+    race.leave(2, 7.0);
+    CHECK(share.team() == 2);  // no start running: a region would take every core
 }

@@ -41,12 +41,11 @@ struct EvaluatorOptions {
     int team() const { return budget ? budget->team() : resolve_thread_count(threads); }
     /// The most threads a parallel region may take (a workspace each).
     int most_threads() const { return budget ? budget->cores() : resolve_thread_count(threads); }
-    /// The same options on `count` threads of their own, outside any budget (multistart's
-    /// starts, each on its share of the team).
-    EvaluatorOptions on_threads(int count) const {
+    /// The same options on `share` instead of the fit's own threads or budget (multistart's
+    /// starts, which split the fit's team).
+    EvaluatorOptions on_share(const ThreadBudget& share) const {
         EvaluatorOptions o = *this;
-        o.threads = count;
-        o.budget = nullptr;
+        o.budget = &share;
         return o;
     }
 };

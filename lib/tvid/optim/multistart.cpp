@@ -176,18 +176,21 @@ void summarise_starts(MultistartSummary& s, bool stopped) {
 // every start stopped after it, one after the other on a pool of threads or raced.
 class StartRunner {
 public:
-    StartRunner(const MultistartSettings& settings, const LmSettings& per_start, const SearchBox& box,
+    StartRunner(const MultistartSettings& settings, const LmSettings& per_start, const SearchBox& box, int cores,
                 const LeastSquaresFactory& make_problem, const MultistartProgress& progress, MultistartSummary& s)
-        : settings_(settings), per_start_(per_start), box_(box), make_problem_(make_problem), progress_(progress), s_(s) {}
+        : settings_(settings), per_start_(per_start), box_(box), make_problem_(make_problem), progress_(progress), s_(s),
+          share_(cores) {}
 
     // Every start on s.threads threads, taking the next start as one ends.
     void pool() {
         const std::size_t n = s_.starts.size();
         std::atomic<std::size_t> next{0};
         const auto worker = [&] {
+            share_.job_started();
             guarded([&] {
                 for (std::size_t i = next++; i < n && !stop_; i = next++) run_one(i, [](const HistoryRow&) { return true; });
             });
+            share_.job_finished();  // the workers still running take up its core
         };
         std::vector<std::thread> threads;
         for (int t = 1; t < s_.threads; ++t) threads.emplace_back(worker);
@@ -203,7 +206,7 @@ public:
         for (std::size_t first = 0; first < n && !stop_; first += kRaceBracket) {
             const std::size_t count = std::min(kRaceBracket, n - first);
             StartRace bracket(count, s_.threads, settings_.race_iterations, per_start_.max_iterations,
-                              lowest_cost(s_.starts, first));
+                              lowest_cost(s_.starts, first), &share_);
             set_race(&bracket);
             std::vector<std::thread> runners;
             for (std::size_t k = 0; k < count; ++k)
@@ -240,7 +243,7 @@ private:
 
     // Start i, `gate` asked after each of its LM steps whether it goes on.
     void run_one(std::size_t i, const std::function<bool(const HistoryRow&)>& gate) {
-        const std::unique_ptr<LeastSquaresProblem> problem = make_problem_(s_.threads_per_start);
+        const std::unique_ptr<LeastSquaresProblem> problem = make_problem_(share_);
         long long counted = 0;
         run_start(s_.starts[i], settings_, per_start_, box_, *problem, [&](const HistoryRow& row, long long now) {
             {
@@ -288,6 +291,7 @@ private:
     double best_so_far_ = std::numeric_limits<double>::infinity();
     std::exception_ptr failure_;
     StartRace* race_ = nullptr;  // the bracket under way, woken by a stop
+    ThreadBudget share_;         // the cores, split over the starts running
 };
 
 }  // namespace
@@ -305,7 +309,7 @@ MultistartSummary run_multistart(const MultistartSettings& settings, const LmSet
     s.threads_per_start = std::max(1, threads / s.threads);
     s.starts = planned_starts(settings, box);
 
-    StartRunner runner(settings, per_start, box, make_problem, progress, s);
+    StartRunner runner(settings, per_start, box, threads, make_problem, progress, s);
     if (settings.race && settings.starts > 1)
         runner.race();
     else

@@ -18,6 +18,7 @@
 #include "tvid/optim/levenberg_marquardt.hpp"
 #include "tvid/optim/multistart_options.hpp"
 #include "tvid/optim/pso.hpp"  // SearchBox, HistoryRow
+#include "tvid/util/thread_budget.hpp"
 
 namespace tvid {
 
@@ -50,11 +51,14 @@ struct MultistartSummary : OptimizerSummary {
     int best_start = 0;               ///< 1-based; 0 when every start failed
     long long right_hand_sides = 0;   ///< over every start
     int threads = 1;                  ///< starts run at once
-    int threads_per_start = 1;
+    int threads_per_start = 1;        ///< each start's share while `threads` of them run
 };
 
-/// A fresh least-squares problem for one start, running on `threads` threads.
-using LeastSquaresFactory = std::function<std::unique_ptr<LeastSquaresProblem>(int threads)>;
+/// A fresh least-squares problem for one start, on its share of the multistart's cores:
+/// each of its parallel regions takes share.team() threads, the cores over the starts
+/// running at that moment (so the last starts of a race take up the cores the others left),
+/// up to share.cores().
+using LeastSquaresFactory = std::function<std::unique_ptr<LeastSquaresProblem>(const ThreadBudget& share)>;
 
 /// Called (serialized) after every LM step of any start with running totals (iteration =
 /// steps so far over all starts, evaluations so far, lowest cost so far); false stops every start.

@@ -23,17 +23,21 @@ std::string short_number(double v) {
 
 }  // namespace
 
-StartRace::StartRace(std::size_t count, int cores, int first_rung, int last_iteration, double reference_best)
+StartRace::StartRace(std::size_t count, int cores, int first_rung, int last_iteration, double reference_best,
+                     ThreadBudget* share)
     : starts_(count), free_cores_(std::max(1, cores)), first_rung_(std::max(1, first_rung)),
-      last_iteration_(last_iteration), reference_best_(rank_key(reference_best)) {}
+      last_iteration_(last_iteration), reference_best_(rank_key(reference_best)), share_(share) {}
 
 void StartRace::take_core(std::unique_lock<std::mutex>& lock) {
     changed_.wait(lock, [&] { return free_cores_ > 0 || stopped_; });
-    if (!stopped_) --free_cores_;
+    if (stopped_) return;
+    --free_cores_;
+    if (share_) share_->job_started();
 }
 
 void StartRace::give_core() {
     ++free_cores_;
+    if (share_) share_->job_finished();
     changed_.notify_all();
 }
 

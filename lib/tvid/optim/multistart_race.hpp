@@ -12,7 +12,8 @@
 // The decisions depend only on each start's cost at each rung (ties to the lower start
 // number), never on which start got there first, so a seed gives the same result for any
 // thread count. A start waits without holding a core: `cores` starts run at once and a
-// start at a rung gives its core to another.
+// start at a rung gives its core to another; when fewer starts run than there are cores,
+// those running split all of them (ThreadBudget), so the last start does not run alone on one.
 
 #include <condition_variable>
 #include <cstddef>
@@ -20,14 +21,18 @@
 #include <string>
 #include <vector>
 
+#include "tvid/util/thread_budget.hpp"
+
 namespace tvid {
 
 class StartRace {
 public:
     /// `count` starts, `cores` of which run at once; the first rung after `first_rung`
     /// trial steps, none at or beyond `last_iteration` (LM's iteration limit);
-    /// `reference_best` the lowest cost reached before this race (+inf for none).
-    StartRace(std::size_t count, int cores, int first_rung, int last_iteration, double reference_best);
+    /// `reference_best` the lowest cost reached before this race (+inf for none); `share`
+    /// (may be null) counts the starts holding a core, so that they split the cores.
+    StartRace(std::size_t count, int cores, int first_rung, int last_iteration, double reference_best,
+              ThreadBudget* share = nullptr);
 
     /// Start `i` waits for a core; false when the race was stopped before it got one.
     bool enter(std::size_t i);
@@ -64,6 +69,7 @@ private:
     int free_cores_;
     const int first_rung_, last_iteration_;
     double reference_best_;
+    ThreadBudget* share_;
     bool stopped_ = false;
     std::mutex mutex_;
     std::condition_variable changed_;

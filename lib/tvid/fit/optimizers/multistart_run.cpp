@@ -30,9 +30,9 @@ OptimizerRun run_multistart_fit(const IdentificationProblem& problem, const FitO
     const ParameterScaling scaling = search_scaling(problem);
     // The starts share the fit's team (a batch job's share of the cores), each start's
     // evaluator on its part of it.
-    const LeastSquaresFactory make = [&problem, &scaling, &evaluators](int threads) {
+    const LeastSquaresFactory make = [&problem, &scaling, &evaluators](const ThreadBudget& share) {
         return std::make_unique<ScaledLeastSquares>(
-            std::make_unique<ResidualEvaluator>(problem, evaluators.on_threads(threads)), scaling);
+            std::make_unique<ResidualEvaluator>(problem, evaluators.on_share(share)), scaling);
     };
     MultistartSummary m = run_multistart(settings.multistart, settings.lm, search_box(problem), evaluators.team(),
                                          make, options.progress);
