@@ -2,7 +2,9 @@
 // the best kept, every start reported, the same result for any thread count.
 #include <catch2/catch.hpp>
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <future>
 #include <limits>
 #include <memory>
 #include <set>
@@ -267,4 +269,42 @@ TEST_CASE("the starts of a race split the cores: the last one running has them a
     race.leave(1, 6.0);
     race.leave(2, 7.0);
     CHECK(share.team() == 2);  // no start running: a region would take every core
+}
+
+TEST_CASE("a start whose fate at a rung is settled goes on at once, the others wait for the rung", "[multistart]") {
+    using namespace std::chrono_literals;
+    const double inf = std::numeric_limits<double>::infinity();
+    StartRace race(3, 3, 4, 100, inf);
+    std::future<bool> waiting, falling;
+    struct StopOnExit {  // should a check fail, no thread is left waiting at the rung
+        StartRace& race;
+        ~StopOnExit() { race.stop(); }
+    } stop_on_exit{race};
+    for (std::size_t i = 0; i < 3; ++i) {
+        REQUIRE(race.enter(i));
+        REQUIRE(race.step(i, 0, 100.0));
+    }
+    // Start 2 at the first rung, not falling (90 of 100): its rank depends on the two on
+    // their way, so it waits.
+    waiting = std::async(std::launch::async, [&] { return race.step(2, 4, 90.0); });
+    CHECK(waiting.wait_for(50ms) == std::future_status::timeout);
+    // Start 0 fell below half of its start's cost: the rung keeps it whatever the others
+    // bring, so it goes on without waiting, although start 1 has not arrived.
+    falling = std::async(std::launch::async, [&] { return race.step(0, 4, 10.0); });
+    REQUIRE(falling.wait_for(10s) == std::future_status::ready);
+    CHECK(falling.get());
+    CHECK(waiting.wait_for(50ms) == std::future_status::timeout);
+    // Start 1 arrives last: the rung is decided. Three reached it, two are kept: start 0
+    // (gone on) and the better of 1 and 2; start 2 stops.
+    CHECK(race.step(1, 4, 80.0));
+    REQUIRE(waiting.wait_for(10s) == std::future_status::ready);
+    CHECK_FALSE(waiting.get());
+    CHECK(race.verdict(0).empty());
+    CHECK(race.verdict(1).empty());
+    CHECK(race.verdict(2) ==
+          "raced out after 4 iterations: cost 90 (down 10 % since iteration 0), the best 10 (rank 3 of the 3 starts "
+          "still running)");
+    race.leave(2, 90.0);
+    race.leave(0, 5.0);
+    race.leave(1, 7.0);
 }

@@ -60,11 +60,21 @@ bool StartRace::step(std::size_t i, int iteration, double cost) {
     if (s.rung > 30 || rung_iteration(s.rung) >= last_iteration_ || iteration < rung_iteration(s.rung)) return true;
     std::unique_lock<std::mutex> lock(mutex_);
     if (stopped_) return false;
+    const int rung = s.rung;
+    Arrival a{i, iteration, rank_key(cost), s.previous_iteration, s.previous_cost, false};
+    a.went_on = certainly_kept(rung, a);
+    if (rungs_.size() <= static_cast<std::size_t>(rung)) rungs_.resize(static_cast<std::size_t>(rung) + 1);
+    rungs_[static_cast<std::size_t>(rung)].push_back(a);
+    if (a.went_on) {  // on to the next rung, keeping its core
+        ++s.rung;
+        s.previous_iteration = a.iteration;
+        s.previous_cost = a.cost;
+        decide_ready_rungs();
+        return true;
+    }
     s.phase = Phase::at_rung;
-    s.iteration = iteration;
-    s.cost = rank_key(cost);
     give_core();
-    decide_if_all_waiting();
+    decide_ready_rungs();
     changed_.wait(lock, [&] { return s.phase != Phase::at_rung || stopped_; });
     if (stopped_ || s.phase == Phase::raced_out) return false;
     take_core(lock);
@@ -75,10 +85,11 @@ void StartRace::leave(std::size_t i, double cost) {
     const std::lock_guard<std::mutex> lock(mutex_);
     Start& s = starts_[i];
     if (s.phase == Phase::running) give_core();  // a raced-out or stopped start holds none
-    if (s.phase != Phase::raced_out) s.phase = Phase::ended;
-    s.cost = rank_key(cost);
-    reference_best_ = std::min(reference_best_, s.cost);
-    decide_if_all_waiting();
+    if (s.phase != Phase::raced_out) {  // a raced-out start's cost is that of its rung (decide)
+        s.phase = Phase::ended;
+        s.end_cost = rank_key(cost);
+    }
+    decide_ready_rungs();
 }
 
 void StartRace::stop() {
@@ -87,36 +98,69 @@ void StartRace::stop() {
     changed_.notify_all();
 }
 
-// The rung is decided once no start is still on its way to it: ranked by cost (ties to the
-// lower start), the better half go on (one more when the count is odd), and of the worse
-// half those whose cost fell below half of their previous rung's; the others stop.
-void StartRace::decide_if_all_waiting() {
-    std::vector<std::size_t> waiting;
-    for (std::size_t i = 0; i < starts_.size(); ++i) {
-        if (starts_[i].phase == Phase::pending || starts_[i].phase == Phase::running) return;
-        if (starts_[i].phase == Phase::at_rung) waiting.push_back(i);
+// The rung's order: by cost, ties to the lower start.
+bool StartRace::before(const Arrival& a, const Arrival& b) {
+    return a.cost < b.cost || (a.cost == b.cost && a.start < b.start);
+}
+
+// Whether the rung's decision keeps `a` whatever the starts still on their way bring: it
+// is still falling, or even were every start that may yet reach the rung better, it would
+// rank within the kept half of those there now.
+bool StartRace::certainly_kept(int rung, const Arrival& a) const {
+    if (a.cost < kStillFalling * a.previous_cost) return true;
+    std::size_t there = 1, ahead = 0, may_come = 0;
+    if (static_cast<std::size_t>(rung) < rungs_.size())
+        for (const Arrival& b : rungs_[static_cast<std::size_t>(rung)]) {
+            ++there;
+            if (before(b, a)) ++ahead;
+        }
+    for (std::size_t j = 0; j < starts_.size(); ++j) {
+        const Start& s = starts_[j];
+        const bool on_its_way = s.phase == Phase::pending || s.phase == Phase::running || s.phase == Phase::at_rung;
+        if (j != a.start && on_its_way && s.rung <= rung && !(s.phase == Phase::at_rung && s.rung == rung)) ++may_come;
     }
-    if (waiting.empty()) return;
-    std::stable_sort(waiting.begin(), waiting.end(),
-                     [&](std::size_t a, std::size_t b) { return starts_[a].cost < starts_[b].cost; });
+    return ahead + may_come < (there + 1) / 2;
+}
+
+// Decides every rung, in order, that no start is still on its way to.
+void StartRace::decide_ready_rungs() {
+    while (!stopped_ && static_cast<std::size_t>(decided_) < rungs_.size()) {
+        for (const Start& s : starts_)
+            if ((s.phase == Phase::pending || s.phase == Phase::running) && s.rung <= decided_) return;
+        decide(decided_++);
+    }
+}
+
+// The rung's decision: those that reached it ranked by cost, the better half go on (one
+// more when the count is odd), and of the worse half those whose cost fell below half of
+// their previous rung's; the others stop. The best it names is that of the starts that
+// reached the rung or ended before it, and of the races before.
+void StartRace::decide(int rung) {
+    std::vector<Arrival> there = rungs_[static_cast<std::size_t>(rung)];
+    std::sort(there.begin(), there.end(), before);
     double best = reference_best_;
-    for (std::size_t i : waiting) best = std::min(best, starts_[i].cost);
-    const std::size_t keep = (waiting.size() + 1) / 2;
-    for (std::size_t rank = 0; rank < waiting.size(); ++rank) {
-        Start& s = starts_[waiting[rank]];
-        if (rank < keep || s.cost < kStillFalling * s.previous_cost) {
+    for (const Arrival& a : there) best = std::min(best, a.cost);
+    for (const Start& s : starts_)
+        if ((s.phase == Phase::ended || s.phase == Phase::raced_out) && s.rung <= rung) best = std::min(best, s.end_cost);
+    const std::size_t keep = (there.size() + 1) / 2;
+    for (std::size_t rank = 0; rank < there.size(); ++rank) {
+        const Arrival& a = there[rank];
+        if (a.went_on) continue;  // kept already (certainly_kept)
+        Start& s = starts_[a.start];
+        if (rank < keep || a.cost < kStillFalling * a.previous_cost) {
             s.phase = Phase::running;  // on its way to the next rung (it takes a core when one is free)
             ++s.rung;
-            s.previous_iteration = s.iteration;
-            s.previous_cost = s.cost;
+            s.previous_iteration = a.iteration;
+            s.previous_cost = a.cost;
             continue;
         }
         s.phase = Phase::raced_out;
-        const double fell = s.previous_cost > 0 && std::isfinite(s.previous_cost) ? 1.0 - s.cost / s.previous_cost : 0.0;
-        s.verdict = "raced out after " + std::to_string(s.iteration) + " iterations: cost " + short_number(s.cost) +
+        s.end_cost = a.cost;
+        const double fell = a.previous_cost > 0 && std::isfinite(a.previous_cost) ? 1.0 - a.cost / a.previous_cost : 0.0;
+        s.verdict = "raced out after " + std::to_string(a.iteration) + " iterations: cost " + short_number(a.cost) +
                     " (down " + short_number(100.0 * fell) + " % since iteration " +
-                    std::to_string(s.previous_iteration) + "), the best " + short_number(best) + " (rank " +
-                    std::to_string(rank + 1) + " of the " + std::to_string(waiting.size()) + " starts still running)";
+                    std::to_string(a.previous_iteration) + "), the best " + short_number(best) + " (rank " +
+                    std::to_string(rank + 1) + " of the " + std::to_string(there.size()) + " starts still running)";
     }
     changed_.notify_all();
 }
