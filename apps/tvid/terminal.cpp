@@ -271,6 +271,9 @@ std::string fit_summary_text(const IdentificationProblem& problem, const FitResu
     if (const long long stiff = problem.subdivided_starts(); stiff > 0)
         out << "  " << stiff << " window simulation" << (stiff == 1 ? "" : "s")
             << " of stiff candidates took a smaller step than the experiment's, within RK4's stability limit\n";
+    if (const long long implicit = problem.implicit_starts(); implicit > 0)
+        out << "  " << implicit << " window simulation" << (implicit == 1 ? "" : "s")
+            << " of candidates too stiff for RK4's substeps took sdirk3's implicit steps\n";
     out << split_lines(ex, fit.evaluation.estimation) << split_lines(ex, fit.evaluation.validation);
     // Where the estimation residual's variance lies: its dominant band, or order for an engine.
     // A white residual (the whiteness test passes) has no band to name, and the line says so.

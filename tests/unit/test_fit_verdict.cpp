@@ -9,6 +9,8 @@
 #include <vector>
 
 #include "support/test_files.hpp"
+#include "tvid/analysis/step_stability.hpp"
+#include "tvid/estimation/forward_sensitivity.hpp"
 #include "tvid/experiment/experiment.hpp"
 #include "tvid/fit/fit_run.hpp"
 #include "tvid/fit/fit_verdict.hpp"
@@ -213,6 +215,47 @@ TEST_CASE("a stiff mode past RK4's stability limit takes substeps and is simulat
     CHECK(std::isfinite(cost));
     CHECK(cost == fine.cost(fine.initial().data(), *fine_ws));
     CHECK(fine.subdivided_starts() == 0);
+}
+
+TEST_CASE("a candidate too stiff for the substeps takes sdirk3's steps: sdirk3's cost and Jacobian to the bit",
+          "[verdict]") {
+    // k = 1e10: ωh = 387 at the 1 ms step, 137 times RK4's limit, beyond the 64 substeps a
+    // window may take (stable_step.hpp). The window is simulated by sdirk3 at the step, as
+    // `method: sdirk3` simulates it: the shaft's mode decays within the step, the cost is
+    // finite where RK4 at the step would blow up.
+    const std::string stiff = "  k_s: { init: 1e10, min: 1e5, max: 1e11 }\n  c_s: { init: 0.5, min: 0.01, max: 10 }";
+    const IdentificationProblem problem(noisy_bench().load(stiff));
+    const IdentificationProblem sdirk3(noisy_bench().load(stiff, {parse_override("simulation.method=sdirk3")}));
+    const std::vector<double> x = problem.initial();
+    auto ws = problem.make_workspace();
+    auto sdirk3_ws = sdirk3.make_workspace();
+    const double cost = problem.cost(x.data(), *ws);
+    CHECK(std::isfinite(cost));
+    CHECK(cost == sdirk3.cost(x.data(), *sdirk3_ws));
+    CHECK(problem.implicit_starts() > 0);
+    CHECK(problem.subdivided_starts() == 0);
+    CHECK(sdirk3.implicit_starts() == 0);
+    // The sensitivities: the packed RK4 path hands such a window to sdirk3's augmented one.
+    std::vector<double> r;
+    REQUIRE(problem.residuals(x.data(), *ws, r));
+    const ForwardSensitivity forward(problem), forward_sdirk3(sdirk3);
+    auto fws = forward.make_workspace();
+    auto sfws = forward_sdirk3.make_workspace();
+    const auto rows = static_cast<Eigen::Index>(r.size());
+    Eigen::MatrixXd J(rows, 2), J_sdirk3(rows, 2);
+    REQUIRE(forward.jacobian_columns(x.data(), 0, 2, *fws, J));
+    REQUIRE(forward_sdirk3.jacobian_columns(x.data(), 0, 2, *sfws, J_sdirk3));
+    CHECK(J.allFinite());
+    CHECK(J.col(1).norm() > 0);
+    CHECK(J == J_sdirk3);
+    // The verdict says so, as information: no candidate can blow up for it.
+    const StepStability s = assess_step_stability(problem, problem.full_parameters(x));
+    CHECK(s.assessed);
+    CHECK(s.implicit);
+    const FitResult fitted = fit(noisy_bench().load(stiff, {parse_override("estimation.lm.max_iterations=0")}));
+    CHECK(has(fitted.verdict, "implicit_steps", Severity::info));
+    CHECK_FALSE(has(fitted.verdict, "near_instability"));
+    CHECK_FALSE(has(fitted.verdict, "substeps"));
 }
 
 TEST_CASE("RK4's stability region: 2.785 on the negative real axis, 2√2 on the imaginary", "[verdict]") {

@@ -28,6 +28,11 @@ StepStability assess_step_stability(const IdentificationProblem& problem, const 
         const WindowStart start =
             solved ? IdentificationProblem::restore_start(*solved, *ws) : problem.start_window(w, *ws, &why);
         if (start.status != SimulationStatus::ok) continue;
+        if (start.implicit_steps) {  // beyond RK4's substeps: sdirk3's implicit steps, stable at any stiffness
+            s.assessed = s.implicit = true;
+            s.window = w.label;
+            return s;
+        }
         const std::size_t at = problem.warms_up(w) ? w.first : w.start;
         if (at + 1 >= time.size()) continue;
         const double interval = time[at + 1] - time[at];

@@ -21,6 +21,7 @@ struct StepStability {
     std::string window;        ///< the window of the largest margin
     double step = 0.0;         ///< h [s]: the experiment's step over the window's substeps
     std::size_t substeps = 1;  ///< of that window at these parameters (estimation/stable_step.hpp)
+    bool implicit = false;     ///< a window too stiff for the substeps, simulated by sdirk3 (`window` names it)
     double margin = 0.0;       ///< the largest |λh| / r(arg λ)
     double rate = 0.0;         ///< |λ| of that eigenvalue [1/s]
     double frequency_hz = 0.0; ///< |Im λ| / 2π

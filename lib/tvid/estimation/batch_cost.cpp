@@ -245,9 +245,9 @@ private:
             s.finish(c, std::numeric_limits<double>::infinity());
             return;
         }
-        if (ws.substeps > 1) {
-            // A stiff candidate takes a smaller step than the lanes share (stable_step.hpp):
-            // scored alone, as cost() scores it.
+        if (ws.substeps > 1 || ws.implicit_steps) {
+            // A stiff candidate takes a smaller step than the lanes share, or sdirk3's steps
+            // (stable_step.hpp): scored alone, as cost() scores it.
             s.finish(c, problem_.cost(candidates_ + c * problem_.dimension(), ws));
             return;
         }

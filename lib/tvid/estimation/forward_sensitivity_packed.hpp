@@ -62,6 +62,21 @@ SimulationStatus ForwardSensitivity::simulate_packed(const double* free, const W
     const InputChannels& inputs = *ws.plain->inputs;  // shifted by the candidate's delays
     const WindowStart start = window_start(w, ws, problem, solved);
     if (start.status != SimulationStatus::ok) return start.status;
+    if (start.implicit_steps) {
+        // Too stiff for RK4's substeps: sdirk3's steps (stable_step.hpp), which carry the
+        // sensitivities on the augmented path, from this start; the outputs handed on as packs.
+        const SolvedStart own{start, ws.plain->x_start, ws.plain->x, ws.plain->u0};
+        std::array<T, 8> y_packed;
+        const auto as_packs = [&](std::size_t i, const Dual* y) {
+            for (std::size_t k = 0; k < def.measured.size(); ++k) {
+                y_packed[k] = T(y[k].value());
+                for (std::size_t j = 0; j < cols; ++j)
+                    y_packed[k].set_derivative(static_cast<int>(j), y[k].derivative(static_cast<int>(j)));
+            }
+            return on_scored(i, y_packed.data());
+        };
+        return simulate_augmented(free, w, j0, j1, ws, problem, as_packs, &own);
+    }
 
     // Parameters: the block's columns are directions 0 … cols−1; a shot warm-up's angle
     // offset a and speed s are directions cols and cols + 1.

@@ -143,6 +143,8 @@ public:
     /// How many window starts so far needed a smaller step than the experiment's, a stiff
     /// candidate's (estimation/stable_step.hpp).
     long long subdivided_starts() const { return subdivided_.load(std::memory_order_relaxed); }
+    /// How many of them were too stiff for the substeps and took sdirk3's implicit steps.
+    long long implicit_starts() const { return implicit_.load(std::memory_order_relaxed); }
 
     /// The index of w among the estimation windows, or WindowStarts::kNotEstimation.
     std::size_t estimation_index(const Window& w) const { return starts_.estimation_index(w); }
@@ -184,8 +186,8 @@ private:
 
     const Experiment* experiment_;
     ProblemDefinition definition_;
-    mutable std::atomic<long long> subdivided_{0};
-    WindowStarts starts_{definition_, &subdivided_};
+    mutable std::atomic<long long> subdivided_{0}, implicit_{0};
+    WindowStarts starts_{definition_, &subdivided_, &implicit_};
     std::vector<std::size_t> free_;
     std::vector<std::string> free_names_;
     std::vector<double> lower_, upper_, range_lo_, range_hi_, init_;

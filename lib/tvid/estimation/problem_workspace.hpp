@@ -45,6 +45,8 @@ struct alignas(kCacheLine) ProblemWorkspace {
     /// Substeps per experiment step of the window being simulated (estimation/stable_step.hpp):
     /// set by its start, 1 unless the candidate is stiff at the experiment's step.
     std::size_t substeps = 1;
+    /// The window takes sdirk3's steps instead: a candidate too stiff for the substeps (the same file).
+    bool implicit_steps = false;
     StateJacobian state_jacobian;          ///< the linearisation that decides them
     std::vector<double> jacobian_values;
     /// Set by an optimizer that can be interrupted: once the flag is up, a simulation on this

@@ -19,24 +19,25 @@ double base_step(const ProblemDefinition& d, const Window& w) {
 
 }  // namespace
 
-std::size_t stable_substeps(const ProblemDefinition& d, const Window& w, ProblemWorkspace& ws) {
-    if (!steps_by_rk4(d.simulation.method)) return 1;
+StepPlan stable_step_plan(const ProblemDefinition& d, const Window& w, ProblemWorkspace& ws) {
+    if (!steps_by_rk4(d.simulation.method)) return {};
     const double h = base_step(d, w);
-    if (!(h > 0)) return 1;
+    if (!(h > 0)) return {};
     ws.state_jacobian.bind(ws.model);
     const auto n = static_cast<Eigen::Index>(ws.state_jacobian.state_size());
     ws.jacobian_values.assign(static_cast<std::size_t>(n * n), 0.0);
     ws.state_jacobian.evaluate(ws.x.data(), ws.u0.data(), ws.jacobian_values.data());
     const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> A(
         ws.jacobian_values.data(), n, n);
-    if (!A.allFinite()) return 1;
+    if (!A.allFinite()) return {};
     const Eigen::EigenSolver<Eigen::MatrixXd> eigen(A, false);
-    if (eigen.info() != Eigen::Success) return 1;
+    if (eigen.info() != Eigen::Success) return {};
     double margin = 0.0;
     for (Eigen::Index k = 0; k < n; ++k) margin = std::max(margin, rk4_margin(eigen.eigenvalues()[k], h));
-    if (!(margin > kStableMargin) || !std::isfinite(margin)) return 1;
+    if (!(margin > kStableMargin) || !std::isfinite(margin)) return {};
     const double needed = std::ceil(margin / kStableMargin);
-    return needed > static_cast<double>(kMaxStableSubsteps) ? 1 : static_cast<std::size_t>(needed);
+    if (needed > static_cast<double>(kMaxStableSubsteps)) return {1, true};
+    return {static_cast<std::size_t>(needed), false};
 }
 
 double window_max_step(const ProblemDefinition& d, const Window& w, const ProblemWorkspace& ws) {
@@ -47,6 +48,7 @@ double window_max_step(const ProblemDefinition& d, const Window& w, const Proble
 SimulationSettings window_settings(const ProblemDefinition& d, const Window& w, const ProblemWorkspace& ws) {
     SimulationSettings s = d.simulation;
     s.max_step = window_max_step(d, w, ws);
+    if (ws.implicit_steps) s.method = IntegrationMethod::sdirk3;  // at the experiment's step
     return s;
 }
 

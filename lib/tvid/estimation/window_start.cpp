@@ -57,7 +57,9 @@ bool WindowStarts::initial_state(const Window& w, ProblemWorkspace& ws, std::str
         }
         if (!recipe_state(w, ws, problem)) return false;
         if (!estimated.validation) return true;
-        ws.substeps = stable_substeps(*d_, w, ws);  // the fit of the start simulates too
+        const StepPlan plan = stable_step_plan(*d_, w, ws);  // the fit of the start simulates too
+        ws.substeps = plan.substeps;
+        ws.implicit_steps = plan.implicit;
         return estimate_start(w, ws, problem);
     }
     return recipe_state(w, ws, problem);
@@ -144,7 +146,7 @@ bool WindowStarts::recipe_state(const Window& w, ProblemWorkspace& ws, std::stri
 
 SimulationStatus WindowStarts::shoot_warmup(const Window& w, ProblemWorkspace& ws, WindowStart& start) const {
     const auto by_differences = [&] { return shoot_warmup_by_differences(w, ws, start); };
-    if (!steps_by_rk4(d_->simulation.method) || !(w.start + (w.first - w.start) / 2 > w.start))
+    if (!steps_by_rk4(d_->simulation.method) || ws.implicit_steps || !(w.start + (w.first - w.start) / 2 > w.start))
         return by_differences();
     const auto newton = [&]<std::size_t N>(std::integral_constant<std::size_t, N>) {
         return WarmupNewton<N>(*d_, w, ws, start).solve();
@@ -226,8 +228,11 @@ WindowStart WindowStarts::start(const Window& w, ProblemWorkspace& ws, std::stri
         return start;
     }
     // The step of this window's simulations at these parameters (stable_step.hpp).
-    ws.substeps = start.substeps = stable_substeps(*d_, w, ws);
+    const StepPlan plan = stable_step_plan(*d_, w, ws);
+    ws.substeps = start.substeps = plan.substeps;
+    ws.implicit_steps = start.implicit_steps = plan.implicit;
     if (start.substeps > 1 && subdivided_) subdivided_->fetch_add(1, std::memory_order_relaxed);
+    if (start.implicit_steps && implicit_) implicit_->fetch_add(1, std::memory_order_relaxed);
     ws.x_start = ws.x;
     if (warms_up(w)) {
         start.status = shoot_warmup(w, ws, start);
@@ -244,6 +249,7 @@ WindowStart WindowStarts::restore(const SolvedStart& solved, ProblemWorkspace& w
     ws.x = solved.x;
     ws.u0 = solved.u0;
     ws.substeps = solved.start.substeps;
+    ws.implicit_steps = solved.start.implicit_steps;
     return solved.start;
 }
 

@@ -28,6 +28,7 @@ struct WindowStart {
     std::size_t mid = 0;     ///< its first matching sample
     std::size_t node = 0;    ///< the encoder's node
     std::size_t substeps = 1;  ///< substeps per step of this window's simulations (stable_step.hpp)
+    bool implicit_steps = false;  ///< sdirk3's steps instead: too stiff for the substeps (stable_step.hpp)
 };
 
 /// A window's start as a simulation solved it, to set out from again without solving it
@@ -47,9 +48,11 @@ double speed_ratio(const std::vector<double>& x, std::size_t n, std::size_t node
 /// The starts of the windows of one problem definition.
 class WindowStarts {
 public:
-    /// `subdivided` (may be null) counts the starts that needed substeps (stable_step.hpp).
-    explicit WindowStarts(const ProblemDefinition& definition, std::atomic<long long>* subdivided = nullptr)
-        : d_(&definition), subdivided_(subdivided) {}
+    /// `subdivided` and `implicit` (may be null) count the starts that needed substeps, and
+    /// those too stiff for them that take sdirk3's steps (stable_step.hpp).
+    explicit WindowStarts(const ProblemDefinition& definition, std::atomic<long long>* subdivided = nullptr,
+                          std::atomic<long long>* implicit = nullptr)
+        : d_(&definition), subdivided_(subdivided), implicit_(implicit) {}
 
     /// Whether window w is simulated from a measured start through a warm-up (then its
     /// march begins at w.first, whose sample is scored too).
@@ -94,6 +97,7 @@ private:
 
     const ProblemDefinition* d_;
     std::atomic<long long>* subdivided_ = nullptr;
+    std::atomic<long long>* implicit_ = nullptr;
 };
 
 }  // namespace tvid

@@ -11,6 +11,7 @@
 #include "tvid/analysis/determined_combinations.hpp"
 #include "tvid/analysis/input_noise.hpp"
 #include "tvid/channels/recording_spans.hpp"
+#include "tvid/estimation/stable_step.hpp"
 #include "tvid/experiment/smoothing_speeds.hpp"
 #include "tvid/analysis/identifiability.hpp"
 #include "tvid/util/text.hpp"
@@ -511,6 +512,14 @@ void judge_smoothing(const Experiment& ex, Verdict& v) {
 }
 
 void judge_stability(const StepStability& s, Verdict& v) {
+    if (s.assessed && s.implicit) {
+        v.add({"implicit_steps", Severity::info, s.window,
+               "window " + s.window + ": at the fitted parameters a mode is too fast for " +
+                   std::to_string(kMaxStableSubsteps) + " RK4 substeps of the experiment's step; the window is "
+                   "simulated by sdirk3's implicit steps at that step",
+               "method: sdirk3 for every candidate, or a model without the stiff mode (a rigid ideal_gear for a stiff mesh)"});
+        return;
+    }
     if (!s.assessed || s.margin < kStepMarginWarning) return;
     // Divided into substeps, the window is simulated within RK4's limit whatever the
     // candidate's stiffness (estimation/stable_step.hpp): no candidate blows up for it, it

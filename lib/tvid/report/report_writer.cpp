@@ -290,12 +290,14 @@ json criteria_json(const InformationCriteria& c) {
             {"aicc", json_number(c.aicc)}, {"naic", json_number(c.naic)}, {"bic", json_number(c.bic)}};
 }
 
-// With how many window starts of the run took substeps: stiff candidates (stable_step.hpp).
-json stability_json(const StepStability& s, long long subdivided_starts) {
+// With how many window starts of the run took substeps, and how many sdirk3's steps: stiff
+// candidates (stable_step.hpp).
+json stability_json(const StepStability& s, long long subdivided_starts, long long implicit_starts) {
     if (!s.assessed) return nullptr;
-    return {{"integrator", "rk4"}, {"step_s", s.step}, {"substeps", s.substeps}, {"margin", json_number(s.margin)},
-            {"window", s.window}, {"rate_per_s", json_number(s.rate)}, {"frequency_hz", json_number(s.frequency_hz)},
-            {"damping_ratio", json_number(s.damping_ratio)}, {"subdivided_starts", subdivided_starts}};
+    return {{"integrator", "rk4"}, {"step_s", s.step}, {"substeps", s.substeps}, {"implicit", s.implicit},
+            {"margin", json_number(s.margin)}, {"window", s.window}, {"rate_per_s", json_number(s.rate)},
+            {"frequency_hz", json_number(s.frequency_hz)}, {"damping_ratio", json_number(s.damping_ratio)},
+            {"subdivided_starts", subdivided_starts}, {"implicit_starts", implicit_starts}};
 }
 
 }  // namespace
@@ -399,7 +401,7 @@ json fit_summary_json(const IdentificationProblem& problem, const FitResult& fit
            {"residual_analysis", residual_analysis_json(ex, fit)},
            {"residual_spectrum", residual_spectrum_json(ex, fit.evaluation)},
            {"information_criteria", criteria_json(fit.criteria)},
-           {"step_stability", stability_json(fit.stability, problem.subdivided_starts())},
+           {"step_stability", stability_json(fit.stability, problem.subdivided_starts(), problem.implicit_starts())},
            {"verdict", verdict_json(fit.verdict)}};
     add_data_fields(ex, s);
     if (!ex.smoothing.empty()) s["smoothing"] = smoothing_json(ex);
