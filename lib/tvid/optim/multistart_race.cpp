@@ -66,9 +66,7 @@ bool StartRace::step(std::size_t i, int iteration, double cost) {
     if (rungs_.size() <= static_cast<std::size_t>(rung)) rungs_.resize(static_cast<std::size_t>(rung) + 1);
     rungs_[static_cast<std::size_t>(rung)].push_back(a);
     if (a.went_on) {  // on to the next rung, keeping its core
-        ++s.rung;
-        s.previous_iteration = a.iteration;
-        s.previous_cost = a.cost;
+        pass_rung(s, a);
         decide_ready_rungs();
         return true;
     }
@@ -98,6 +96,16 @@ void StartRace::stop() {
     changed_.notify_all();
 }
 
+// Its cost fell below kStillFalling of its previous rung's (or its start's): kept at any rank.
+bool StartRace::still_falling(const Arrival& a) { return a.cost < kStillFalling * a.previous_cost; }
+
+// Past the rung it arrived at: the next rung measures its fall from here.
+void StartRace::pass_rung(Start& s, const Arrival& a) {
+    ++s.rung;
+    s.previous_iteration = a.iteration;
+    s.previous_cost = a.cost;
+}
+
 // The rung's order: by cost, ties to the lower start.
 bool StartRace::before(const Arrival& a, const Arrival& b) {
     return a.cost < b.cost || (a.cost == b.cost && a.start < b.start);
@@ -107,7 +115,7 @@ bool StartRace::before(const Arrival& a, const Arrival& b) {
 // is still falling, or even were every start that may yet reach the rung better, it would
 // rank within the kept half of those there now.
 bool StartRace::certainly_kept(int rung, const Arrival& a) const {
-    if (a.cost < kStillFalling * a.previous_cost) return true;
+    if (still_falling(a)) return true;
     std::size_t there = 1, ahead = 0, may_come = 0;
     if (static_cast<std::size_t>(rung) < rungs_.size())
         for (const Arrival& b : rungs_[static_cast<std::size_t>(rung)]) {
@@ -147,11 +155,9 @@ void StartRace::decide(int rung) {
         const Arrival& a = there[rank];
         if (a.went_on) continue;  // kept already (certainly_kept)
         Start& s = starts_[a.start];
-        if (rank < keep || a.cost < kStillFalling * a.previous_cost) {
+        if (rank < keep || still_falling(a)) {
             s.phase = Phase::running;  // on its way to the next rung (it takes a core when one is free)
-            ++s.rung;
-            s.previous_iteration = a.iteration;
-            s.previous_cost = a.cost;
+            pass_rung(s, a);
             continue;
         }
         s.phase = Phase::raced_out;

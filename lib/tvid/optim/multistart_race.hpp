@@ -75,6 +75,8 @@ private:
     void take_core(std::unique_lock<std::mutex>& lock);
     void give_core();
     static bool before(const Arrival& a, const Arrival& b);
+    static bool still_falling(const Arrival& a);
+    static void pass_rung(Start& s, const Arrival& a);
     bool certainly_kept(int rung, const Arrival& a) const;
     void decide_ready_rungs();
     void decide(int rung);
