@@ -14,6 +14,7 @@
 #include "tvid/experiment/controller_clock.hpp"
 #include "tvid/experiment/data_reader.hpp"
 #include "tvid/experiment/experiment.hpp"
+#include "tvid/experiment/experiment_tree.hpp"
 #include "tvid/experiment/estimated_start.hpp"
 #include "tvid/experiment/model_reader.hpp"
 #include "tvid/experiment/optimizer_settings_reader.hpp"
@@ -394,20 +395,26 @@ void read_simulation_and_report(const YamlMap& top, const std::filesystem::path&
 
 }  // namespace
 
-Experiment load_experiment(const std::filesystem::path& file, const std::vector<Override>& overrides) {
-    std::string config_sha256;
-    YAML::Node root = parse_file(file, config_sha256);
+ExperimentTree read_experiment_tree(const std::filesystem::path& file, const std::vector<Override>& overrides) {
+    std::string sha256;
+    YAML::Node root = parse_file(file, sha256);
     apply_overrides(root, overrides);
     std::vector<std::string> override_keys;
     for (const Override& o : overrides) override_keys.push_back(reader_path(o.key));
-    const YamlSource src(file.string(), override_keys);
-    const YamlMap top(src, root, "");
+    return ExperimentTree{root, YamlSource(file.string(), override_keys), sha256};
+}
+
+Experiment load_experiment(const std::filesystem::path& file, const std::vector<Override>& overrides) {
+    const ExperimentTree tree = read_experiment_tree(file, overrides);
+    const YamlSource& src = tree.source;
+    const YamlMap top(src, tree.root, "");
+    // design: is read by `tvid design` alone (design/design_spec.hpp).
     top.allow_only({"tvid", "name", "data", "model", "inputs", "outputs", "parameters", "windows", "initial_state",
-                    "simulation", "estimation", "report"});
+                    "simulation", "estimation", "report", "design"});
 
     Experiment ex;
     ex.file = file;
-    ex.config_sha256 = config_sha256;
+    ex.config_sha256 = tree.sha256;
     if (!top.has("tvid")) top.fail_missing("tvid", "format version: the file must start with 'tvid: 1'");
     if (top.integer("tvid") != 1) top.fail("tvid", "format version " + top.get("tvid").Scalar() + " is not known (this tvid reads format 1)");
     ex.name = top.has("name") ? top.text("name") : file.stem().string();
