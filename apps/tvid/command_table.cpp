@@ -8,6 +8,7 @@ const std::vector<CommandRow>& command_table() {
         simulate_command_row(),
         validate_command_row(),
         sensitivity_command_row(),
+        design_command_row(),
         profile_command_row(),
         check_command_row(),
         batch_command_row(),

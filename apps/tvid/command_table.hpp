@@ -41,6 +41,7 @@ CommandRow fit_command_row();
 CommandRow simulate_command_row();
 CommandRow validate_command_row();
 CommandRow sensitivity_command_row();
+CommandRow design_command_row();
 CommandRow profile_command_row();
 CommandRow check_command_row();
 CommandRow batch_command_row();

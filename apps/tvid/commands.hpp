@@ -88,6 +88,18 @@ struct CheckCommand {
     bool force = false;                 ///< --force: replace a --write-reference file tvid did not write
 };
 
+// `tvid design --evaluate`: the predicted standard errors of candidate inputs (design/).
+struct DesignCommand {
+    CommonOptions common;
+    bool evaluate = false;              ///< --evaluate: predict for given and reference inputs
+    std::string input_file;             ///< --input FILE.csv: a given input to evaluate
+    std::string column;                 ///< --column NAME: its column (default: the experiment's)
+    std::string params_file;            ///< --params P.json (empty: the experiment's init values)
+    std::string output_dir;             ///< -o DIR (default: the report directory + /design)
+    bool force = false;                 ///< --force: replace files there that tvid did not write
+};
+int run_design_command(const DesignCommand& cmd);
+
 int run_fit_command(const FitCommand& cmd);
 int run_simulate_command(const EvaluateCommand& cmd);
 int run_validate_command(const EvaluateCommand& cmd);

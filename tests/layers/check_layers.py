@@ -20,7 +20,7 @@ FLOORS = [
     ["sim"],                          # integration of the equations over samples
     ["experiment"],                   # the experiment file, read and checked
     ["estimation"],                   # costs, residuals and sensitivities of an experiment
-    ["analysis"],                     # what is judged at an optimum
+    ["analysis", "design"],           # what is judged at an optimum; what a record would determine
     ["fit"],                          # one identification run
     ["report", "batch"],              # report files; many fits
     ["api"],                          # the public API (tvid/tvid.hpp) over all of it

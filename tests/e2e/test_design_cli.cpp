@@ -1,0 +1,153 @@
+// `tvid design --evaluate` through the binary: the report's files and what they say (each
+// candidate at its RMS within its limits, standard errors that scale with the noise, the
+// assumptions stated), a given input beside the generated ones, and the design section's
+// mistakes refused in one line with exit status 2.
+#include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "support/run_tvid.hpp"
+#include "support/test_files.hpp"
+
+using namespace tvid::test;
+using nlohmann::json;
+
+namespace {
+
+const std::string kDesign =
+    "design={ input: T_motor, duration: 2.5, band: [0.5, 40], limits: [-20, 40], base: 10, rms: 8, "
+    "noise: { w2: 0.05, T_shaft: 0.2 } }";
+
+std::vector<std::string> design_args(const TempDir& dir, const std::string& out, const std::string& design = kDesign) {
+    return {"design", (source_dir() / "configs/constant_load.yaml").string(), "--evaluate", "--quiet",
+            "-o", (dir.path() / out).string(), "--set", design};
+}
+
+// candidate -> parameter -> relative standard error
+std::map<std::string, std::map<std::string, double>> relative_se(const json& report) {
+    std::map<std::string, std::map<std::string, double>> out;
+    for (const json& c : report["candidates"])
+        for (const json& p : c["parameters"]) out[c["name"]][p["name"]] = p["relative_se"].get<double>();
+    return out;
+}
+
+// The design input column of a candidate's CSV.
+std::vector<double> input_column(const std::filesystem::path& file) {
+    std::istringstream in(read_text(file));
+    std::string line;
+    std::getline(in, line);
+    CHECK(line == "t,T_motor");
+    std::vector<double> v;
+    while (std::getline(in, line)) v.push_back(std::stod(line.substr(line.find(',') + 1)));
+    return v;
+}
+
+}  // namespace
+
+TEST_CASE("tvid design --evaluate predicts each reference input's standard errors and writes the inputs", "[design]") {
+    const TempDir dir;
+    RunResult r = run_tvid(design_args(dir, "a"));
+    REQUIRE(r.exit_code == 0);
+    const json report = json::parse(read_text(dir.path() / "a/design.json"));
+    CHECK(report["tool"] == "tvid");
+    CHECK(report["assumptions"]["prediction"].get<std::string>().find("local") != std::string::npos);
+    CHECK(report["assumptions"]["nominal"]["k"] == 560.0);  // the experiment's init
+    CHECK(report["assumptions"]["noise"]["T_shaft"]["sigma"] == 0.2);
+    CHECK(report["assumptions"]["operating_point"]["base"] == 10.0);
+    REQUIRE(report["candidates"].size() == 3);
+    for (const json& c : report["candidates"]) {
+        INFO(c["name"]);
+        CHECK(c["simulated"] == true);
+        CHECK(c["rms"].get<double>() == Approx(8.0).epsilon(1e-6));
+        CHECK(c["min"].get<double>() >= -20.0);
+        CHECK(c["max"].get<double>() <= 40.0);
+        CHECK(c["samples"] == 2501);
+        REQUIRE(c["parameters"].size() == 6);
+        for (const json& p : c["parameters"]) {
+            CHECK(p["se"].get<double>() > 0);
+            CHECK(p["relative_se"].get<double>() < 1);  // 2.5 s of a two-inertia line determine each
+        }
+        const std::vector<double> v = input_column(dir.path() / "a" / c["file"].get<std::string>());
+        CHECK(v.size() == 2501);
+        double sum = 0;
+        for (double x : v) sum += (x - 10) * (x - 10);
+        CHECK(std::sqrt(sum / static_cast<double>(v.size())) == Approx(8.0).epsilon(1e-6));
+    }
+    CHECK((report["best"] == "multisine" || report["best"] == "chirp" || report["best"] == "prbs"));
+    const std::string csv = read_text(dir.path() / "a/predicted_se.csv");
+    CHECK(csv.rfind("candidate,parameter,nominal,se,relative_se,determined\n", 0) == 0);
+
+    // Twice the noise on every output: the information falls 4 times, every standard error doubles.
+    r = run_tvid(design_args(dir, "b",
+                             "design={ input: T_motor, duration: 2.5, band: [0.5, 40], limits: [-20, 40], base: 10, "
+                             "rms: 8, noise: { w2: 0.1, T_shaft: 0.4 } }"));
+    REQUIRE(r.exit_code == 0);
+    const auto a = relative_se(report), b = relative_se(json::parse(read_text(dir.path() / "b/design.json")));
+    for (const auto& [candidate, params] : a)
+        for (const auto& [name, se] : params) CHECK(b.at(candidate).at(name) == Approx(2 * se).epsilon(1e-9));
+    // Noise on the shaft torque alone raised: the shaft's parameters lose more than the load's friction.
+    r = run_tvid(design_args(dir, "c",
+                             "design={ input: T_motor, duration: 2.5, band: [0.5, 40], limits: [-20, 40], base: 10, "
+                             "rms: 8, noise: { w2: 0.05, T_shaft: 20 } }"));
+    REQUIRE(r.exit_code == 0);
+    const auto c = relative_se(json::parse(read_text(dir.path() / "c/design.json")));
+    CHECK(c.at("chirp").at("k") > 3 * a.at("chirp").at("k"));
+}
+
+TEST_CASE("tvid design --evaluate takes a given input from a CSV beside the reference ones", "[design]") {
+    const TempDir dir;
+    std::vector<std::string> args = design_args(dir, "g");
+    args.insert(args.end(), {"--input", (source_dir() / "data/constant_load/constant_load.csv").string()});
+    const RunResult r = run_tvid(args);
+    REQUIRE(r.exit_code == 0);
+    const json report = json::parse(read_text(dir.path() / "g/design.json"));
+    REQUIRE(report["candidates"].size() == 4);
+    const json& given = report["candidates"][0];
+    CHECK(given["name"] == "given");
+    CHECK(given["file"].is_null());
+    CHECK(given["samples"].get<int>() > 2500);  // the whole recording
+    CHECK(given["simulated"] == true);
+    CHECK_FALSE(std::filesystem::exists(dir.path() / "g/given.csv"));
+
+    std::vector<std::string> wrong = design_args(dir, "w");
+    wrong.insert(wrong.end(), {"--input", (source_dir() / "data/constant_load/constant_load.csv").string(), "--column", "T_x"});
+    const RunResult bad = run_tvid(wrong);
+    CHECK(bad.exit_code == 2);
+    CHECK(bad.err.find("column T_x") != std::string::npos);
+}
+
+TEST_CASE("tvid design refuses a design it cannot evaluate in one line, writing nothing", "[design]") {
+    const TempDir dir;
+    const std::vector<std::pair<std::string, std::string>> cases{
+        {"design={ input: T_motor, band: [1, 600], limits: [-20, 40], base: 10, rms: 8, noise: { w2: 0.05, T_shaft: 0.2 } }",
+         "design.band: its high end 600 Hz is above the Nyquist frequency 500 Hz"},
+        {"design={ input: T_motor, band: [1, 40], limits: [12, 40], base: 10, rms: 8, noise: { w2: 0.05, T_shaft: 0.2 } }",
+         "design.limits: [12, 40] excludes the operating point base = 10"},
+        {"design={ input: w2, band: [1, 40], limits: [-20, 40], base: 10, rms: 8, noise: { w2: 0.05, T_shaft: 0.2 } }",
+         "design.input: 'w2' is not an input of the model"},
+        {"design={ input: T_motor, band: [1, 40], limits: [-20, 40], base: 10, rms: 8, noise: { w2: 0, T_shaft: 0.2 } }",
+         "design.noise.w2: the noise standard deviation must be above 0"},
+        {"design={ input: T_motor, band: [1, 40], limits: [-20, 40], base: 10, rms: 80, noise: { w2: 0.05, T_shaft: 0.2 } }",
+         "design.rms: 80 is more than the limits [-20, 40] allow"},
+    };
+    for (const auto& [design, message] : cases) {
+        INFO(design);
+        const RunResult r = run_tvid(design_args(dir, "x", design));
+        CHECK(r.exit_code == 2);
+        CHECK(r.err.find(message) != std::string::npos);
+        CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+        CHECK_FALSE(std::filesystem::exists(dir.path() / "x/design.json"));
+    }
+    // Without a design section, the line names it.
+    const RunResult none = run_tvid({"design", (source_dir() / "configs/constant_load.yaml").string(), "--evaluate",
+                                     "-o", (dir.path() / "y").string()});
+    CHECK(none.exit_code == 2);
+    CHECK(none.err.find("constant_load.yaml:") != std::string::npos);
+    CHECK(none.err.find("design: missing") != std::string::npos);
+}
