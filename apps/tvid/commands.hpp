@@ -88,10 +88,10 @@ struct CheckCommand {
     bool force = false;                 ///< --force: replace a --write-reference file tvid did not write
 };
 
-// `tvid design --evaluate`: the predicted standard errors of candidate inputs (design/).
+// `tvid design`: a designed input and the predicted standard errors of candidate inputs (design/).
 struct DesignCommand {
     CommonOptions common;
-    bool evaluate = false;              ///< --evaluate: predict for given and reference inputs
+    bool evaluate = false;              ///< --evaluate: only predict for given and reference inputs, no design
     std::string input_file;             ///< --input FILE.csv: a given input to evaluate
     std::string column;                 ///< --column NAME: its column (default: the experiment's)
     std::string params_file;            ///< --params P.json (empty: the experiment's init values)

@@ -1,7 +1,8 @@
-// `tvid design EXP.yaml --evaluate`: what a record would determine before it is measured.
-// For a given input (a CSV column) and for a multisine, a chirp and a PRBS of the design's
-// band, RMS and limits, the predicted standard errors and correlations of the free
-// parameters from the Fisher information with exact sensitivities (design/).
+// `tvid design EXP.yaml [--evaluate]`: what a record would determine before it is measured.
+// A multisine designed for the criterion (unless --evaluate), a given input (a CSV column)
+// and a multisine, a chirp and a PRBS of the design's band, RMS and limits, each with the
+// predicted standard errors and correlations of the free parameters from the Fisher
+// information with exact sensitivities (design/).
 
 #include <omp.h>
 
@@ -16,6 +17,7 @@
 #include "tvid/design/design_experiment.hpp"
 #include "tvid/design/design_spec.hpp"
 #include "tvid/design/excitation_signals.hpp"
+#include "tvid/design/multisine_design.hpp"
 #include "tvid/design/predicted_uncertainty.hpp"
 #include "tvid/experiment/experiment.hpp"
 #include "tvid/experiment/overrides.hpp"
@@ -77,6 +79,12 @@ DesignCandidate reference_input(const DesignSpec& spec, const std::string& name,
 
 std::vector<DesignCandidate> candidates_of(const Experiment& ex, const DesignSpec& spec, const DesignCommand& cmd) {
     std::vector<DesignCandidate> out;
+    if (!cmd.evaluate) {
+        DesignCandidate designed;
+        designed.name = "designed";
+        designed.file = "designed.csv";
+        out.push_back(std::move(designed));
+    }
     if (!cmd.input_file.empty()) out.push_back(given_input(ex, spec, cmd.input_file, cmd.column));
     const std::vector<double> time = excitation_time_grid(spec.samples(), spec.sample_rate);
     const std::string band = number_text(spec.band_low) + " to " + number_text(spec.band_high) + " Hz";
@@ -103,10 +111,30 @@ int run_design_command(const DesignCommand& cmd) {
     const OutputDirectoryLock lock =
         prepare_output_directory(dir, "design directory", design_report_files(candidates), "design.json", cmd.force);
 
+    const auto start = std::chrono::steady_clock::now();
+    // The design's search: one simulation at a time, each the whole record with its sensitivities.
+    MultisineDesign search;
+    if (!cmd.evaluate) {
+        if (!cmd.common.quiet && !cmd.common.json)
+            std::cout << "designing a multisine of " << spec.bands << " bands for " << to_string(spec.criterion)
+                      << ", " << spec.evaluations << " simulations at most\n" << std::flush;
+        search = design_multisine(ex, spec, params);
+        DesignCandidate& designed = candidates.front();
+        designed.time = excitation_time_grid(spec.samples(), spec.sample_rate);
+        designed.value = search.value;
+        designed.search = &search;
+        designed.source = "multisine of " + std::to_string(spec.bands) + " log-spaced bands from " +
+                          number_text(spec.band_low) + " to " + number_text(spec.band_high) + " Hz, the bands' powers for " +
+                          to_string(spec.criterion) + " (" + std::to_string(search.evaluations) + " simulations)";
+        if (designed.value.empty()) {
+            std::cerr << "tvid: no multisine of the design simulated with every parameter determined; nothing written\n";
+            return kExitNotSucceeded;
+        }
+    }
+
     // One candidate per task: each its own experiment, problem and workspace.
     const int threads =
         std::max(1, std::min(resolve_thread_count(cmd.common.threads), static_cast<int>(candidates.size())));
-    const auto start = std::chrono::steady_clock::now();
     const auto n = static_cast<long long>(candidates.size());
     FirstException errors;
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
@@ -138,9 +166,9 @@ CommandRow design_command_row() {
                 auto design = std::make_shared<DesignCommand>();
                 add_common(sub, design->common);
                 sub.add_flag("--evaluate", design->evaluate,
-                             "predict the standard errors of a given input (--input) and of a multisine, a chirp and a "
-                             "PRBS of the design's band, RMS and limits")
-                    ->required();
+                             "only predict the standard errors of a given input (--input) and of a multisine, a chirp "
+                             "and a PRBS of the design's band, RMS and limits; without it, a multisine is designed "
+                             "for the criterion first");
                 sub.add_option("--input", design->input_file,
                                "a CSV with the experiment's time column and the designed input's column to evaluate");
                 sub.add_option("--column", design->column, "the input's column in --input (default: the experiment's)");

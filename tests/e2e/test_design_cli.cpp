@@ -100,6 +100,38 @@ TEST_CASE("tvid design --evaluate predicts each reference input's standard error
     CHECK(c.at("chirp").at("k") > 3 * a.at("chirp").at("k"));
 }
 
+TEST_CASE("tvid design searches a multisine's band powers for the criterion, never worse than the flat one", "[design]") {
+    const TempDir dir;
+    const RunResult r = run_tvid({"design", (source_dir() / "configs/constant_load.yaml").string(), "--quiet", "-o",
+                                  (dir.path() / "d").string(), "--set",
+                                  "design={ input: T_motor, duration: 2.5, band: [0.5, 40], limits: [-20, 40], base: 10, "
+                                  "rms: 8, noise: { w2: 0.05, T_shaft: 0.2 }, criterion: worst_relative_se, bands: 4, "
+                                  "evaluations: 15 }"});
+    REQUIRE(r.exit_code == 0);
+    const json report = json::parse(read_text(dir.path() / "d/design.json"));
+    CHECK(report["mode"] == "design");
+    REQUIRE(report["candidates"].size() == 4);
+    const json& designed = report["candidates"][0];
+    CHECK(designed["name"] == "designed");
+    CHECK(designed["file"] == "designed.csv");
+    CHECK(designed["rms"].get<double>() == Approx(8.0).epsilon(1e-6));
+    const json& search = designed["search"];
+    CHECK(search["evaluations"].get<int>() <= 15);
+    CHECK(search["band_edges_hz"].size() == 5);
+    double total = 0;
+    for (const json& p : search["band_power"]) total += p.get<double>();
+    CHECK(total == Approx(1.0));
+    // The search starts from the flat multisine and keeps the best it saw; the designed
+    // input's prediction, made again, is the search's to the last digits.
+    const double worst = designed["criteria"]["worst_relative_se"].get<double>();
+    CHECK(worst == Approx(search["criterion"].get<double>()).epsilon(1e-12));
+    CHECK(worst <= search["flat_multisine_criterion"].get<double>());
+    CHECK(search["flat_multisine_criterion"].get<double>() ==
+          Approx(report["candidates"][1]["criteria"]["worst_relative_se"].get<double>()).epsilon(1e-12));
+    const std::vector<double> v = input_column(dir.path() / "d/designed.csv");
+    CHECK(v.size() == 2501);
+}
+
 TEST_CASE("tvid design --evaluate takes a given input from a CSV beside the reference ones", "[design]") {
     const TempDir dir;
     std::vector<std::string> args = design_args(dir, "g");

@@ -17,6 +17,7 @@
 #include "tvid/design/design_experiment.hpp"
 #include "tvid/design/design_spec.hpp"
 #include "tvid/design/excitation_signals.hpp"
+#include "tvid/design/multisine_design.hpp"
 #include "tvid/design/predicted_uncertainty.hpp"
 #include "tvid/experiment/experiment.hpp"
 #include "tvid/util/input_error.hpp"
@@ -59,6 +60,25 @@ TEST_CASE("a Schroeder multisine holds its power in the band, scaled to its RMS 
     double peak = 0.0;
     for (double x : shape) peak = std::max(peak, std::abs(x));
     CHECK(peak / rms_about(shape, 0.0) < 2.2);
+}
+
+TEST_CASE("a banded multisine puts each band's power in its band, with Schroeder's phases", "[design]") {
+    const double fs = 200.0;
+    const std::vector<double> t = excitation_time_grid(400, fs);  // lines every 0.5 Hz
+    // Bands [5, 10) and [10, 20]: 10 and 21 lines. Equal power per line is the flat multisine.
+    const std::vector<double> edges{5.0, 10.0, 20.0};
+    const std::vector<double> flat = schroeder_multisine_shape(t, fs, 5.0, 20.0);
+    const std::vector<double> equal = banded_multisine_shape(t, fs, edges, {10.0, 21.0});
+    for (std::size_t i = 0; i < t.size(); ++i) CHECK(equal[i] == Approx(flat[i]).margin(1e-9));
+    // All the power in the upper band: none below 10 Hz.
+    const std::vector<double> upper = banded_multisine_shape(t, fs, edges, {0.0, 1.0});
+    CHECK(power_in_band(upper, fs, 10.0, 20.0) > 1 - 1e-12);
+    // Nine tenths in the lower band.
+    const std::vector<double> lower = banded_multisine_shape(t, fs, edges, {0.9, 0.1});
+    CHECK(power_in_band(lower, fs, 5.0, 9.9) == Approx(0.9).epsilon(1e-9));
+    double peak = 0.0;
+    for (double x : lower) peak = std::max(peak, std::abs(x));
+    CHECK(peak / rms_about(lower, 0.0) < 2.5);  // Schroeder's phases for an uneven spectrum keep the crest low
 }
 
 TEST_CASE("a chirp sweeps its band: its zero crossings count its cycles", "[design]") {

@@ -151,7 +151,8 @@ DesignSpec read_design_spec(const Experiment& ex, const std::vector<Override>& o
         top.fail_missing("design", "(tvid design reads a design: section: input, duration, band, limits, rms, "
                                    "noise; docs/experiment-design.md)");
     const YamlMap design = top.map("design");
-    design.allow_only({"input", "duration", "sample_rate", "band", "limits", "rms", "base", "hold", "noise", "criterion"});
+    design.allow_only({"input", "duration", "sample_rate", "band", "limits", "rms", "base", "hold", "noise", "criterion",
+                       "bands", "evaluations"});
     DesignSpec spec;
     spec.where = tree.source.where(design.node(), "design");
     if (!design.has("input")) design.fail_missing("input", "(the model input to design)");
@@ -173,6 +174,16 @@ DesignSpec read_design_spec(const Experiment& ex, const std::vector<Override>& o
         spec.criterion = c == "a_optimal"           ? DesignCriterion::a_optimal
                          : c == "worst_relative_se" ? DesignCriterion::worst_relative_se
                                                     : DesignCriterion::d_optimal;
+    }
+    if (design.has("bands")) {
+        const long long b = design.integer("bands");
+        if (b < 1 || b > 32) design.fail("bands", "must be a whole number from 1 to 32");
+        spec.bands = static_cast<int>(b);
+    }
+    if (design.has("evaluations")) {
+        const long long e = design.integer("evaluations");
+        if (e < 1 || e > 100000) design.fail("evaluations", "must be a whole number from 1 to 100000");
+        spec.evaluations = static_cast<int>(e);
     }
     return spec;
 }

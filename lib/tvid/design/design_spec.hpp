@@ -32,6 +32,8 @@ struct DesignSpec {
     std::vector<double> noise;    ///< each output's noise standard deviation, SI, per Experiment::outputs
     std::vector<double> noise_given;  ///< the same in the channel's unit, as written
     DesignCriterion criterion = DesignCriterion::d_optimal;
+    int bands = 8;                ///< the designed multisine's bands, log-spaced across the band
+    int evaluations = 60;         ///< the design search's simulations at most
     SourceLocation where;         ///< the design: section
     SourceLocation rms_where;     ///< design.rms, for a range that cannot hold it
 

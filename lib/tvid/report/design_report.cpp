@@ -49,7 +49,16 @@ json candidate_json(const DesignSpec& spec, const DesignCandidate& c) {
         for (Eigen::Index j = 0; j < p.correlation.cols(); ++j) row.push_back(json_number(p.correlation(i, j)));
         correlation.push_back(row);
     }
+    json search = nullptr;
+    if (c.search)
+        search = json{{"band_edges_hz", c.search->edges},
+                      {"band_power", c.search->band_power},
+                      {"flat_multisine_criterion", json_number(c.search->flat_criterion)},
+                      {"criterion", json_number(c.search->criterion)},
+                      {"evaluations", c.search->evaluations},
+                      {"method", "BOBYQA over the bands' log powers from the flat multisine, Schroeder phases"}};
     return json{{"name", c.name},
+                {"search", search},
                 {"source", c.source},
                 {"file", c.file.empty() ? json(nullptr) : json(c.file)},
                 {"samples", c.time.size()},
@@ -90,7 +99,7 @@ json design_json(const Experiment& ex, const DesignSpec& spec, const std::vector
         {"command", run.command_line},
         {"experiment", ex.file.string()},
         {"config_sha256", ex.config_sha256},
-        {"mode", "evaluate"},
+        {"mode", !candidates.empty() && candidates.front().search ? "design" : "evaluate"},
         {"assumptions",
          {{"prediction",
            "local: the Fisher information J^T S^-1 J of the free parameters from exact forward sensitivities, "

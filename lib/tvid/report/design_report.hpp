@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "tvid/design/design_spec.hpp"
+#include "tvid/design/multisine_design.hpp"
 #include "tvid/design/predicted_uncertainty.hpp"
 #include "tvid/experiment/experiment.hpp"
 
@@ -17,12 +18,13 @@ namespace tvid {
 
 /// A candidate input and its prediction.
 struct DesignCandidate {
-    std::string name;             ///< "given", "multisine", "chirp", "prbs"
+    std::string name;             ///< "designed", "given", "multisine", "chirp", "prbs"
     std::string source;           ///< where it came from: a CSV file and column, or how it was generated
     std::string file;             ///< the CSV this report writes for it ("" for a given input)
     std::vector<double> time;
     std::vector<double> value;    ///< the designed input, in its channel's unit
     PredictedUncertainty prediction;
+    const MultisineDesign* search = nullptr;  ///< the designed input's search, for its report
 };
 
 struct DesignRunInfo {
