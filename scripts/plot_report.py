@@ -44,6 +44,7 @@ MODULES = [
     "modes",        # a tvid modes directory: modes.png, each mode's shape per node
     "frf",          # a tvid frf directory: frf.png, model against the measured H1
     "batch",        # a batch directory: cross_matrix.png, parameter_spread.png
+    "design",       # a tvid design directory: design.png, the inputs, spectra and predicted SEs
 ]
 
 
