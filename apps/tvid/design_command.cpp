@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <chrono>
 #include <iostream>
+#include <limits>
 #include <memory>
 
 #include "command_options.hpp"
@@ -18,6 +19,7 @@
 #include "tvid/design/design_spec.hpp"
 #include "tvid/design/excitation_signals.hpp"
 #include "tvid/design/multisine_design.hpp"
+#include "tvid/design/parameter_draws.hpp"
 #include "tvid/design/predicted_uncertainty.hpp"
 #include "tvid/experiment/experiment.hpp"
 #include "tvid/experiment/overrides.hpp"
@@ -105,6 +107,7 @@ int run_design_command(const DesignCommand& cmd) {
     const DesignSpec spec = read_design_spec(ex, overrides);
     const std::vector<double> params =
         cmd.params_file.empty() ? initial_parameters(ex) : read_parameter_file(cmd.params_file, ex);
+    const std::vector<std::vector<double>> sets = design_parameter_sets(ex, spec, params);
     std::vector<DesignCandidate> candidates = candidates_of(ex, spec, cmd);
     const std::filesystem::path dir =
         cmd.output_dir.empty() ? report_directory(ex, "") / "design" : std::filesystem::path(cmd.output_dir);
@@ -117,15 +120,16 @@ int run_design_command(const DesignCommand& cmd) {
     if (!cmd.evaluate) {
         if (!cmd.common.quiet && !cmd.common.json)
             std::cout << "designing a multisine of " << spec.bands << " bands for " << to_string(spec.criterion)
-                      << ", " << spec.evaluations << " simulations at most\n" << std::flush;
-        search = design_multisine(ex, spec, params);
+                      << (spec.draws > 0 ? " over the nominal values and " + std::to_string(spec.draws) + " draws" : "")
+                      << ", " << spec.evaluations << " trial inputs at most\n" << std::flush;
+        search = design_multisine(ex, spec, sets);
         DesignCandidate& designed = candidates.front();
         designed.time = excitation_time_grid(spec.samples(), spec.sample_rate);
         designed.value = search.value;
         designed.search = &search;
         designed.source = "multisine of " + std::to_string(spec.bands) + " log-spaced bands from " +
                           number_text(spec.band_low) + " to " + number_text(spec.band_high) + " Hz, the bands' powers for " +
-                          to_string(spec.criterion) + " (" + std::to_string(search.evaluations) + " simulations)";
+                          to_string(spec.criterion) + " (" + std::to_string(search.evaluations) + " trial inputs)";
         if (designed.value.empty()) {
             std::cerr << "tvid: no multisine of the design simulated with every parameter determined; nothing written\n";
             return kExitNotSucceeded;
@@ -142,7 +146,13 @@ int run_design_command(const DesignCommand& cmd) {
         errors.run([&] {
             DesignCandidate& c = candidates[static_cast<std::size_t>(i)];
             const Experiment record = design_experiment(ex, spec, c.time, c.value);
-            c.prediction = predict_uncertainty(record, params, spec.noise);
+            std::vector<PredictedUncertainty> predictions;
+            for (const std::vector<double>& set : sets) predictions.push_back(predict_uncertainty(record, set, spec.noise));
+            c.prediction = predictions.front();
+            for (std::size_t d = 1; d < predictions.size(); ++d)
+                c.draw_criteria.push_back(predictions[d].simulated ? predictions[d].criterion(spec.criterion)
+                                                                   : std::numeric_limits<double>::infinity());
+            c.robust_criterion = averaged_criterion(predictions, spec.criterion);
         });
     }
     errors.rethrow();
@@ -150,9 +160,9 @@ int run_design_command(const DesignCommand& cmd) {
 
     const DesignRunInfo run{TVID_VERSION, cmd.common.command_line,
                             cmd.params_file.empty() ? std::string("init") : cmd.params_file, threads, seconds};
-    write_design_report(dir, ex, spec, params, candidates, run);
+    write_design_report(dir, ex, spec, sets, candidates, run);
     if (cmd.common.json)
-        std::cout << json_text(design_json(ex, spec, params, candidates, run)) << std::endl;
+        std::cout << json_text(design_json(ex, spec, sets, candidates, run)) << std::endl;
     else if (!cmd.common.quiet)
         std::cout << design_summary_text(spec, candidates, dir) << std::flush;
     const bool all = std::all_of(candidates.begin(), candidates.end(),

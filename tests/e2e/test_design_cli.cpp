@@ -132,6 +132,44 @@ TEST_CASE("tvid design searches a multisine's band powers for the criterion, nev
     CHECK(v.size() == 2501);
 }
 
+TEST_CASE("tvid design with robust draws ranks the candidates by the criterion averaged over them", "[design]") {
+    const TempDir dir;
+    const RunResult r = run_tvid({"design", (source_dir() / "configs/constant_load.yaml").string(), "--quiet", "-o",
+                                  (dir.path() / "r").string(), "--set",
+                                  "design={ input: T_motor, duration: 2.5, band: [0.5, 40], limits: [-20, 40], base: 10, "
+                                  "rms: 8, noise: { w2: 0.05, T_shaft: 0.2 }, criterion: a_optimal, bands: 3, "
+                                  "evaluations: 6, robust: { draws: 2, spread: 0.4, seed: 3 } }"});
+    REQUIRE(r.exit_code == 0);
+    const json report = json::parse(read_text(dir.path() / "r/design.json"));
+    const json& robust = report["assumptions"]["robust"];
+    CHECK(robust["draws"] == 2);
+    REQUIRE(robust["parameter_sets"].size() == 2);
+    for (const json& set : robust["parameter_sets"]) {
+        const double k = set["k"].get<double>(), nominal = report["assumptions"]["nominal"]["k"].get<double>();
+        CHECK(k != nominal);
+        CHECK(k / nominal >= 1 / 1.4 - 1e-12);
+        CHECK(k / nominal <= 1.4 + 1e-12);
+    }
+    std::string best;
+    double lowest = 1e300;
+    for (const json& c : report["candidates"]) {
+        INFO(c["name"]);
+        const json& draws = c["robust"];
+        REQUIRE(draws["criterion_per_draw"].size() == 2);
+        // The geometric mean of the nominal criterion and the two draws'.
+        const double product = c["criteria"]["a_optimal"].get<double>() * draws["criterion_per_draw"][0].get<double>() *
+                               draws["criterion_per_draw"][1].get<double>();
+        CHECK(draws["averaged_criterion"].get<double>() == Approx(std::cbrt(product)).epsilon(1e-12));
+        if (draws["averaged_criterion"].get<double>() < lowest) {
+            lowest = draws["averaged_criterion"].get<double>();
+            best = c["name"];
+        }
+    }
+    CHECK(report["best"] == best);
+    CHECK(report["candidates"][0]["search"]["criterion"].get<double>() ==
+          Approx(report["candidates"][0]["robust"]["averaged_criterion"].get<double>()).epsilon(1e-12));
+}
+
 TEST_CASE("tvid design --evaluate takes a given input from a CSV beside the reference ones", "[design]") {
     const TempDir dir;
     std::vector<std::string> args = design_args(dir, "g");

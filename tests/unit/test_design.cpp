@@ -18,6 +18,7 @@
 #include "tvid/design/design_spec.hpp"
 #include "tvid/design/excitation_signals.hpp"
 #include "tvid/design/multisine_design.hpp"
+#include "tvid/design/parameter_draws.hpp"
 #include "tvid/design/predicted_uncertainty.hpp"
 #include "tvid/experiment/experiment.hpp"
 #include "tvid/util/input_error.hpp"
@@ -260,4 +261,43 @@ TEST_CASE("the design section's mistakes are named by their key", "[design]") {
             "design.noise.x", "not an output");
     refused("design: { input: T_in, duration: 0.5, band: [0.1, 1], limits: [-5, 5], rms: 1, " + noise + " }\n",
             "design.band", "no frequency of the record's grid");
+}
+
+TEST_CASE("parameter draws for a robust design: log-uniform factors within the spread, in the bounds, from the seed", "[design]") {
+    const test::TempDir dir;
+    dir.write("rec.csv", recording());
+    // c's upper bound 0.25 lies inside the spread: its draws above it are held there.
+    std::string text = one_mass("design: { input: T_in, duration: 1, band: [1, 20], limits: [-5, 5], rms: 1, "
+                                "noise: { w: 0.1, T_f: 0.5 }, robust: { draws: 40, spread: 0.5, seed: 7 } }\n");
+    text.replace(text.find("max: 10 }"), 9, "max: 0.25 }");
+    const Experiment ex = load_experiment(dir.write("robust.yaml", text));
+    const DesignSpec spec = read_design_spec(ex, {});
+    REQUIRE(spec.draws == 40);
+    const std::vector<double> nominal{0.05, 0.2};
+    const auto sets = design_parameter_sets(ex, spec, nominal);
+    REQUIRE(sets.size() == 41);
+    CHECK(sets[0] == nominal);
+    int held = 0, below = 0;
+    for (std::size_t d = 1; d < sets.size(); ++d) {
+        CHECK(sets[d][0] >= 0.05 / 1.5 - 1e-15);
+        CHECK(sets[d][0] <= 0.05 * 1.5 + 1e-15);
+        CHECK(sets[d][1] <= 0.25);
+        held += sets[d][1] == 0.25;
+        below += sets[d][0] < 0.05;
+    }
+    CHECK(held > 5);                   // about 40 * (1 - ln(1.25)/ln(1.5)) / 2 = 9 of them
+    CHECK(below > 10);                 // about half
+    CHECK(design_parameter_sets(ex, spec, nominal) == sets);  // the seed alone decides
+    DesignSpec other = spec;
+    other.draw_seed = 8;
+    CHECK(design_parameter_sets(ex, other, nominal) != sets);
+
+    // The averaged criterion is the geometric mean; one failed set makes it infinite.
+    std::vector<PredictedUncertainty> p(2);
+    p[0].simulated = p[1].simulated = true;
+    p[0].worst_relative_se = 0.01;
+    p[1].worst_relative_se = 0.04;
+    CHECK(averaged_criterion(p, DesignCriterion::worst_relative_se) == Approx(0.02));
+    p[1].simulated = false;
+    CHECK(std::isinf(averaged_criterion(p, DesignCriterion::worst_relative_se)));
 }

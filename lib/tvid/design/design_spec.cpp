@@ -152,7 +152,7 @@ DesignSpec read_design_spec(const Experiment& ex, const std::vector<Override>& o
                                    "noise; docs/experiment-design.md)");
     const YamlMap design = top.map("design");
     design.allow_only({"input", "duration", "sample_rate", "band", "limits", "rms", "base", "hold", "noise", "criterion",
-                       "bands", "evaluations"});
+                       "bands", "evaluations", "robust"});
     DesignSpec spec;
     spec.where = tree.source.where(design.node(), "design");
     if (!design.has("input")) design.fail_missing("input", "(the model input to design)");
@@ -179,6 +179,24 @@ DesignSpec read_design_spec(const Experiment& ex, const std::vector<Override>& o
         const long long b = design.integer("bands");
         if (b < 1 || b > 32) design.fail("bands", "must be a whole number from 1 to 32");
         spec.bands = static_cast<int>(b);
+    }
+    if (design.has("robust")) {
+        const YamlMap robust = design.map("robust");
+        robust.allow_only({"draws", "spread", "seed"});
+        if (!robust.has("draws")) robust.fail_missing("draws", "(how many parameter sets to draw about the nominal values)");
+        const long long n = robust.integer("draws");
+        if (n < 1 || n > 64) robust.fail("draws", "must be a whole number from 1 to 64");
+        spec.draws = static_cast<int>(n);
+        if (robust.has("spread")) {
+            spec.draw_spread = robust.number("spread");
+            if (!(spec.draw_spread > 0 && spec.draw_spread <= 10))
+                robust.fail("spread", "must be above 0 and at most 10 (a factor within [1/(1 + spread), 1 + spread])");
+        }
+        if (robust.has("seed")) {
+            const long long seed = robust.integer("seed");
+            if (seed < 0) robust.fail("seed", "must be a whole number of 0 or more");
+            spec.draw_seed = static_cast<std::uint64_t>(seed);
+        }
     }
     if (design.has("evaluations")) {
         const long long e = design.integer("evaluations");

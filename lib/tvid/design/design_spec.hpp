@@ -4,6 +4,7 @@
 // about which operating point, and the outputs' noise the prediction assumes.
 
 #include <cstddef>
+#include <cstdint>
 #include <string>
 #include <utility>
 #include <vector>
@@ -33,7 +34,12 @@ struct DesignSpec {
     std::vector<double> noise_given;  ///< the same in the channel's unit, as written
     DesignCriterion criterion = DesignCriterion::d_optimal;
     int bands = 8;                ///< the designed multisine's bands, log-spaced across the band
-    int evaluations = 60;         ///< the design search's simulations at most
+    int evaluations = 60;         ///< the design search's trial inputs at most
+    /// robust: the criterion averaged over the nominal values and `draws` parameter sets drawn
+    /// about them (design/parameter_draws.hpp); 0: the nominal values alone.
+    int draws = 0;
+    double draw_spread = 0.3;     ///< each free parameter's factor within [1/(1 + spread), 1 + spread]
+    std::uint64_t draw_seed = 1;
     SourceLocation where;         ///< the design: section
     SourceLocation rms_where;     ///< design.rms, for a range that cannot hold it
 

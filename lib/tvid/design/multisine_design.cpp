@@ -9,6 +9,7 @@
 
 #include "tvid/design/design_experiment.hpp"
 #include "tvid/design/excitation_signals.hpp"
+#include "tvid/design/parameter_draws.hpp"
 #include "tvid/util/stop_request.hpp"
 
 namespace tvid {
@@ -69,7 +70,7 @@ namespace {
 struct Search {
     const Experiment* ex;
     const DesignSpec* spec;
-    const std::vector<double>* params;
+    const std::vector<std::vector<double>>* sets;
     std::vector<double> time, edges;
     int evaluations = 0;
     double best = std::numeric_limits<double>::infinity();
@@ -95,9 +96,13 @@ double trial(const std::vector<double>& log_power, std::vector<double>&, void* d
     const std::vector<double> shape = banded_multisine_shape(s.time, s.spec->sample_rate, s.edges, power);
     const auto value = scaled_excitation(shape, s.spec->base, s.spec->rms, s.spec->limit_low, s.spec->limit_high);
     if (!value) return 1e30;
-    const PredictedUncertainty u = predict_uncertainty(design_experiment(*s.ex, *s.spec, s.time, *value), *s.params,
-                                                       s.spec->noise);
-    const double c = u.simulated ? u.criterion(s.spec->criterion) : std::numeric_limits<double>::infinity();
+    const Experiment record = design_experiment(*s.ex, *s.spec, s.time, *value);
+    std::vector<PredictedUncertainty> predictions;
+    for (const std::vector<double>& params : *s.sets) {
+        predictions.push_back(predict_uncertainty(record, params, s.spec->noise));
+        if (!predictions.back().simulated) return 1e30;
+    }
+    const double c = averaged_criterion(predictions, s.spec->criterion);
     if (!std::isfinite(c)) return 1e30;
     if (c < s.best) {
         s.best = c;
@@ -109,8 +114,9 @@ double trial(const std::vector<double>& log_power, std::vector<double>&, void* d
 
 }  // namespace
 
-MultisineDesign design_multisine(const Experiment& ex, const DesignSpec& spec, const std::vector<double>& params) {
-    Search s{&ex, &spec, &params, excitation_time_grid(spec.samples(), spec.sample_rate), design_band_edges(spec, spec.bands)};
+MultisineDesign design_multisine(const Experiment& ex, const DesignSpec& spec,
+                                 const std::vector<std::vector<double>>& parameter_sets) {
+    Search s{&ex, &spec, &parameter_sets, excitation_time_grid(spec.samples(), spec.sample_rate), design_band_edges(spec, spec.bands)};
     const auto n = static_cast<unsigned>(spec.bands);
     std::vector<double> x(n, 0.0);  // the flat multisine: every band at the same power per band
     // Each band's power per line equal at the start: log10 of its share of the lines.

@@ -30,12 +30,15 @@ struct MultisineDesign {
     std::vector<double> edges;       ///< the bands' edges [Hz]
     std::vector<double> band_power;  ///< each band's share of the power, summing to 1
     std::vector<double> value;       ///< the designed input, in its channel's unit
-    double flat_criterion = 0.0;     ///< the criterion of the flat multisine, where the search starts
-    double criterion = 0.0;          ///< the designed input's
-    int evaluations = 0;             ///< simulations with sensitivities the search took
+    double flat_criterion = 0.0;     ///< the (averaged) criterion of the flat multisine, where the search starts
+    double criterion = 0.0;          ///< the designed input's (averaged) criterion
+    int evaluations = 0;             ///< trial inputs the search scored
 };
 
-/// The search, `spec.evaluations` simulations at most, at the full parameter vector `params`.
-MultisineDesign design_multisine(const Experiment& ex, const DesignSpec& spec, const std::vector<double>& params);
+/// The search, `spec.evaluations` trial inputs at most, each scored by the criterion
+/// averaged over the parameter sets (full vectors; design_parameter_sets: the nominal one
+/// first): one simulation with sensitivities per set and trial.
+MultisineDesign design_multisine(const Experiment& ex, const DesignSpec& spec,
+                                 const std::vector<std::vector<double>>& parameter_sets);
 
 }  // namespace tvid

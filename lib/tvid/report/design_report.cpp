@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <sstream>
 
 #include "tvid/design/excitation_signals.hpp"
@@ -20,13 +21,19 @@ namespace {
 
 std::string full(double v) { return csv_cell(v, "%.17g"); }
 
-// The index of the candidate the criterion ranks first (lowest; a failed one never).
-std::size_t best_candidate(const std::vector<DesignCandidate>& candidates, DesignCriterion c) {
+// What ranks a candidate: its criterion at the nominal values, or averaged over the draws.
+double ranking_value(const DesignSpec& spec, const DesignCandidate& c) {
+    if (!c.prediction.simulated) return std::numeric_limits<double>::infinity();
+    return spec.draws > 0 ? c.robust_criterion : c.prediction.criterion(spec.criterion);
+}
+
+// The index of the candidate ranked first (lowest; a failed one never).
+std::size_t best_candidate(const std::vector<DesignCandidate>& candidates, const DesignSpec& spec) {
     std::size_t best = candidates.size();
     for (std::size_t i = 0; i < candidates.size(); ++i) {
-        const PredictedUncertainty& p = candidates[i].prediction;
-        if (!p.simulated) continue;
-        if (best == candidates.size() || p.criterion(c) < candidates[best].prediction.criterion(c)) best = i;
+        if (!candidates[i].prediction.simulated) continue;
+        if (best == candidates.size() || ranking_value(spec, candidates[i]) < ranking_value(spec, candidates[best]))
+            best = i;
     }
     return best;
 }
@@ -57,8 +64,15 @@ json candidate_json(const DesignSpec& spec, const DesignCandidate& c) {
                       {"criterion", json_number(c.search->criterion)},
                       {"evaluations", c.search->evaluations},
                       {"method", "BOBYQA over the bands' log powers from the flat multisine, Schroeder phases"}};
+    json draws = nullptr;
+    if (spec.draws > 0) {
+        json each = json::array();
+        for (double v : c.draw_criteria) each.push_back(json_number(v));
+        draws = json{{"criterion_per_draw", each}, {"averaged_criterion", json_number(c.robust_criterion)}};
+    }
     return json{{"name", c.name},
                 {"search", search},
+                {"robust", draws},
                 {"source", c.source},
                 {"file", c.file.empty() ? json(nullptr) : json(c.file)},
                 {"samples", c.time.size()},
@@ -80,10 +94,16 @@ json candidate_json(const DesignSpec& spec, const DesignCandidate& c) {
 
 }  // namespace
 
-json design_json(const Experiment& ex, const DesignSpec& spec, const std::vector<double>& params,
+json design_json(const Experiment& ex, const DesignSpec& spec, const std::vector<std::vector<double>>& sets,
                  const std::vector<DesignCandidate>& candidates, const DesignRunInfo& run) {
-    json nominal = json::object();
-    for (std::size_t i = 0; i < ex.parameters.size(); ++i) nominal[ex.parameters[i].name] = json_number(params[i]);
+    const auto named = [&](const std::vector<double>& values) {
+        json o = json::object();
+        for (std::size_t i = 0; i < ex.parameters.size(); ++i) o[ex.parameters[i].name] = json_number(values[i]);
+        return o;
+    };
+    const json nominal = named(sets.front());
+    json drawn = json::array();
+    for (std::size_t d = 1; d < sets.size(); ++d) drawn.push_back(named(sets[d]));
     json noise = json::object();
     for (std::size_t k = 0; k < ex.outputs.size(); ++k)
         noise[ex.outputs[k].model_name] = json{{"sigma", spec.noise_given[k]}, {"sigma_si", spec.noise[k]}};
@@ -92,7 +112,7 @@ json design_json(const Experiment& ex, const DesignSpec& spec, const std::vector
         if (k != spec.input && !ex.inputs[k].by_angle) held[ex.inputs[k].model_name] = spec.levels[k];
     json list = json::array();
     for (const DesignCandidate& c : candidates) list.push_back(candidate_json(spec, c));
-    const std::size_t best = best_candidate(candidates, spec.criterion);
+    const std::size_t best = best_candidate(candidates, spec);
     return json{
         {"tool", "tvid"},
         {"version", run.version},
@@ -108,6 +128,16 @@ json design_json(const Experiment& ex, const DesignSpec& spec, const std::vector
            "right and the fit lands at the nominal values"},
           {"nominal_source", run.nominal_source},
           {"nominal", nominal},
+          {"robust",
+           spec.draws > 0
+               ? json{{"draws", spec.draws},
+                      {"spread", spec.draw_spread},
+                      {"seed", spec.draw_seed},
+                      {"rule", "each free parameter times a factor drawn log-uniformly within [1/(1 + spread), "
+                               "1 + spread], held within its bounds; candidates ranked by the geometric mean of "
+                               "the criterion over the nominal values and the draws"},
+                      {"parameter_sets", drawn}}
+               : json(nullptr)},
           {"noise", noise},
           {"operating_point", {{"input", ex.inputs[spec.input].model_name}, {"base", spec.base}, {"held", held}}},
           {"initial_state", initial_state_row(ex.initial_state).name}}},
@@ -155,14 +185,14 @@ std::vector<std::string> design_report_files(const std::vector<DesignCandidate>&
 }
 
 void write_design_report(const std::filesystem::path& dir, const Experiment& ex, const DesignSpec& spec,
-                         const std::vector<double>& params, const std::vector<DesignCandidate>& candidates,
+                         const std::vector<std::vector<double>>& sets, const std::vector<DesignCandidate>& candidates,
                          const DesignRunInfo& run) {
     // An earlier run's design.json would vouch for files this run is about to replace.
     remove_output_file(dir, "design.json");
     write_output_file(dir, "predicted_se.csv", predicted_se_csv(candidates));
     for (const DesignCandidate& c : candidates)
         if (!c.file.empty()) write_output_file(dir, c.file, candidate_csv(ex, spec, c));
-    write_output_file(dir, "design.json", json_text(design_json(ex, spec, params, candidates, run)) + "\n");
+    write_output_file(dir, "design.json", json_text(design_json(ex, spec, sets, candidates, run)) + "\n");
 }
 
 std::string design_summary_text(const DesignSpec& spec, const std::vector<DesignCandidate>& candidates,
@@ -206,8 +236,19 @@ std::string design_summary_text(const DesignSpec& spec, const std::vector<Design
         }
         out << '\n';
     }
-    const std::size_t best = best_candidate(candidates, spec.criterion);
-    if (best < candidates.size()) out << "best by " << to_string(spec.criterion) << ": " << candidates[best].name << '\n';
+    if (spec.draws > 0) {
+        char buf[32];
+        std::snprintf(buf, sizeof buf, "  %-16s", "over the draws");
+        out << buf;
+        for (const DesignCandidate& c : candidates)
+            out << (c.prediction.simulated ? percent(c.robust_criterion) : std::string("      not simulated"));
+        out << "   (" << to_string(spec.criterion) << ", geometric mean over the nominal values and " << spec.draws
+            << " draws)\n";
+    }
+    const std::size_t best = best_candidate(candidates, spec);
+    if (best < candidates.size())
+        out << "best by " << to_string(spec.criterion) << (spec.draws > 0 ? " over the draws" : "") << ": "
+            << candidates[best].name << '\n';
     for (const DesignCandidate& c : candidates)
         if (!c.prediction.simulated) out << c.name << ": the simulation failed: " << c.prediction.problem << '\n';
     out << "report: " << dir.string() << '\n';

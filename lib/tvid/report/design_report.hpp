@@ -11,6 +11,7 @@
 
 #include "tvid/design/design_spec.hpp"
 #include "tvid/design/multisine_design.hpp"
+#include "tvid/design/parameter_draws.hpp"
 #include "tvid/design/predicted_uncertainty.hpp"
 #include "tvid/experiment/experiment.hpp"
 
@@ -24,6 +25,10 @@ struct DesignCandidate {
     std::vector<double> time;
     std::vector<double> value;    ///< the designed input, in its channel's unit
     PredictedUncertainty prediction;
+    /// With design.robust: the criterion at each drawn parameter set, and the criterion
+    /// averaged over the nominal set and the draws (what ranks the candidates then).
+    std::vector<double> draw_criteria;
+    double robust_criterion = 0.0;
     const MultisineDesign* search = nullptr;  ///< the designed input's search, for its report
 };
 
@@ -35,9 +40,9 @@ struct DesignRunInfo {
     double wall_seconds = 0.0;
 };
 
-/// design.json: the assumptions, the design section, each candidate's prediction, and the
-/// candidate the criterion ranks first.
-nlohmann::json design_json(const Experiment& ex, const DesignSpec& spec, const std::vector<double>& params,
+/// design.json: the assumptions (the nominal values, sets[0], and any drawn sets), the design
+/// section, each candidate's prediction, and the candidate the criterion ranks first.
+nlohmann::json design_json(const Experiment& ex, const DesignSpec& spec, const std::vector<std::vector<double>>& sets,
                            const std::vector<DesignCandidate>& candidates, const DesignRunInfo& run);
 
 /// predicted_se.csv: per candidate and free parameter, the nominal value, the predicted
@@ -53,7 +58,7 @@ std::vector<std::string> design_report_files(const std::vector<DesignCandidate>&
 
 /// Writes the report into `dir` (prepared by the caller), design.json last.
 void write_design_report(const std::filesystem::path& dir, const Experiment& ex, const DesignSpec& spec,
-                         const std::vector<double>& params, const std::vector<DesignCandidate>& candidates,
+                         const std::vector<std::vector<double>>& sets, const std::vector<DesignCandidate>& candidates,
                          const DesignRunInfo& run);
 
 /// The terminal's table: each candidate's criteria and relative standard errors.
