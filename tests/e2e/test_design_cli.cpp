@@ -6,7 +6,9 @@
 #include <nlohmann/json.hpp>
 
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
+#include <random>
 #include <map>
 #include <sstream>
 #include <string>
@@ -220,4 +222,116 @@ TEST_CASE("tvid design refuses a design it cannot evaluate in one line, writing 
     CHECK(none.exit_code == 2);
     CHECK(none.err.find("constant_load.yaml:") != std::string::npos);
     CHECK(none.err.find("design: missing") != std::string::npos);
+}
+
+namespace {
+
+// A noisy record of `input` (t, T_engine) through the clutch damper at its true parameters:
+// tvid simulate's noise-free outputs plus white noise of 0.05 rad/s from `seed` (Box–Muller
+// on mt19937_64's raw numbers: the same on every machine).
+std::string noisy_record(const TempDir& dir, const std::string& name, const std::vector<double>& t,
+                         const std::vector<double>& u, const std::string& truth, std::uint64_t seed,
+                         std::vector<std::vector<double>>& clean) {
+    if (clean.empty()) {
+        std::ostringstream rec;
+        rec << "t,T_engine,w1,w2\n";
+        for (std::size_t i = 0; i < t.size(); ++i) rec << t[i] << ',' << u[i] << ",0,0\n";
+        const std::string file = dir.write(name + "_input.csv", rec.str()).string();
+        const RunResult sim = run_tvid({"simulate", (source_dir() / "configs/clutch_damper.yaml").string(), "--params",
+                                        truth, "-o", (dir.path() / (name + "_sim.csv")).string(), "--set",
+                                        "data={ file: " + file + ", time: t }", "--set",
+                                        "windows={ estimation: [ { time: [0, " + std::to_string(t.back()) + "] } ] }"});
+        REQUIRE(sim.exit_code == 0);
+        std::istringstream in(read_text(dir.path() / (name + "_sim.csv")));
+        std::string line;
+        std::getline(in, line);
+        clean.assign(2, std::vector<double>(1, 0.0));  // the start at rest: both speeds 0
+        while (std::getline(in, line)) {
+            std::vector<std::string> cells;
+            std::stringstream row(line);
+            for (std::string c; std::getline(row, c, ',');) cells.push_back(c);
+            clean[0].push_back(std::stod(cells[3]));  // w1_simulated
+            clean[1].push_back(std::stod(cells[7]));  // w2_simulated
+        }
+        REQUIRE(clean[0].size() == t.size());
+    }
+    std::mt19937_64 rng(seed);
+    const auto normal = [&] {
+        const double a = (static_cast<double>(rng() >> 11) + 0.5) * 0x1.0p-53, b = static_cast<double>(rng() >> 11) * 0x1.0p-53;
+        return std::sqrt(-2 * std::log(a)) * std::cos(2 * 3.141592653589793 * b);
+    };
+    std::ostringstream rec;
+    rec.precision(12);
+    rec << "t,T_engine,w1,w2\n";
+    for (std::size_t i = 0; i < t.size(); ++i)
+        rec << t[i] << ',' << u[i] << ',' << clean[0][i] + 0.05 * normal() << ',' << clean[1][i] + 0.05 * normal() << '\n';
+    return dir.write(name + "_" + std::to_string(seed) + ".csv", rec.str()).string();
+}
+
+std::vector<std::vector<double>> csv_columns(const std::filesystem::path& file) {
+    std::istringstream in(read_text(file));
+    std::string line;
+    std::getline(in, line);
+    std::vector<std::vector<double>> cols(2);
+    while (std::getline(in, line)) {
+        const auto comma = line.find(',');
+        cols[0].push_back(std::stod(line.substr(0, comma)));
+        cols[1].push_back(std::stod(line.substr(comma + 1)));
+    }
+    return cols;
+}
+
+}  // namespace
+
+TEST_CASE("a designed input's fits spread as tvid design predicts, and less than a chirp's", "[design][fits]") {
+    const TempDir dir;
+    const json truth = json::parse(read_text(source_dir() / "data/clutch_damper/truth.json"))["parameters"];
+    const std::string truth_file = dir.write("truth.json", truth.dump()).string();
+    const RunResult d = run_tvid({"design", (source_dir() / "configs/clutch_damper.yaml").string(), "--quiet", "--params",
+                                  truth_file, "-o", (dir.path() / "design").string(), "--set",
+                                  "design={ input: T_engine, duration: 2, band: [0.5, 40], limits: [-100, 150], base: 20, "
+                                  "rms: 30, noise: { w1: 0.05, w2: 0.05 }, criterion: worst_relative_se, evaluations: 30 }"});
+    REQUIRE(d.exit_code == 0);
+    const json report = json::parse(read_text(dir.path() / "design/design.json"));
+    std::map<std::string, json> candidate;
+    for (const json& c : report["candidates"]) candidate[c["name"]] = c;
+    const double designed_worst = candidate["designed"]["criteria"]["worst_relative_se"].get<double>();
+    CHECK(designed_worst < candidate["chirp"]["criteria"]["worst_relative_se"].get<double>());
+
+    // Eight noisy records of each input, each fitted as the prediction assumes (weights 1/σ).
+    std::map<std::string, double> worst_spread;
+    for (const std::string name : {"designed", "chirp"}) {
+        INFO(name);
+        const auto cols = csv_columns(dir.path() / "design" / (name + ".csv"));
+        std::vector<std::vector<double>> clean;
+        std::map<std::string, std::vector<double>> fitted;
+        for (std::uint64_t seed = 1; seed <= 8; ++seed) {
+            const std::string rec = noisy_record(dir, name, cols[0], cols[1], truth_file, seed, clean);
+            const std::string out = (dir.path() / (name + "_fit")).string();
+            const RunResult f = run_tvid({"fit", (source_dir() / "configs/clutch_damper.yaml").string(), "--quiet",
+                                          "--force", "-o", out, "--set", "data={ file: " + rec + ", time: t }", "--set",
+                                          "windows={ estimation: [ { time: [0, 2] } ] }", "--set",
+                                          "estimation.normalize=none", "--set", "outputs.w1.weight=20", "--set",
+                                          "outputs.w2.weight=20"});
+            REQUIRE(f.exit_code == 0);
+            const json summary = json::parse(read_text(std::filesystem::path(out) / "summary.json"));
+            REQUIRE(summary["optimizer"]["converged"] == true);
+            for (const json& p : summary["parameters"]) fitted[p["name"]].push_back(p["value"].get<double>());
+        }
+        for (const json& p : candidate[name]["parameters"]) {
+            const std::vector<double>& v = fitted[p["name"]];
+            double mean = 0, sq = 0;
+            for (double x : v) mean += x / static_cast<double>(v.size());
+            for (double x : v) sq += (x - mean) * (x - mean);
+            const double sd = std::sqrt(sq / static_cast<double>(v.size() - 1));
+            const double se = p["se"].get<double>();
+            INFO(p["name"] << ": fitted SD " << sd << ", predicted SE " << se);
+            // A standard deviation of 8 values is uncertain by about 27 %: these bounds are 3 of those.
+            CHECK(sd / se > 0.35);
+            CHECK(sd / se < 1.9);
+            CHECK(std::abs(mean - p["nominal"].get<double>()) < 4 * se);
+            worst_spread[name] = std::max(worst_spread[name], sd / std::abs(p["nominal"].get<double>()));
+        }
+    }
+    CHECK(worst_spread["designed"] < worst_spread["chirp"]);
 }
