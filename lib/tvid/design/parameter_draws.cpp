@@ -5,18 +5,13 @@
 #include <cstdint>
 #include <limits>
 
+#include "tvid/util/splitmix64.hpp"
+
 namespace tvid {
 
 namespace {
-// splitmix64 (Steele, Lea & Flood 2014): a portable stream of 64-bit numbers from a seed.
-std::uint64_t next(std::uint64_t& state) {
-    std::uint64_t z = (state += 0x9e3779b97f4a7c15ULL);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-    return z ^ (z >> 31);
-}
 // Uniform in [-1, 1).
-double symmetric(std::uint64_t& state) { return static_cast<double>(next(state) >> 11) * 0x1.0p-52 - 1.0; }
+double symmetric(std::uint64_t& state) { return static_cast<double>(splitmix64(state) >> 11) * 0x1.0p-52 - 1.0; }
 }  // namespace
 
 std::vector<std::vector<double>> design_parameter_sets(const Experiment& ex, const DesignSpec& spec,

@@ -2,6 +2,7 @@
 
 #include "tvid/optim/multistart_race.hpp"
 #include "tvid/optim/parameter_scaling.hpp"
+#include "tvid/util/splitmix64.hpp"
 
 #include <algorithm>
 #include <cstdint>
@@ -32,13 +33,6 @@ std::vector<double> multistart_points(const MultistartSettings& settings, const 
 
 namespace {
 
-// SplitMix64 (Steele, Lea & Flood 2014): a well-mixed 64-bit stream from any state.
-std::uint64_t splitmix64(std::uint64_t& state) {
-    std::uint64_t z = (state += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-}
 
 }  // namespace
 
