@@ -301,3 +301,26 @@ TEST_CASE("parameter draws for a robust design: log-uniform factors within the s
     p[1].simulated = false;
     CHECK(std::isinf(averaged_criterion(p, DesignCriterion::worst_relative_se)));
 }
+
+TEST_CASE("a steady start read from the designed input's column starts at the design's base", "[design]") {
+    // The measured bench starts steady at the motor speed w1, the column its speed source
+    // reads: a design about 100 rad/s starts there, not at the recording's 338 rad/s.
+    const std::vector<Override> overrides{
+        parse_override("design={ input: w_motor, duration: 2, band: [1, 40], limits: [0, 200], base: 100, rms: 10, "
+                       "noise: { torque_upper: 0.05, torque_lower: 0.2 } }")};
+    const Experiment ex = load_experiment(test::source_dir() / "configs/aalto_bench.yaml", overrides);
+    REQUIRE(ex.steady.speed_column == "w1");
+    const DesignSpec spec = read_design_spec(ex, overrides);
+    const std::vector<double> time = excitation_time_grid(spec.samples(), spec.sample_rate);
+    const Experiment held = design_experiment(ex, spec, time, std::vector<double>(time.size(), spec.base));
+    CHECK(held.steady.speed_column.empty());
+    CHECK(held.steady.speed == 100.0);
+    // A column the design does not play keeps the recording's mean over the first window's samples.
+    const std::vector<Override> other{overrides[0], parse_override("initial_state={ kind: steady, node: motor, speed: w2, samples: 200 }")};
+    const Experiment ex2 = load_experiment(test::source_dir() / "configs/aalto_bench.yaml", other);
+    const Experiment recorded = design_experiment(ex2, read_design_spec(ex2, other), time, std::vector<double>(time.size(), 100.0));
+    double mean = 0;
+    for (std::size_t i = 0; i < 200; ++i) mean += ex2.data.column("w2")[ex2.estimation.front().first + i] / 200;
+    CHECK(recorded.steady.speed == Approx(mean).epsilon(1e-12));
+    CHECK(recorded.steady.speed > 300);
+}

@@ -38,7 +38,15 @@ Experiment design_experiment(const Experiment& ex, const DesignSpec& spec, const
     columns[ex.inputs[spec.input].column] = input;
     for (const ChannelBinding& out : ex.outputs) columns.try_emplace(out.column, n, 0.0);
     if (ex.initial_state == InitialStateKind::steady && !ex.steady.speed_column.empty()) {
+        // A column the design plays (a speed source's, the designed input's or a held one)
+        // starts at its design level, as the problem reads it (its unit's scale); another
+        // column at its recorded mean.
         d.steady.speed = window_mean(ex, ex.steady.speed_column);
+        for (std::size_t k = 0; k < ex.inputs.size(); ++k)
+            if (!ex.inputs[k].by_angle && ex.inputs[k].column == ex.steady.speed_column) {
+                d.steady.speed = spec.levels[k] * ex.inputs[k].scale;
+                break;
+            }
         d.steady.speed_column.clear();
     }
     std::vector<std::string> names;

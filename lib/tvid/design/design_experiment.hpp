@@ -13,8 +13,9 @@
 namespace tvid {
 
 /// `time` strictly increasing, `input` the designed input's samples in its channel's unit.
-/// A steady start read from a column takes that column's mean over the loaded experiment's
-/// first estimation window.
+/// A steady start read from a column takes the level of the time input bound to that column
+/// (the design's base for the designed input), or else the column's mean over the loaded
+/// experiment's first estimation window.
 Experiment design_experiment(const Experiment& ex, const DesignSpec& spec, const std::vector<double>& time,
                              const std::vector<double>& input);
 
