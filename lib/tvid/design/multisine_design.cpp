@@ -74,7 +74,7 @@ struct Search {
     std::vector<double> time, edges;
     int evaluations = 0;
     double best = std::numeric_limits<double>::infinity();
-    std::vector<double> best_power, best_value;
+    std::vector<double> best_power{}, best_value{};
 };
 
 std::vector<double> shares(const std::vector<double>& log_power) {
@@ -121,8 +121,7 @@ MultisineDesign design_multisine(const Experiment& ex, const DesignSpec& spec,
     std::vector<double> x(n, 0.0);  // the flat multisine: every band at the same power per band
     // Each band's power per line equal at the start: log10 of its share of the lines.
     {
-        const std::vector<double> t = s.time;
-        const double T = static_cast<double>(t.size()) / spec.sample_rate;
+        const double T = static_cast<double>(s.time.size()) / spec.sample_rate;
         for (unsigned b = 0; b < n; ++b) {
             const double lo = std::max(s.edges[b] * T - 1e-9, b == 0 ? 1.0 - 1e-9 : -1.0);
             const double hi = s.edges[b + 1] * T + (b + 1 == n ? 1e-9 : -1e-9);
