@@ -10,6 +10,8 @@
 #include "support/shipped_fit.hpp"
 #include "support/test_files.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid::test;
 
 namespace {
@@ -385,3 +387,5 @@ TEST_CASE("starts a controller makes impossible are refused at load, naming the 
     CHECK(sampled.err.find("initial_state.kind: an estimated start estimates angles and speeds, not a sampled "
                            "controller's memory") != std::string::npos);
 }
+
+}  // namespace TVID_UNITY_ID

@@ -12,6 +12,8 @@
 #include "support/test_files.hpp"
 #include "tvid/batch/batch_table.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid::test;
 using nlohmann::json;
 namespace fs = std::filesystem;
@@ -221,3 +223,5 @@ TEST_CASE("tvid batch: a job whose every candidate fails is a failed row, and th
     CHECK(s["failed"] == 1);
     CHECK(s["ok"] == 0);
 }
+
+}  // namespace TVID_UNITY_ID

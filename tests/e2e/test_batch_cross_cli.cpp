@@ -13,6 +13,8 @@
 #include "support/test_files.hpp"
 #include "tvid/batch/batch_table.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid::test;
 using nlohmann::json;
 namespace fs = std::filesystem;
@@ -186,3 +188,5 @@ TEST_CASE("tvid batch --cross with estimated starts estimates each validated job
                 CHECK(std::stod(row[column_of(matrix.header, "fit_" + job + "_" + output)]) > 99.99999);
             }
 }
+
+}  // namespace TVID_UNITY_ID

@@ -8,6 +8,8 @@
 #include "support/run_tvid.hpp"
 #include "support/test_files.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid::test;
 using nlohmann::json;
 using nlohmann::ordered_json;
@@ -145,3 +147,5 @@ TEST_CASE("check --write-reference refuses an interrupted fit's report and warns
     CHECK(interrupted.err.rfind(report + "/summary.json: interrupted: the report is of an interrupted fit", 0) == 0);
     CHECK_FALSE(std::filesystem::exists(ref2));
 }
+
+}  // namespace TVID_UNITY_ID

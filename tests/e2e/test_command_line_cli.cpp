@@ -15,6 +15,8 @@
 #include "support/run_tvid.hpp"
 #include "support/test_files.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid::test;
 
 TEST_CASE("tvid help COMMAND prints that command's options", "[e2e][cli]") {
@@ -195,3 +197,5 @@ TEST_CASE("a file tvid did not write is replaced only with --force", "[e2e][cli]
     CHECK(run_tvid({"check", report.string(), "--write-reference", reference.string(), "-q", "--force"}).exit_code == 0);
     CHECK(run_tvid({"check", report.string(), "--write-reference", reference.string(), "-q"}).exit_code == 0);
 }
+
+}  // namespace TVID_UNITY_ID

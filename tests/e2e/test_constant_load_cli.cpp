@@ -9,6 +9,8 @@
 #include "support/run_tvid.hpp"
 #include "support/test_files.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid::test;
 using nlohmann::json;
 
@@ -88,3 +90,5 @@ TEST_CASE("a torque is a measured input or a constant value, never both or neith
     CHECK(neither.exit_code == 2);
     CHECK(neither.err.find("value:") != std::string::npos);
 }
+
+}  // namespace TVID_UNITY_ID

@@ -10,6 +10,8 @@
 #include "support/run_tvid.hpp"
 #include "support/test_files.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid::test;
 using nlohmann::json;
 
@@ -187,3 +189,5 @@ TEST_CASE("the shipped custom-network example identifies the CVT model by least 
         if (p["name"] == "k_plus")
             CHECK(p["value"].get<double>() == Approx(truth["k_plus"].get<double>()).epsilon(0.02));
 }
+
+}  // namespace TVID_UNITY_ID

@@ -17,6 +17,8 @@
 #include "support/run_tvid.hpp"
 #include "support/test_files.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid::test;
 using nlohmann::json;
 
@@ -335,3 +337,5 @@ TEST_CASE("a designed input's fits spread as tvid design predicts, and less than
     }
     CHECK(worst_spread["designed"] < worst_spread["chirp"]);
 }
+
+}  // namespace TVID_UNITY_ID

@@ -22,6 +22,8 @@
 #include "support/shipped_fit.hpp"
 #include "support/test_files.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid::test;
 using nlohmann::json;
 
@@ -258,3 +260,5 @@ TEST_CASE("a continuous PI position controller integrates in its own node and re
     CHECK(r.err.find("initial_state: node servo.integral holds a position controller's integral") != std::string::npos);
     CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
 }
+
+}  // namespace TVID_UNITY_ID

@@ -16,6 +16,8 @@
 #include "support/shipped_fit.hpp"
 #include "support/test_files.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid::test;
 using nlohmann::json;
 
@@ -203,3 +205,5 @@ TEST_CASE("validation: estimated leaves the samples its start is fitted on out o
     CHECK(w["T_shaft"]["rmse"].get<double>() > 10 * t["T_shaft"]["rmse"].get<double>());
     CHECK(w["w_vehicle"]["rmse"].get<double>() > 10 * t["w_vehicle"]["rmse"].get<double>());
 }
+
+}  // namespace TVID_UNITY_ID

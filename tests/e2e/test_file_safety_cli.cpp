@@ -23,6 +23,8 @@
 #include "support/run_tvid.hpp"
 #include "support/test_files.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid::test;
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -485,3 +487,5 @@ TEST_CASE("simulate -o and check --write-reference know their own files by struc
     }
     CHECK(read_text(sim).rfind("t [s],window,", 0) == 0);
 }
+
+}  // namespace TVID_UNITY_ID

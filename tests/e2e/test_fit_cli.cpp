@@ -12,6 +12,8 @@
 #include "support/run_tvid.hpp"
 #include "support/test_files.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid::test;
 using nlohmann::json;
 
@@ -423,3 +425,5 @@ TEST_CASE("an engine's traces end with the crank angle: cycle k runs from k·720
         CHECK(last == Approx(720.0 * (k + 1)));
     }
 }
+
+}  // namespace TVID_UNITY_ID

@@ -8,6 +8,8 @@
 #include "support/run_tvid.hpp"
 #include "support/test_files.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid::test;
 
 namespace {
@@ -139,3 +141,5 @@ TEST_CASE("a node behind a 160:1 gear may turn 160 times faster than the measure
     REQUIRE(rmse_at != std::string::npos);
     CHECK(std::stod(r.out.substr(r.out.find(':', rmse_at) + 1)) < 0.05);
 }
+
+}  // namespace TVID_UNITY_ID

@@ -16,6 +16,8 @@
 #include "support/run_tvid.hpp"
 #include "support/test_files.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid::test;
 using nlohmann::json;
 
@@ -399,3 +401,5 @@ TEST_CASE("F5, F19: a steady start reads its speed column as the channel does: u
         CHECK(worst <= 1e-6 * largest);
     }
 }
+
+}  // namespace TVID_UNITY_ID

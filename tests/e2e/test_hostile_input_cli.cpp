@@ -19,6 +19,8 @@
 #include "support/test_files.hpp"
 #include "tvid/io/sha256.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid::test;
 using nlohmann::json;
 namespace fs = std::filesystem;
@@ -413,3 +415,5 @@ TEST_CASE("weak messages and silent acceptances are named for what they are", "[
     const json s = json::parse(read_text(direct / "summary.json"));
     CHECK(s["optimizer"]["evaluations"].get<long long>() <= 20);
 }
+
+}  // namespace TVID_UNITY_ID

@@ -9,6 +9,8 @@
 #include "support/run_tvid.hpp"
 #include "support/test_files.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid::test;
 using nlohmann::json;
 
@@ -92,3 +94,5 @@ TEST_CASE("with rho1 fixed the other eight CVT parameters are determined", "[e2e
     for (const json& p : id["parameters"]) CHECK(p["flag"] != "undetermined");
     for (const std::string& w : warning_lines(r.out)) CHECK(w.find("parameter directions") == std::string::npos);
 }
+
+}  // namespace TVID_UNITY_ID

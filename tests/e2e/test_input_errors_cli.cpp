@@ -9,6 +9,8 @@
 #include "support/run_tvid.hpp"
 #include "support/test_files.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid::test;
 
 namespace {
@@ -169,3 +171,5 @@ TEST_CASE("command-line errors are one line naming the flag typed, exit 2", "[e2
     CHECK(help.exit_code == 0);
     CHECK(help.out.find("Usage: tvid fit [OPTIONS] experiment") != std::string::npos);
 }
+
+}  // namespace TVID_UNITY_ID

@@ -17,6 +17,8 @@
 #include "support/shipped_fit.hpp"
 #include "support/test_files.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid::test;
 using nlohmann::json;
 
@@ -116,3 +118,5 @@ TEST_CASE("an input's noise: is a positive number of the input's own, one line a
         CHECK_FALSE(std::filesystem::exists(tmp.path() / "simulated.csv"));
     }
 }
+
+}  // namespace TVID_UNITY_ID

@@ -12,6 +12,8 @@
 #include "support/run_tvid.hpp"
 #include "support/test_files.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid::test;
 using nlohmann::json;
 
@@ -146,3 +148,5 @@ TEST_CASE("a second Ctrl-C exits at once with 130 and leaves no torn file", "[e2
                 CHECK_NOTHROW(json::parse(read_text(entry.path())));
         }
 }
+
+}  // namespace TVID_UNITY_ID

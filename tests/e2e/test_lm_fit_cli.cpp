@@ -6,6 +6,8 @@
 #include "support/run_tvid.hpp"
 #include "support/test_files.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid::test;
 using nlohmann::json;
 
@@ -69,3 +71,5 @@ TEST_CASE("the lm optimizer refuses an l1 cost and an unknown Jacobian", "[e2e][
     CHECK(bad.exit_code == 2);
     CHECK(bad.err.rfind("tvid: --optimizer: newton not in {pso,lm,", 0) == 0);
 }
+
+}  // namespace TVID_UNITY_ID

@@ -9,6 +9,8 @@
 #include "support/run_tvid.hpp"
 #include "support/test_files.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid::test;
 using nlohmann::json;
 
@@ -207,3 +209,5 @@ TEST_CASE("tvid fit writes the modes at the fitted parameters into summary.json"
     // The printed summary is the file's.
     CHECK(json::parse(r.out)["modes"] == modes);
 }
+
+}  // namespace TVID_UNITY_ID

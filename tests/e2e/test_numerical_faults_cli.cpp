@@ -8,6 +8,8 @@
 #include "support/run_tvid.hpp"
 #include "support/test_files.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid::test;
 
 namespace {
@@ -48,3 +50,5 @@ TEST_CASE("tvid simulate and validate exit 1 naming the window whose simulation 
         CHECK(r.err.empty());
     }
 }
+
+}  // namespace TVID_UNITY_ID

@@ -10,6 +10,8 @@
 #include "support/run_tvid.hpp"
 #include "support/test_files.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid::test;
 using nlohmann::json;
 
@@ -187,3 +189,5 @@ TEST_CASE("bad optimizer settings exit 2 with one line naming the key", "[e2e][n
           std::string::npos);
     CHECK_FALSE(std::filesystem::exists(out));
 }
+
+}  // namespace TVID_UNITY_ID

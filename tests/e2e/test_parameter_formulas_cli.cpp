@@ -12,6 +12,8 @@
 #include "support/shipped_fit.hpp"
 #include "support/test_files.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid::test;
 using nlohmann::json;
 
@@ -90,3 +92,5 @@ TEST_CASE("a formula that reads itself through others, or an unknown name, is on
         CHECK_FALSE(std::filesystem::exists(tmp.path() / "bad"));
     }
 }
+
+}  // namespace TVID_UNITY_ID

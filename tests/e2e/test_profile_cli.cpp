@@ -10,6 +10,8 @@
 #include "support/run_tvid.hpp"
 #include "support/test_files.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid::test;
 using nlohmann::json;
 
@@ -70,3 +72,5 @@ TEST_CASE("tvid profile input errors: one line, exit 2", "[e2e][profile]") {
         CHECK_FALSE(std::filesystem::exists(tmp.path() / "p/profile.json"));
     }
 }
+
+}  // namespace TVID_UNITY_ID

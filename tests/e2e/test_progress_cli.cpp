@@ -11,6 +11,8 @@
 #include "support/run_tvid.hpp"
 #include "support/test_files.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid::test;
 
 namespace {
@@ -133,3 +135,5 @@ TEST_CASE("the swarm's foretold time is not said with --quiet", "[e2e][progress]
     CHECK(r.err.empty());
     CHECK(r.out.empty());
 }
+
+}  // namespace TVID_UNITY_ID

@@ -14,6 +14,8 @@
 #include "support/run_tvid.hpp"
 #include "support/test_files.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid::test;
 using nlohmann::json;
 
@@ -224,3 +226,5 @@ TEST_CASE("a transducer delay that buys the interpolation's smoothing is flagged
         if (f["code"] == "delay_smoothing") flagged = f["subject"] == "d_T";
     CHECK(flagged);
 }
+
+}  // namespace TVID_UNITY_ID

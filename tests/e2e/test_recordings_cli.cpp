@@ -18,6 +18,8 @@
 #include "support/test_files.hpp"
 #include "tvid/io/sha256.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid::test;
 using nlohmann::json;
 
@@ -481,3 +483,5 @@ TEST_CASE("a sampled controller samples on each recording's own clock when recor
         CHECK(relative_difference(b["validation"]["pooled"][output]["rmse"].get<double>(), expected) <= 1e-9);
     }
 }
+
+}  // namespace TVID_UNITY_ID

@@ -23,6 +23,8 @@
 #include "support/test_files.hpp"
 #include "tvid/batch/batch_table.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid::test;
 namespace fs = std::filesystem;
 
@@ -317,3 +319,5 @@ TEST_CASE("a batch killed with SIGKILL leaves batch files complete or absent, an
     CHECK(partial > 0);  // some kills did land while the batch was writing its rows
     CHECK(resumed > 0);
 }
+
+}  // namespace TVID_UNITY_ID

@@ -24,6 +24,8 @@
 #include "support/run_tvid.hpp"
 #include "support/test_files.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid::test;
 using nlohmann::json;
 using nlohmann::ordered_json;
@@ -226,3 +228,5 @@ TEST_CASE("a reference written from one noise realisation passes a refit on anot
     CHECK(fail.out.find("tvid check: FAIL, 1 of ") != std::string::npos);
     CHECK(fail.out.find("parameters.k_plus") != std::string::npos);
 }
+
+}  // namespace TVID_UNITY_ID

@@ -10,6 +10,8 @@
 #include "support/run_tvid.hpp"
 #include "support/test_files.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid::test;
 using nlohmann::json;
 
@@ -81,3 +83,5 @@ TEST_CASE("a swarm whose best is no minimum is told so, least squares from it re
     CHECK(has_finding(swarm, "not_at_minimum"));
     CHECK_FALSE(has_finding(polished, "not_at_minimum"));
 }
+
+}  // namespace TVID_UNITY_ID

@@ -10,6 +10,8 @@
 #include "support/run_tvid.hpp"
 #include "support/test_files.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid::test;
 using nlohmann::json;
 
@@ -262,3 +264,5 @@ TEST_CASE("tvid sensitivity exits 1 and names the window when its simulation fai
     CHECK(!std::filesystem::exists(out / "sensitivity.json"));
     CHECK(!std::filesystem::exists(out / "sensitivity.csv"));
 }
+
+}  // namespace TVID_UNITY_ID

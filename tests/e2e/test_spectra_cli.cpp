@@ -14,6 +14,8 @@
 #include "support/run_tvid.hpp"
 #include "support/test_files.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid::test;
 using nlohmann::json;
 
@@ -293,3 +295,5 @@ TEST_CASE("recordings at two sample rates: the spectrum keeps one rate, puts its
     CHECK(f["measured"]["sample_rate_hz"].get<double>() == Approx(1000.0).epsilon(1e-6));
     CHECK(f["measured"]["left_out_windows"].size() == 1);
 }
+
+}  // namespace TVID_UNITY_ID

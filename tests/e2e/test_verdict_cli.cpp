@@ -12,6 +12,8 @@
 #include "support/test_files.hpp"
 #include "tvid/batch/batch_table.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid::test;
 using nlohmann::json;
 namespace fs = std::filesystem;
@@ -137,3 +139,5 @@ TEST_CASE("batch rows carry each job verdict, and strict mode exits 1 when one h
     good.push_back("--strict");
     CHECK(run_tvid(good).exit_code == 0);
 }
+
+}  // namespace TVID_UNITY_ID

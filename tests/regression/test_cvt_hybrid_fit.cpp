@@ -18,6 +18,8 @@
 #include "tvid/fit/fit_run.hpp"
 #include "tvid/optim/hybrid_pso_lm.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 using tvid::test::read_text;
 using tvid::test::source_dir;
@@ -107,3 +109,5 @@ TEST_CASE("noise-free CVT data of the fit's own simulation: pso+lm reaches the f
         CHECK(fitted.at(name) == Approx(truth).epsilon(1e-3));
     }
 }
+
+}  // namespace TVID_UNITY_ID

@@ -8,6 +8,8 @@
 #include "tvid/experiment/experiment.hpp"
 #include "tvid/fit/fit_run.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 using tvid::test::read_text;
 using tvid::test::source_dir;
@@ -46,3 +48,5 @@ TEST_CASE("noise-free CVT tip-in: LM from 5-15 % off returns to the truth", "[re
         CHECK(fit.run.history[k].evaluations >= fit.run.history[k - 1].evaluations);
     }
 }
+
+}  // namespace TVID_UNITY_ID

@@ -10,6 +10,8 @@
 #include "tvid/experiment/experiment.hpp"
 #include "tvid/fit/fit_run.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 using tvid::test::read_text;
 using tvid::test::source_dir;
@@ -87,3 +89,5 @@ TEST_CASE("noisy CVT tip-in: the paper's swarm reaches the Q of the true paramet
     CHECK(fit.evaluation.cost > 0.8 * truth.cost);
     CHECK(fit.evaluation.validation.pooled.at(0).q_index > 97.0);
 }
+
+}  // namespace TVID_UNITY_ID

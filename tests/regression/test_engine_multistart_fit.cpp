@@ -17,6 +17,8 @@
 #include "tvid/experiment/experiment.hpp"
 #include "tvid/fit/fit_run.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 using tvid::test::read_text;
 using tvid::test::source_dir;
@@ -53,3 +55,5 @@ TEST_CASE("engine: multistart from the box x0.5..x2 of the truth finds the globa
         CHECK(fit.best_params[i] == Approx(truth[name].get<double>()).epsilon(0.01));
     }
 }
+
+}  // namespace TVID_UNITY_ID

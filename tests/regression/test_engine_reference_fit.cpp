@@ -11,6 +11,8 @@
 #include "tvid/analysis/identifiability.hpp"
 #include "tvid/fit/fit_run.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 using tvid::test::read_text;
 using tvid::test::source_dir;
@@ -136,3 +138,5 @@ TEST_CASE("engine: LM on the noisy recording validates on every other cycle", "[
     CHECK(std::abs(c.value - truth) < 3.0 * c.std_error);
     CHECK(c.std_error < 1e-3 * c.value);
 }
+
+}  // namespace TVID_UNITY_ID

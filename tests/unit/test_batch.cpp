@@ -12,6 +12,8 @@
 #include "tvid/batch/batch_table.hpp"
 #include "tvid/util/input_error.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 using tvid::test::read_text;
 using tvid::test::TempDir;
@@ -203,3 +205,5 @@ TEST_CASE("the summary spreads the successful rows only", "[batch]") {
     CHECK(json["metrics"]["q_validation"]["mean"].is_null());  // no values: null, not NaN
     CHECK(json["ok"] == 3);
 }
+
+}  // namespace TVID_UNITY_ID

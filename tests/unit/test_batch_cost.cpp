@@ -27,6 +27,8 @@
 #include "tvid/experiment/experiment.hpp"
 #include "tvid/optim/pso.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 
 namespace {
@@ -375,3 +377,5 @@ TEST_CASE("a candidate that turns a node far beyond the measured speeds fails in
     CHECK_FALSE(std::isfinite(problem.cost(points.data() + 4, *ws)));
     CHECK(mismatches(problem, points, std::vector<double>(4, kInf), kBatchLanes) == 0);
 }
+
+}  // namespace TVID_UNITY_ID

@@ -11,6 +11,8 @@
 #include "tvid/batch/cross_matrix.hpp"
 #include "tvid/batch/robust_statistics.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 using Catch::Matchers::Contains;
 
@@ -158,3 +160,5 @@ TEST_CASE("outlier jobs: fewer than five jobs with a value judge no job", "[batc
     REQUIRE(five.outliers.size() == 1);
     CHECK(five.outliers[0].id == "job3");
 }
+
+}  // namespace TVID_UNITY_ID

@@ -11,6 +11,8 @@
 #include "tvid/experiment/experiment.hpp"
 #include "tvid/optim/pso.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 
 namespace {
@@ -102,3 +104,5 @@ TEST_CASE("the swarm's path is bit-identical with and without bounded costs, on 
         }
     }
 }
+
+}  // namespace TVID_UNITY_ID

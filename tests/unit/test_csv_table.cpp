@@ -16,6 +16,8 @@
 #include "tvid/io/csv_table.hpp"
 #include "tvid/util/input_error.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 namespace fs = std::filesystem;
 using tvid::CsvTable;
 using tvid::InputError;
@@ -592,3 +594,5 @@ TEST_CASE("CsvTable::require_strictly_increasing", "[csv]") {
     const CsvTable single = table_for(dir, "t\n7\n");
     CHECK_NOTHROW(single.require_strictly_increasing("t"));
 }
+
+}  // namespace TVID_UNITY_ID

@@ -21,6 +21,8 @@
 #include "tvid/model/parameter_units.hpp"
 #include "tvid/util/input_error.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 
 namespace {
@@ -345,3 +347,5 @@ TEST_CASE("the measured frequency response reads the channels as the parameters 
     }
     CHECK(bins >= 3);
 }
+
+}  // namespace TVID_UNITY_ID

@@ -23,6 +23,8 @@
 #include "tvid/experiment/experiment.hpp"
 #include "tvid/util/input_error.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 
 namespace {
@@ -324,3 +326,5 @@ TEST_CASE("a steady start read from the designed input's column starts at the de
     CHECK(recorded.steady.speed == Approx(mean).epsilon(1e-12));
     CHECK(recorded.steady.speed > 300);
 }
+
+}  // namespace TVID_UNITY_ID

@@ -4,6 +4,8 @@
 
 #include "tvid/analysis/determined_combinations.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 
 namespace {
@@ -88,3 +90,5 @@ TEST_CASE("weak parameters that do not trade against each other form no group", 
     const Case d = make_case({1.0, 2.0}, {{100.0, 0.0999}, {0.0999, 1e-4}});
     CHECK(determined_combinations(d.u, d.id, d.values).empty());
 }
+
+}  // namespace TVID_UNITY_ID

@@ -11,6 +11,8 @@
 #include "tvid/model/slider_crank.hpp"
 #include "tvid/model/smooth_clearance.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 
 TEST_CASE("dual numbers carry exact first derivatives", "[dual]") {
@@ -104,3 +106,5 @@ TEST_CASE("PackedDual numbers give the double values and Dual's derivatives", "[
     CHECK(p.all_finite());
     CHECK_FALSE((px / 0.0).all_finite());
 }
+
+}  // namespace TVID_UNITY_ID

@@ -25,6 +25,8 @@
 #include "tvid/simd/pack.hpp"
 #include "support/text_element_source.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 using tvid::test::TextSource;
 using tvid::test::read_error;
@@ -441,3 +443,5 @@ TEST_CASE("a kind reads its entry and the table checks its fields' signs", "[mod
     CHECK(net.spring_dampers[0].k.parameter == 0);  // k = ki
     CHECK(net.spring_dampers[0].c.constant == 2.0);  // c = kp
 }
+
+}  // namespace TVID_UNITY_ID

@@ -13,6 +13,8 @@
 
 #include "tvid/simd/elementary_functions.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 
 namespace {
@@ -187,3 +189,5 @@ TEST_CASE("every lane of a pack computes the bits of the scalar functions", "[el
     check(std::integral_constant<int, 8>{});
     check(std::integral_constant<int, 16>{});
 }
+
+}  // namespace TVID_UNITY_ID

@@ -9,6 +9,8 @@
 #include "tvid/experiment/experiment.hpp"
 #include "tvid/util/input_error.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 using tvid::test::source_dir;
 using tvid::test::TempDir;
@@ -185,3 +187,5 @@ TEST_CASE("a custom cylinder is checked and its torque can be an output", "[engi
     CHECK(e.key() == "model.elements[0].rod_length");
     CHECK(e.line() == 6);
 }
+
+}  // namespace TVID_UNITY_ID

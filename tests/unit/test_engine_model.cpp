@@ -9,6 +9,8 @@
 #include "tvid/model/slider_crank.hpp"
 #include "tvid/sim/simulate.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 
 namespace {
@@ -158,3 +160,5 @@ TEST_CASE("a cylinder's gas pressure turns the crank forward after top dead cent
     CHECK(dx[6 + 1] == Approx(torque / (kTruth[1] + kTruth[3] * ds * ds)));
     CHECK(dx[6 + 2] == 0.0);
 }
+
+}  // namespace TVID_UNITY_ID

@@ -7,6 +7,8 @@
 #include "tvid/model/equilibrium.hpp"
 #include "tvid/model/presets.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 
 namespace {
@@ -115,3 +117,5 @@ TEST_CASE("the shared damped Newton converges to rounding and steps by one rule"
     CHECK(s.free_unknowns[0] == 0);
     CHECK(s.free_unknowns[1] == 1);
 }
+
+}  // namespace TVID_UNITY_ID

@@ -18,6 +18,8 @@
 #include "tvid/model/parameter_units.hpp"
 #include "tvid/util/input_error.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 using tvid::test::source_dir;
 
@@ -206,3 +208,5 @@ TEST_CASE("estimated starts refuse what they cannot seed or estimate, naming ini
                Catch::Contains("crank-angle channel"));
     CHECK_THAT(refusal({{"initial_state.validation", "sometimes"}}), Catch::Contains("initial_state.validation"));
 }
+
+}  // namespace TVID_UNITY_ID

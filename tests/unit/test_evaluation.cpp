@@ -7,6 +7,8 @@
 #include "tvid/estimation/identification_problem.hpp"
 #include "tvid/experiment/experiment.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 using tvid::test::source_dir;
 
@@ -49,3 +51,5 @@ TEST_CASE("an evaluation on several threads equals the one-thread evaluation", "
     for (std::size_t w = 0; w < ex.validation.size(); ++w)
         CHECK(three.validation.windows[w].trace.window == &ex.validation[w]);
 }
+
+}  // namespace TVID_UNITY_ID

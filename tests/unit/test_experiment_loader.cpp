@@ -19,6 +19,8 @@
 #include "tvid/model/network_model.hpp"
 #include "tvid/util/input_error.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid::test;
 using tvid::Experiment;
 using tvid::InputError;
@@ -1417,3 +1419,5 @@ TEST_CASE("an output's weight, detrend and high-pass are read, and bad ones refu
                      "unknown key");
     }
 }
+
+}  // namespace TVID_UNITY_ID

@@ -16,6 +16,8 @@
 #include "tvid/io/sha256.hpp"
 #include "tvid/util/input_error.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid::test;
 using tvid::Experiment;
 using tvid::InputError;
@@ -297,3 +299,5 @@ TEST_CASE("engine cycles count on each recording's own crank angle, moved by who
     for (std::size_t i = 1; i < ex.crank_angle.size(); ++i) REQUIRE(ex.crank_angle[i] > ex.crank_angle[i - 1]);
     CHECK(ex.crank_angle[101] * 180.0 / 3.14159265358979323846 == Approx(3960.0));
 }
+
+}  // namespace TVID_UNITY_ID

@@ -4,6 +4,8 @@
 
 #include "tvid/analysis/fit_metrics.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 
 TEST_CASE("fit metrics of a known residual", "[metrics]") {
@@ -46,3 +48,5 @@ TEST_CASE("the residual ratio counts only samples at least 10 % of the window's 
     const std::vector<double> speed{128.0, 131.0, 130.0}, simulated{128.5, 130.0, 130.2};
     CHECK(compute_fit_metrics(speed, simulated, 0.0).max_abs_residual_ratio == Approx(1.0 / 131.0));
 }
+
+}  // namespace TVID_UNITY_ID

@@ -15,6 +15,8 @@
 #include "tvid/fit/fit_run.hpp"
 #include "tvid/fit/fit_verdict.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 
 namespace {
@@ -385,3 +387,5 @@ TEST_CASE("a linear search box of three decades is flagged, and scale: log clear
     // lm starts at init: its box is only a bound.
     CHECK_FALSE(has(fit(noisy_bench().load(kFree)).verdict, "wide_linear_box"));
 }
+
+}  // namespace TVID_UNITY_ID

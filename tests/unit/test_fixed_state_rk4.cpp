@@ -10,6 +10,8 @@
 #include "tvid/experiment/experiment.hpp"
 #include "tvid/sim/simulate.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 
 namespace {
@@ -73,3 +75,5 @@ TEST_CASE("fixed-state RK4 equals odeint's RK4 to rounding on the CVT window (in
                                         (std::abs(odeint.states[k][j]) + 1e-3));
     CHECK(worst < 1e-10);
 }
+
+}  // namespace TVID_UNITY_ID

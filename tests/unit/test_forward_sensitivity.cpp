@@ -12,6 +12,8 @@
 #include "tvid/estimation/forward_sensitivity.hpp"
 #include "tvid/experiment/experiment.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 using tvid::test::source_dir;
 
@@ -179,3 +181,5 @@ TEST_CASE("the warm-up shooting meets the encoder at both of its samples", "[sen
         CHECK(x == ws->x);  // the shooting's own last state, bit for bit
     }
 }
+
+}  // namespace TVID_UNITY_ID

@@ -11,6 +11,8 @@
 #include "tvid/model/elements/friction.hpp"
 #include "tvid/model/network_model.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 using tvid::test::read_error;
 using tvid::test::TextSource;
@@ -151,3 +153,5 @@ TEST_CASE("the friction reader's rules", "[model][friction]") {
     CHECK(read_error(TextSource({{"node", "a"}, {"coulomb", "-1"}}), friction) ==
           "coulomb: cannot be negative: a dry friction torque (got -1)");
 }
+
+}  // namespace TVID_UNITY_ID

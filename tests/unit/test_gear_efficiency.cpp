@@ -8,6 +8,8 @@
 #include "tvid/model/elements/gear_mesh.hpp"
 #include "tvid/model/network_model.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 using tvid::test::read_error;
 using tvid::test::TextSource;
@@ -95,3 +97,5 @@ TEST_CASE("a lossless mesh is unchanged to the bit, and the efficiency's rules",
     CHECK(read_error(TextSource({{"between", ""}, {"ratio", "3"}, {"k", "1"}, {"smoothing_power", "3"}}), read) ==
           "smoothing_power: smooths a lossy mesh's power flow: give efficiency:");
 }
+
+}  // namespace TVID_UNITY_ID

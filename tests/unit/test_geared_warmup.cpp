@@ -13,6 +13,8 @@
 #include "tvid/model/steady_motion.hpp"
 #include "tvid/sim/simulate.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 
 TEST_CASE("a shot warm-up turns a geared line through its ratio and reproduces the recording", "[estimation][shooting]") {
@@ -91,3 +93,5 @@ estimation: { cost: l2, optimizer: lm }
     // again, to the shooting's tolerance (801 samples of a ~100 rad/s speed).
     CHECK(problem.cost(&k, *ws) < 1e-12);
 }
+
+}  // namespace TVID_UNITY_ID

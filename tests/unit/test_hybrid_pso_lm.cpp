@@ -6,6 +6,8 @@
 #include "support/sinusoid_fit.hpp"
 #include "tvid/optim/hybrid_pso_lm.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 using tvid::test::SinusoidFit;
 
@@ -83,3 +85,5 @@ TEST_CASE("pso+lm: a stop during the polish ends it", "[hybrid]") {
     CHECK(h.history.back().iteration == swarm.iterations + 3);
     CHECK_FALSE(h.success);
 }
+
+}  // namespace TVID_UNITY_ID

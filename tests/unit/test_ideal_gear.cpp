@@ -12,6 +12,8 @@
 #include "tvid/model/rigid_gears.hpp"
 #include "tvid/model/steady_motion.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 
 namespace {
@@ -199,3 +201,5 @@ TEST_CASE("ideal gears around a loop, or on a prescribed or cylinder node, are r
     CHECK(prescribed.find("node c") != std::string::npos);
     CHECK(element == "drive");
 }
+
+}  // namespace TVID_UNITY_ID

@@ -12,6 +12,8 @@
 #include "tvid/analysis/identifiability.hpp"
 #include "tvid/experiment/experiment.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 
 namespace {
@@ -279,3 +281,5 @@ TEST_CASE("a free line seen only through its shaft torque: its start speeds chan
     CHECK(c.text == "changing start1.engine.speed by +0.58, start1.gearbox.speed by +0.58 and start1.vehicle.speed by "
                     "+0.58 together (absolute changes, or any multiple of them) leaves the output unchanged");
 }
+
+}  // namespace TVID_UNITY_ID

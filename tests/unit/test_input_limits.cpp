@@ -24,6 +24,8 @@
 #include "tvid/util/input_error.hpp"
 #include "tvid/util/stop_request.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 using tvid::test::TempDir;
 namespace fs = std::filesystem;
@@ -224,3 +226,5 @@ TEST_CASE("a combination expression nested deeper than 100 levels is refused, no
     CHECK_THROWS_WITH(ParameterExpression(deep), Catch::Contains("nested more than 100 levels deep"));
     CHECK_THROWS_WITH(ParameterExpression(std::string(100000, '-') + "a"), Catch::Contains("nested more than"));
 }
+
+}  // namespace TVID_UNITY_ID

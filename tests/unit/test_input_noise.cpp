@@ -17,6 +17,8 @@
 #include "tvid/fit/fit_verdict.hpp"
 #include "tvid/util/input_error.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 
 namespace {
@@ -228,3 +230,5 @@ TEST_CASE("an input's noise must be a positive number, in the column's unit", "[
     const Experiment ex = bench().load("u_logged", ", scale: 2, noise: 0.5", kFixed);
     CHECK(ex.inputs[0].noise == 1.0);  // in the column's unit, converted with it
 }
+
+}  // namespace TVID_UNITY_ID

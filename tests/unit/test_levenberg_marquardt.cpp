@@ -11,6 +11,8 @@
 
 #include "tvid/optim/levenberg_marquardt.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 
 namespace {
@@ -636,3 +638,5 @@ TEST_CASE("LM stopped while evaluating side by side stays at its last accepted p
         CHECK(s.best_cost == s.history.back().best_cost);
     }
 }
+
+}  // namespace TVID_UNITY_ID

@@ -10,6 +10,8 @@
 #include "tvid/model/dual.hpp"
 #include "tvid/model/elements/multistage_spring.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 using tvid::test::read_error;
 using tvid::test::TextSource;
@@ -141,3 +143,5 @@ TEST_CASE("the multi-stage spring's reader", "[model][multistage_spring]") {
     CHECK(read_error(TextSource::with_lists({{"between", ""}}, {{"stages", {{{"angle", "0"}, {"k", "-100"}}}}}), read) ==
           "stages[0].k: cannot be negative: a stage stiffness (got -100)");
 }
+
+}  // namespace TVID_UNITY_ID

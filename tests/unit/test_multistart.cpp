@@ -13,6 +13,8 @@
 #include "tvid/optim/multistart.hpp"
 #include "tvid/optim/multistart_race.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 using tvid::test::SinusoidFit;
 
@@ -308,3 +310,5 @@ TEST_CASE("a start whose fate at a rung is settled goes on at once, the others w
     race.leave(0, 5.0);
     race.leave(1, 7.0);
 }
+
+}  // namespace TVID_UNITY_ID

@@ -11,6 +11,8 @@
 #include "tvid/optim/nlopt_algorithms.hpp"
 #include "tvid/optim/nlopt_minimizer.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 
 namespace {
@@ -206,3 +208,5 @@ TEST_CASE("NLopt budget and bad settings", "[nlopt]") {
     bad_local.local_algorithm = "GN_DIRECT";
     CHECK_THROWS_AS(run_nlopt(bad_local, {0, 0}, {-1, -1}, {1, 1}, f), std::invalid_argument);
 }
+
+}  // namespace TVID_UNITY_ID

@@ -7,6 +7,8 @@
 
 #include "tvid/sim/observation_loops.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 
 namespace {
@@ -90,3 +92,5 @@ TEST_CASE("controlled steps end exactly on each sample and keep to their budget"
     ControlledSteps tight(time, 0, 3, 4, [](std::size_t) {}, try_step);
     CHECK(tight(0) == SimulationStatus::step_budget_exceeded);  // 1 s: 2 rejections, then 4 steps of 0.25 s
 }
+
+}  // namespace TVID_UNITY_ID

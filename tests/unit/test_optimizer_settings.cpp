@@ -10,6 +10,8 @@
 #include "tvid/experiment/experiment.hpp"
 #include "tvid/util/input_error.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 using tvid::test::source_dir;
 using tvid::test::TempDir;
@@ -192,3 +194,5 @@ TEST_CASE("settings are read whole, then validated: the problem names its key an
         CHECK(r.experiment->estimation_settings.optimizer == kind);
     }
 }
+
+}  // namespace TVID_UNITY_ID

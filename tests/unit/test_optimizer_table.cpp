@@ -9,6 +9,8 @@
 #include "tvid/experiment/optimizer_settings_reader.hpp"
 #include "tvid/fit/optimizer_table.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 
 TEST_CASE("the optimizer table has one row for every optimizer kind, in the enum's order") {
@@ -103,3 +105,5 @@ TEST_CASE("the settings sections under estimation: come from the kinds' own file
     CHECK(optimizer_kind_row(OptimizerKind::nlopt).check_parameters != nullptr);  // a global algorithm needs bounds
     CHECK(optimizer_kind_row(OptimizerKind::lm).check_parameters == nullptr);
 }
+
+}  // namespace TVID_UNITY_ID

@@ -10,6 +10,8 @@
 #include "tvid/experiment/experiment.hpp"
 #include "tvid/fit/fit_run.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 
 namespace {
@@ -70,3 +72,5 @@ TEST_CASE("multistart is bit-identical for 1 and 3 threads", "[multistart][threa
         {{"estimation.optimizer", "multistart"}, {"estimation.multistart", "{ starts: 4, max_iterations: 5 }"}},
         "multistart");  // the last starts running take up the cores the others left: more simulations side by side
 }
+
+}  // namespace TVID_UNITY_ID

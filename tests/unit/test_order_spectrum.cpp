@@ -7,6 +7,8 @@
 
 #include "tvid/analysis/order_spectrum.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 
 namespace {
@@ -121,3 +123,5 @@ TEST_CASE("orders stop below half the samples per cycle", "[spectra]") {
     // Resampled from 37 samples onto 38 points (at least 2·18 + 2), order 2 is still read to a few per cent.
     CHECK(cycles[0].amplitude[at_order(2)] == Approx(3.0).epsilon(0.05));
 }
+
+}  // namespace TVID_UNITY_ID

@@ -12,6 +12,8 @@
 #include "tvid/estimation/residual_filter.hpp"
 #include "tvid/experiment/experiment.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 using tvid::test::source_dir;
 
@@ -164,3 +166,5 @@ TEST_CASE("a detrended and high-passed output is scored filtered, in the cost an
         CHECK(g[j] == Approx(fd).epsilon(1e-3).margin(1e-5 * largest));
     }
 }
+
+}  // namespace TVID_UNITY_ID

@@ -12,6 +12,8 @@
 #include "tvid/simd/pack.hpp"
 #include "tvid/simd/select.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 
 namespace {
@@ -83,3 +85,5 @@ TEST_CASE("a constant converts to every lane, and lanes are set and read one by 
     const Pack<4> two = 2;  // integers convert as for double
     CHECK(two[3] == 2.0);
 }
+
+}  // namespace TVID_UNITY_ID

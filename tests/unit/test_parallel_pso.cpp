@@ -5,6 +5,8 @@
 #include "tvid/experiment/experiment.hpp"
 #include "tvid/fit/fit_run.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 
 TEST_CASE("PSO on the CVT problem is bit-identical for 1, 2 and 3 threads", "[pso][threads]") {
@@ -34,3 +36,5 @@ TEST_CASE("PSO on the CVT problem is bit-identical for 1, 2 and 3 threads", "[ps
     other.seed = 99;
     CHECK(run_fit(problem, other).run.best != runs[0].run.best);
 }
+
+}  // namespace TVID_UNITY_ID

@@ -8,6 +8,8 @@
 #include "tvid/io/csv_field.hpp"
 #include "tvid/util/parallel_region.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using tvid::FirstException;
 
 TEST_CASE("an exception in an OpenMP loop is thrown after the region", "[util][parallel]") {
@@ -51,3 +53,5 @@ TEST_CASE("a CSV text cell is quoted when it holds a comma, a quote or a line br
     CHECK(tvid::csv_field("two\nlines") == "\"two\nlines\"");
     CHECK(tvid::csv_field("") == "");
 }
+
+}  // namespace TVID_UNITY_ID

@@ -9,6 +9,8 @@
 #include "tvid/model/network_model.hpp"
 #include "tvid/model/parameter_formula.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 
 namespace {
@@ -119,3 +121,5 @@ TEST_CASE("formulas that read each other, unknown names and parameter exponents 
     CHECK(refusal([&] { compile_parameter_formula(std::string(100000, '-') + "b", names, 0); }).find("nested more than") !=
           std::string::npos);
 }
+
+}  // namespace TVID_UNITY_ID

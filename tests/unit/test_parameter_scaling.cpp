@@ -16,6 +16,8 @@
 #include "tvid/optim/multistart.hpp"
 #include "tvid/optim/parameter_scaling.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 using tvid::test::SinusoidFit;
 
@@ -257,3 +259,5 @@ TEST_CASE("log-scaled multistart and swarm give the same result on 1 and 2 threa
         CHECK(one.best_free[1] > 20.0);
     }
 }
+
+}  // namespace TVID_UNITY_ID

@@ -8,6 +8,8 @@
 #include "tvid/experiment/experiment.hpp"
 #include "tvid/model/parameter_units.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 
 TEST_CASE("a custom network's parameter units follow the fields they fill", "[model][units]") {
@@ -113,3 +115,5 @@ initial_state: rest
     CHECK(translational_unit("1/(kg m^2)") == "1/kg");
     CHECK(translational_unit("W") == "W");
 }
+
+}  // namespace TVID_UNITY_ID

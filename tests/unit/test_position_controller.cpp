@@ -13,6 +13,8 @@
 #include <cmath>
 #include <vector>
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 using tvid::test::read_error;
 using tvid::test::TextSource;
@@ -148,3 +150,5 @@ TEST_CASE("a continuous PI position controller removes the error a constant load
     CHECK(x[1] == Approx(1.0).margin(1e-6));    // no error left: P alone would stop at 1 − 0.5/4
     CHECK(x[5] == Approx(0.25).margin(1e-6));   // the integral carries the load: ki·I = 0.5
 }
+
+}  // namespace TVID_UNITY_ID

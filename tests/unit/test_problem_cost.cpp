@@ -9,6 +9,8 @@
 #include "tvid/estimation/problem_cost.hpp"
 #include "tvid/experiment/experiment.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 using tvid::test::source_dir;
 
@@ -46,3 +48,5 @@ void check_gradient(const char* cost_kind) {
 TEST_CASE("the l2 cost's gradient 2 J^T e matches differences", "[nlopt][cost]") { check_gradient("l2"); }
 
 TEST_CASE("the l1 cost's subgradient matches differences", "[nlopt][cost]") { check_gradient("l1"); }
+
+}  // namespace TVID_UNITY_ID

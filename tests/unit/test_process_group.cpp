@@ -14,6 +14,8 @@
 #include "tvid/parallel/string_list.hpp"
 #include "tvid/util/input_error.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 
 namespace {
@@ -117,3 +119,5 @@ TEST_CASE("a batch plan goes to the other processes unchanged", "[parallel][batc
     CHECK(back.jobs[1].id == "cycle-4");
     CHECK(back.jobs[1].overrides.empty());
 }
+
+}  // namespace TVID_UNITY_ID

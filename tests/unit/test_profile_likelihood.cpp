@@ -12,6 +12,8 @@
 #include "tvid/report/parameter_file.hpp"
 #include "tvid/util/input_error.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 
 namespace {
@@ -109,3 +111,5 @@ TEST_CASE("profile input errors name what is wrong", "[profile]") {
     options.from.reset();
     CHECK_THROWS_WITH(profile_likelihood(l1, initial_parameters(l1), options), Catch::Contains("set cost: l2"));
 }
+
+}  // namespace TVID_UNITY_ID

@@ -4,6 +4,8 @@
 
 #include "tvid/optim/pso.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 
 namespace {
@@ -172,3 +174,5 @@ TEST_CASE("the swarm says how settled it is at its end: spread of the personal b
     for (double v : early.convergence.spread) widest = std::max(widest, v);
     CHECK(widest == early.convergence.max_spread);
 }
+
+}  // namespace TVID_UNITY_ID

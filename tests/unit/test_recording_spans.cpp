@@ -10,6 +10,8 @@
 #include "tvid/channels/crank_angle_channels.hpp"
 #include "tvid/channels/recording_spans.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using tvid::RowSpan;
 
 namespace {
@@ -105,3 +107,5 @@ TEST_CASE("the mean sample interval leaves out the gaps between recordings", "[c
     CHECK(tvid::mean_sample_interval(far, r.spans) == Approx(0.001));
     CHECK(tvid::mean_sample_interval(r.time, {{0, 40}}) == (r.time.back() - r.time.front()) / 39.0);
 }
+
+}  // namespace TVID_UNITY_ID

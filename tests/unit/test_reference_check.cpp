@@ -8,6 +8,8 @@
 #include "tvid/check/reference_check.hpp"
 #include "tvid/util/input_error.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 using nlohmann::json;
 using nlohmann::ordered_json;
@@ -327,3 +329,5 @@ TEST_CASE("the largest residual ratio checks in percent and in the older fractio
     CHECK_FALSE(new_reference.rows[0].pass);  // 3 % > 2.5 %
     CHECK(new_reference.rows[0].actual.get<double>() == Approx(3.0));
 }
+
+}  // namespace TVID_UNITY_ID

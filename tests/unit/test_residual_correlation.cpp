@@ -8,6 +8,8 @@
 #include "tvid/analysis/residual_correlation.hpp"
 #include "tvid/analysis/residual_whiteness.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 
 namespace {
@@ -139,3 +141,5 @@ TEST_CASE("correlations are pooled over windows without crossing a window's end"
     CHECK(assess_whiteness({a, b}, 1).lag1_correlation == Approx(r.autocorrelation[0].values[1]));
     CHECK_FALSE(autocorrelation_test({{1.0, 2.0, 3.0}}, 1).available);  // too short to judge
 }
+
+}  // namespace TVID_UNITY_ID

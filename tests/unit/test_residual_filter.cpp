@@ -8,6 +8,8 @@
 
 #include "tvid/estimation/residual_filter.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 
 namespace {
@@ -75,3 +77,5 @@ TEST_CASE("the high-pass keeps fast content, removes slow drift, and halves its 
         for (std::size_t i = n / 4; i < 3 * n / 4; i += 97) CHECK(r[i] == Approx(sine(40.0, i)).margin(1e-2));
     }
 }
+
+}  // namespace TVID_UNITY_ID

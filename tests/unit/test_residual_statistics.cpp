@@ -10,6 +10,8 @@
 #include "tvid/analysis/information_criteria.hpp"
 #include "tvid/analysis/residual_whiteness.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 
 TEST_CASE("white noise is white, and a slow misfit on it is systematic by the share it has", "[statistics]") {
@@ -105,3 +107,5 @@ TEST_CASE("information criteria of a linear least-squares fit match the hand com
         CHECK(c2.aic == Approx(n * std::log(c2.loss) + 6 + 2 * n * (std::log(2 * std::numbers::pi) + 1)).epsilon(1e-12));
     }
 }
+
+}  // namespace TVID_UNITY_ID

@@ -8,6 +8,8 @@
 #include "tvid/model/elements/road_load.hpp"
 #include "tvid/model/network_model.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 using tvid::test::read_error;
 using tvid::test::TextSource;
@@ -45,3 +47,5 @@ TEST_CASE("the road load's reader", "[model][road_load]") {
     CHECK(read_error(TextSource({{"node", "a"}, {"a", "1"}, {"smoothing_speed", "0"}}), read) ==
           "smoothing_speed: must be positive: a smoothing speed (got 0)");
 }
+
+}  // namespace TVID_UNITY_ID

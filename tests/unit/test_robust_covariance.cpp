@@ -7,6 +7,8 @@
 
 #include "tvid/analysis/robust_covariance.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 
 namespace {
@@ -52,3 +54,5 @@ TEST_CASE("the sandwich's standard error: the usual one for white residuals, the
     // Four windows of a quarter each: the same within the estimate's noise.
     CHECK(sandwich_over_classic(0.8, n, lags, 4, {n / 4, n / 4, n / 4, n / 4}) == Approx(3.0).epsilon(0.15));
 }
+
+}  // namespace TVID_UNITY_ID

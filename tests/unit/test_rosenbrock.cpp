@@ -17,6 +17,8 @@
 #include "tvid/sim/stiff_network_system.hpp"
 #include "tvid/util/input_error.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 
 namespace {
@@ -343,3 +345,5 @@ TEST_CASE("the experiment file accepts simulation.method: rosenbrock4", "[rosenb
         CHECK(std::string(e.what()).rfind(file.string() + ":", 0) == 0);
     }
 }
+
+}  // namespace TVID_UNITY_ID

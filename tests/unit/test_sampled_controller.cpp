@@ -16,6 +16,8 @@
 #include "tvid/sim/sensitivity_system.hpp"
 #include "tvid/sim/simulate.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 using tvid::test::read_error;
 using tvid::test::TextSource;
@@ -314,3 +316,5 @@ TEST_CASE("a sampled controller's reader", "[model][sampled_controller]") {
     CHECK(read_error(TextSource({{"node", "a"}, {"setpoint", "0"}, {"kp", "1"}, {"ki", "1"}, {"limits", "-1,1"}}), speed)
               .rfind("limits: belongs to a sampled speed controller", 0) == 0);
 }
+
+}  // namespace TVID_UNITY_ID

@@ -14,6 +14,8 @@
 #include "tvid/sim/sdirk3.hpp"
 #include "tvid/sim/simulate.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 
 namespace {
@@ -191,3 +193,5 @@ TEST_CASE("the experiment file accepts simulation.method: sdirk3", "[sdirk3][exp
     CHECK(ex.simulation.method == IntegrationMethod::sdirk3);
     CHECK(ex.simulation.max_step == 0.0);
 }
+
+}  // namespace TVID_UNITY_ID

@@ -7,6 +7,8 @@
 #include "support/test_files.hpp"
 #include "tvid/report/sensitivity_report.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 
 namespace {
@@ -163,3 +165,5 @@ TEST_CASE("the sensitivity files are written into a new folder, or a clear error
         CHECK(std::string(e.what()).find((blocker / "sensitivity").string()) != std::string::npos);
     }
 }
+
+}  // namespace TVID_UNITY_ID

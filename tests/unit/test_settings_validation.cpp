@@ -5,6 +5,8 @@
 
 #include "tvid/optim/settings_validation.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 
 namespace {
@@ -105,3 +107,5 @@ TEST_CASE("multistart settings: starts, and max_iterations only when given") {
     s.max_iterations.reset();
     CHECK_FALSE(validate(s));
 }
+
+}  // namespace TVID_UNITY_ID

@@ -15,6 +15,8 @@
 #include "tvid/estimation/identification_problem.hpp"
 #include "tvid/experiment/experiment.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 
 namespace {
@@ -289,3 +291,5 @@ TEST_CASE("least squares evaluated side by side give the residuals of each point
     CHECK(two.simulations() - before == 2);
     CHECK(r_jac == r_further);
 }
+
+}  // namespace TVID_UNITY_ID

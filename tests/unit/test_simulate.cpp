@@ -5,6 +5,8 @@
 
 #include "tvid/sim/simulate.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 
 namespace {
@@ -115,3 +117,5 @@ TEST_CASE("a simulation that blows up returns a status instead of crashing", "[s
     std::vector<double> z{1.0, 0.0};
     CHECK(simulate_samples(nan_model, in, 0, 10, z, SimulationSettings{}, buffers, ok) == SimulationStatus::not_finite);
 }
+
+}  // namespace TVID_UNITY_ID

@@ -14,6 +14,8 @@
 #include "tvid/optim/pso.hpp"
 #include "tvid/sim/simulate.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 using tvid::test::source_dir;
 
@@ -188,3 +190,5 @@ TEST_CASE("an evaluation says which window failed first and how many did", "[fau
     CHECK(stiff.validation.windows[1].trace.status == SimulationStatus::ok);
     CHECK(problem.subdivided_starts() > 0);
 }
+
+}  // namespace TVID_UNITY_ID

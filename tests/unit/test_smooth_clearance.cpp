@@ -4,6 +4,8 @@
 
 #include "tvid/model/smooth_clearance.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using tvid::ClearanceLaw;
 using tvid::smooth_ramp;
 using tvid::smooth_ramp_step;
@@ -118,3 +120,5 @@ TEST_CASE("the clearance law is exact to rounding against long double, however s
     CHECK(steep.torque(-0.2, 1.0) == Approx(-km * 0.1 + cm).epsilon(1e-15));
     CHECK(std::abs(steep.torque(0.05, 1.0)) < 1e-300);
 }
+
+}  // namespace TVID_UNITY_ID

@@ -15,6 +15,8 @@
 #include "tvid/experiment/experiment.hpp"
 #include "tvid/experiment/smoothing_speeds.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 
 namespace {
@@ -168,3 +170,5 @@ estimation: { cost: l2, optimizer: lm }
     CHECK(c.speed == Approx(0.01 * 0.2).epsilon(0.01));
     CHECK(c.share_within == 0.0);
 }
+
+}  // namespace TVID_UNITY_ID

@@ -11,6 +11,8 @@
 #include "tvid/model/steady_motion.hpp"
 #include "tvid/sim/simulate.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 
 namespace {
@@ -176,3 +178,5 @@ initial_state: rest
     CHECK(torque_end == Approx(0.02 * 100.0).epsilon(1e-8));
     CHECK(twist_end == Approx(0.02 * 100.0 / 5.0).epsilon(1e-8));  // the integrator's state
 }
+
+}  // namespace TVID_UNITY_ID

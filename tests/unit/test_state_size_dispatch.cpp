@@ -7,6 +7,8 @@
 
 #include "tvid/sim/state_size_dispatch.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 
 TEST_CASE("dispatch_state_size calls the fixed size for every even size up to the largest, else the fallback",
@@ -19,3 +21,5 @@ TEST_CASE("dispatch_state_size calls the fixed size for every even size up to th
         CHECK(dispatch_state_size(n, fixed, otherwise) == (compiled ? static_cast<int>(n) : -1));
     }
 }
+
+}  // namespace TVID_UNITY_ID

@@ -6,6 +6,8 @@
 
 #include "tvid/model/steady_motion.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 
 namespace {
@@ -146,3 +148,5 @@ TEST_CASE("a steady motion through a stiff lossy gear is right or refused, never
             CHECK(6000.0 * (s.x[1] - s.x[2]) == Approx(30.0).epsilon(1e-9));  // the shaft carries the load
         }
 }
+
+}  // namespace TVID_UNITY_ID

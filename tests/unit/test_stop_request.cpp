@@ -18,6 +18,8 @@
 #include "tvid/optim/pso.hpp"
 #include "tvid/util/stop_request.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 
 namespace {
@@ -274,3 +276,5 @@ TEST_CASE("the process-wide stop request is a lock-free flag", "[stop]") {
     CHECK(stop_request().is_lock_free());
     CHECK_FALSE(stop_requested());
 }
+
+}  // namespace TVID_UNITY_ID

@@ -5,6 +5,8 @@
 
 #include "tvid/fit/swarm_time_note.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 
 namespace {
@@ -63,3 +65,5 @@ TEST_CASE("durations read roughly, in the unit that fits", "[swarm]") {
     CHECK(rough_duration_text(12750) == "3.5 h");
     CHECK(rough_duration_text(2.7468e6) == "763 h");
 }
+
+}  // namespace TVID_UNITY_ID

@@ -4,6 +4,8 @@
 
 #include "tvid/util/text.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 
 TEST_CASE("a percentage has whole percent from 10 % up and two significant digits below", "[text]") {
@@ -17,3 +19,5 @@ TEST_CASE("a percentage has whole percent from 10 % up and two significant digit
     CHECK(number_text(0.1) == "0.1");
     CHECK(join_words({"a", "b", "c"}) == "a, b, c");
 }
+
+}  // namespace TVID_UNITY_ID

@@ -12,6 +12,8 @@
 #include "tvid/optim/levenberg_marquardt.hpp"
 #include "tvid/util/thread_budget.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 using tvid::test::source_dir;
 
@@ -85,3 +87,5 @@ TEST_CASE("every optimizer of a batch job runs on the job's share of the cores",
         CHECK(fit.threads <= budget.cores());
     }
 }
+
+}  // namespace TVID_UNITY_ID

@@ -8,6 +8,8 @@
 #include "tvid/analysis/linear_network.hpp"
 #include "tvid/analysis/torsional_modes.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 
 namespace {
@@ -302,3 +304,5 @@ TEST_CASE("an overdamped mode beside an oscillating one: each keeps its own zeta
     CHECK(std::isnan(osc.second_eigenvalue));
     CHECK(std::abs(over.shape[1]) < 1e-9);  // the overdamped motion leaves the other node still
 }
+
+}  // namespace TVID_UNITY_ID

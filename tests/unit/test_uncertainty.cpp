@@ -11,6 +11,8 @@
 #include "tvid/experiment/experiment.hpp"
 #include "tvid/fit/fit_run.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 
 namespace {
@@ -123,3 +125,5 @@ TEST_CASE("an LM fit reports the uncertainty of its last Jacobian, equal to one 
     REQUIRE(fit.run.jacobian_at_best.cols() == 8);
     check_same(fit.uncertainty, estimate_uncertainty(problem, fit.best_free), 1e-9);
 }
+
+}  // namespace TVID_UNITY_ID

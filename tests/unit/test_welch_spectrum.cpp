@@ -12,6 +12,8 @@
 
 #include "tvid/analysis/welch_spectrum.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 
 namespace {
@@ -202,3 +204,5 @@ TEST_CASE("a recording is cut at its gaps: steps above 1.5 times the median", "[
     CHECK(records[0] == std::pair<std::size_t, std::size_t>{0, 1001});
     CHECK(records[1] == std::pair<std::size_t, std::size_t>{1001, 2002});
 }
+
+}  // namespace TVID_UNITY_ID

@@ -13,6 +13,8 @@
 #include "tvid/estimation/window_score.hpp"
 #include "tvid/simd/pack.hpp"
 
+namespace TVID_UNITY_ID {  // unique to this file in a unity build (tests/CMakeLists.txt)
+
 using namespace tvid;
 
 namespace {
@@ -110,3 +112,5 @@ TEST_CASE("a pack's lanes score exactly the bits of the double code", "[cost][si
         }
     }
 }
+
+}  // namespace TVID_UNITY_ID
