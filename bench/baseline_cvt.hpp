@@ -21,6 +21,9 @@ public:
     /// Mean |Tds* − Tds| over the window for p = (ρ1, k⁻, k⁺, c⁻, c⁺, μ, σ, Δds, Δtm);
     /// +inf when the simulation fails.
     double cost(const double* p);
+    /// The same cost as a user of odeint would tune it: a fixed-size state and the input
+    /// interpolated within the step, without a search (pagmo_cvt.cpp's yardstick).
+    double cost_tuned(const double* p) const;
 
     std::size_t rhs_evaluations = 0;  ///< running total
 

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages tvid needs to build and test. Idempotent, non-interactive.
-#   scripts/install-deps.sh            everything: build, tests, plots, sanitizers, fuzzing, MPI
+#   scripts/install-deps.sh            everything: build, tests, plots, sanitizers, fuzzing, MPI, benchmarks
 #   scripts/install-deps.sh --minimal  only what building and running the tvid tool needs
 set -euo pipefail
 
@@ -29,6 +29,7 @@ packages=(
   clang libclang-rt-14-dev libomp-dev  # the asan preset and the libFuzzer targets (scripts/fuzz.sh)
   libopenmpi-dev openmpi-bin           # Open MPI: the mpi preset (tvid fit / batch under mpirun)
   universal-ctags        # scripts/long_functions.py: each function's first and last line (the layers test)
+  libpagmo-dev           # pagmo2 2.18: bench/pagmo_cvt.cpp, the yardstick of the paper's swarm
 )
 
 missing=()
