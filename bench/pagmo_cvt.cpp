@@ -10,11 +10,13 @@
 //       by the same as a user would tune it (a fixed-size state, the input interpolated
 //       within the step).
 // Both run the same number of swarm iterations; pagmo simulates every candidate to the
-// window's end, as a fitness function does. Prints the two wall times and their ratio.
+// window's end, as a fitness function does. Prints the three wall times and tvid's ratio
+// to each pagmo2 run.
 //
 //   tvid_bench_pagmo [--iterations K] [--threads N]
 //
-// Built when pagmo2 is installed (`apt install libpagmo-dev`; not a dependency of tvid).
+// Built when pagmo2 is installed (scripts/install-deps.sh installs libpagmo-dev; not a
+// dependency of tvid itself).
 
 #include <algorithm>
 #include <chrono>
@@ -22,6 +24,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <limits>
 #include <string>
 #include <utility>
 #include <vector>
@@ -98,7 +101,8 @@ int main(int argc, char** argv) {
     std::vector<std::vector<double>> points = {fit.run.best, cost.lower, cost.upper};
     for (const auto& x : points) {
         const double a = cost.cvt.cost(x.data()), b = cost.cvt.cost_tuned(x.data());
-        if (std::isfinite(a) || std::isfinite(b)) worst = std::max(worst, std::abs(a - b) / std::abs(a));
+        if (std::isfinite(a) != std::isfinite(b)) worst = std::numeric_limits<double>::infinity();  // one failed
+        else if (std::isfinite(a)) worst = std::max(worst, std::abs(a - b) / std::abs(a));
     }
     std::printf("case                           wall_s   simulations  best cost  (tuned / straightforward cost: %.1e apart at most)\n",
                 worst);
