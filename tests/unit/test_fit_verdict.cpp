@@ -266,6 +266,21 @@ TEST_CASE("RK4's stability region: 2.785 on the negative real axis, 2√2 on the
     CHECK(rk4_stability_radius(0.1) == rk4_stability_radius(1.5707963267948966));  // right half-plane: as the axis
 }
 
+TEST_CASE("RK4's stability edge is nowhere nearer the origin than kRk4RadiusLowerBound, and the bound is tight",
+          "[verdict]") {
+    // stable_step_plan skips the edge's search below kStableMargin · the bound: a bound above
+    // the edge anywhere would leave a stiff candidate without its substeps.
+    double nearest = 4.0, where = 0.0;
+    for (int i = 0; i <= 8000; ++i) {
+        const double angle = 1.5707963267948966 * (1.0 + i / 8000.0);
+        const double r = rk4_stability_radius(angle);
+        if (r < nearest) nearest = r, where = angle;
+    }
+    CHECK(nearest > kRk4RadiusLowerBound);
+    CHECK(nearest < kRk4RadiusLowerBound * 1.01);
+    CHECK(where == Approx(2.142).margin(0.01));
+}
+
 TEST_CASE("validation much worse than estimation, and a second optimum among the starts", "[verdict]") {
     const Experiment ex = noisy_bench().load(kFree);
     const IdentificationProblem problem(ex);

@@ -11,6 +11,12 @@ namespace tvid {
 /// real axis); directions in the right half-plane count as the imaginary axis.
 double rk4_stability_radius(double angle);
 
+/// A lower bound of rk4_stability_radius over every direction: the edge is nearest the
+/// origin at about 2.6156, near 123° (tests/unit/test_fit_verdict.cpp scans it). A mode with
+/// |λh| below kStableMargin times this bound is within the margin whatever its direction,
+/// which spares the edge's search for the common candidate far from stiff.
+inline constexpr double kRk4RadiusLowerBound = 2.6;
+
 /// |λh| over the edge in λ's direction: below 1 the mode is simulated stably at step h.
 inline double rk4_margin(std::complex<double> lambda, double h) {
     const double rate = std::abs(lambda);

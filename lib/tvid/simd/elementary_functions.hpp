@@ -54,7 +54,7 @@ struct Representation<Pack<W>> {
 
 inline double choose(bool c, double a, double b) { return c ? a : b; }
 template <int W>
-Pack<W> choose(const Mask<W>& m, const Pack<W>& a, const Pack<W>& b) {
+TVID_PACK_INLINE Pack<W> choose(const Mask<W>& m, const Pack<W>& a, const Pack<W>& b) {
     return select(m, a, b);
 }
 
