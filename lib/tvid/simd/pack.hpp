@@ -2,9 +2,10 @@
 // A pack of W doubles handled as one number: the scalar type of the model code when W
 // candidates (particles of a swarm) are simulated at once, lane i holding candidate i.
 // Built on the GCC/Clang vector extensions and stored as W / N native vectors of N lanes
-// (N = 4 with AVX, 2 otherwise), each operation applied part by part: a Pack<8> on AVX2
-// is two ymm registers worked on side by side, which keeps both of the core's vector
-// pipes busy where one long chain of dependent operations would leave one idle.
+// (N = 8 with AVX-512, TVID_PACK_AVX512; 4 with AVX; 2 otherwise), each operation applied
+// part by part: a Pack<8> on AVX2 is two ymm registers worked on side by side, which keeps
+// both of the core's vector pipes busy where one long chain of dependent operations would
+// leave one idle.
 // Every arithmetic operation is the IEEE operation on each lane, so a lane computes
 // exactly the bits that the same code computes with double (the build never fuses a
 // multiply and an add: -ffp-contract=off).
@@ -43,7 +44,9 @@ inline double muladd(double a, double b, double c) {
 
 namespace detail {
 
-#if defined(__AVX__)
+#if defined(TVID_PACK_AVX512)  // set with AVX-512's instructions (its macros undefined: CMakeLists.txt)
+inline constexpr int kNativeLanes = 8;
+#elif defined(__AVX__)
 inline constexpr int kNativeLanes = 4;
 #else
 inline constexpr int kNativeLanes = 2;
@@ -65,6 +68,7 @@ struct VectorTypes;
 TVID_VECTOR_TYPES(1, x)
 TVID_VECTOR_TYPES(2, x, x)
 TVID_VECTOR_TYPES(4, x, x, x, x)
+TVID_VECTOR_TYPES(8, x, x, x, x, x, x, x, x)
 #undef TVID_VECTOR_TYPES
 
 /// How a pack of W lanes is split: `parts` native vectors of `lanes` lanes each.
@@ -267,7 +271,10 @@ public:
 private:
     TVID_PACK_INLINE static Part fused(const Part& a, const Part& b, const Part& c) {
 #if defined(__FMA__)
-        if constexpr (L::lanes == 4) {
+        if constexpr (L::lanes == 8) {
+            return reinterpret_cast<Part>(_mm512_fmadd_pd(reinterpret_cast<__m512d>(a), reinterpret_cast<__m512d>(b),
+                                                          reinterpret_cast<__m512d>(c)));
+        } else if constexpr (L::lanes == 4) {
             return reinterpret_cast<Part>(_mm256_fmadd_pd(reinterpret_cast<__m256d>(a), reinterpret_cast<__m256d>(b),
                                                           reinterpret_cast<__m256d>(c)));
         } else if constexpr (L::lanes == 2) {
